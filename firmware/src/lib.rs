@@ -1,0 +1,2 @@
+//! The fpgfx controller: takes frames from the host and feeds the FPGA.
+#![no_std]

@@ -1,0 +1,821 @@
+//! Messages between the host (`fpgfx`) and the controller firmware.
+//!
+//! A message is a [`HostFrame`] (host → controller) or a [`DeviceFrame`]
+//! (controller → host), serialised with postcard and carried by [`crate::link`]. Every
+//! message fits in [`MAX_PAYLOAD`] bytes once encoded: the bounded vectors below are
+//! sized so that even their worst-case varint encodings stay under that limit (a test
+//! checks each bound).
+//!
+//! Geometry crosses the wire already snapped to the sub-pixel grid (`x · 2^subpixel_bits`,
+//! rounded half up) so the controller and the FPGA only ever do exact integer
+//! arithmetic, and so that the host, not the MCU, owns the float → fixed decision.
+
+use heapless::{String, Vec};
+use postcard_schema::Schema;
+use serde::{Deserialize, Serialize};
+
+use crate::{MAX_PAYLOAD, PROTOCOL_VERSION};
+
+/// Raster commands per [`HostFrame::Raster`] batch. Batching keeps the per-frame link
+/// overhead (header, CRC, COBS, delimiter: about 10 bytes) under 10 % of a triangle
+/// stream, where one triangle per frame would cost about 35 %.
+pub const RASTER_BATCH: usize = 8;
+/// Vertices of one scanline-filled polygon. Larger polygons are split by the host.
+pub const MAX_POLYGON: usize = 16;
+/// 32-bit register words in one [`RegWrite`]; 40 × 5 bytes (worst-case varint) plus the
+/// header stays within [`MAX_PAYLOAD`].
+pub const REG_WRITE_WORDS: usize = 40;
+/// Bytes of texel data in one [`TextureWrite`].
+pub const TEXTURE_CHUNK: usize = 224;
+/// Bytes of pixel data in one [`ReadChunk`].
+pub const READ_CHUNK: usize = 224;
+/// Bytes of the human-readable firmware identification in [`Hello`].
+pub const IDENT_LEN: usize = 32;
+
+/// The schema hash of this build's message set: FNV-1a over the postcard-schema of
+/// [`HostFrame`] and [`DeviceFrame`] (names, field order and types). Two builds that would
+/// decode each other's bytes differently get different hashes, so the handshake can
+/// refuse the pair instead of letting garbage through.
+pub const SCHEMA_HASH: u64 = u64::from_le_bytes(
+    postcard_schema::key::Key::for_path::<(HostFrame, DeviceFrame)>("fpgfx/frame").to_bytes(),
+);
+
+/// Returns [`SCHEMA_HASH`]; a function for callers that prefer not to name constants.
+pub const fn schema_hash() -> u64 {
+    SCHEMA_HASH
+}
+
+/// An 8-bit-per-channel colour. The FITkit bus layout narrows it to RGB332 or a palette
+/// index; everything before the bus keeps full precision.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct Rgb {
+    /// Red channel.
+    pub r: u8,
+    /// Green channel.
+    pub g: u8,
+    /// Blue channel.
+    pub b: u8,
+}
+
+impl Rgb {
+    /// Builds a colour from its three channels.
+    pub const fn new(r: u8, g: u8, b: u8) -> Self {
+        Self { r, g, b }
+    }
+}
+
+/// A vertex position in sub-pixel units: pixel coordinate × 2^`subpixel_bits` (set by
+/// [`RasterSetup`]). Signed so that geometry partly outside the viewport can be clipped by
+/// the device rather than distorted by the host.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct Point {
+    /// Horizontal position, growing to the right.
+    pub x: i32,
+    /// Vertical position, growing downwards (SPEC §0).
+    pub y: i32,
+}
+
+/// A whole pixel, for commands that address pixels rather than geometry (seed fill,
+/// read-back rectangles).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct Pixel {
+    /// Column.
+    pub x: u16,
+    /// Row.
+    pub y: u16,
+}
+
+/// A pixel rectangle, origin top-left.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct Rect {
+    /// Left column.
+    pub x: u16,
+    /// Top row.
+    pub y: u16,
+    /// Width in pixels.
+    pub w: u16,
+    /// Height in pixels.
+    pub h: u16,
+}
+
+impl Rect {
+    /// Number of pixels covered.
+    pub const fn area(&self) -> u32 {
+        self.w as u32 * self.h as u32
+    }
+}
+
+/// Which of the FPGA's blocks a job is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum Block {
+    /// The rasterizer (seed 000/001/004).
+    Raster,
+    /// The ViRAY ray tracer (seed 002).
+    RayTrace,
+}
+
+/// Number formats a target can compute in. The real FPGA has one; the sim-target offers
+/// several so that a designer can compare them on the same scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum Numeric {
+    /// IEEE binary64: the reference every other format is measured against.
+    F64,
+    /// IEEE binary32: ViRAY's final module.
+    F32,
+    /// IEEE binary16 (seed 002's `half` experiment).
+    F16,
+    /// Signed Q16.16, the seed's `ap_fixed<32,16>`.
+    Q16_16,
+    /// Signed Q8.24: more fraction, less range.
+    Q8_24,
+    /// Signed Q24.8: more range, less fraction.
+    Q24_8,
+    /// Signed Q32.32 in 64 bits.
+    Q32_32,
+}
+
+impl Numeric {
+    /// Every format, in the bit order of [`NumericSet`].
+    pub const ALL: [Numeric; 7] = [
+        Numeric::F64,
+        Numeric::F32,
+        Numeric::F16,
+        Numeric::Q16_16,
+        Numeric::Q8_24,
+        Numeric::Q24_8,
+        Numeric::Q32_32,
+    ];
+
+    /// This format's bit in a [`NumericSet`].
+    pub const fn bit(self) -> u16 {
+        1 << self as u16
+    }
+}
+
+/// A set of [`Numeric`] formats as a bit mask (bit i = `Numeric::ALL[i]`), so that a
+/// capability list costs two bytes on the wire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct NumericSet(pub u16);
+
+impl NumericSet {
+    /// Whether `n` is in the set.
+    pub const fn contains(self, n: Numeric) -> bool {
+        self.0 & n.bit() != 0
+    }
+
+    /// The set with `n` added.
+    pub const fn with(self, n: Numeric) -> Self {
+        Self(self.0 | n.bit())
+    }
+}
+
+/// How pixels are laid out in read-back data and in the framebuffer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum PixelFormat {
+    /// Three bytes per pixel, R, G, B.
+    Rgb888,
+    /// One byte per pixel, RRRGGGBB: the FITkit's 8-bit colour.
+    Rgb332,
+    /// ViRAY's KCU116 16-bit mode: each pixel keeps G and, alternately, B (even pixels)
+    /// or R (odd pixels); two bytes per pixel, G first.
+    Kcu116,
+    /// One little-endian f32 per pixel (depth AOV).
+    DepthF32,
+    /// Three little-endian f32 per pixel (normal AOV).
+    NormalF32,
+}
+
+impl PixelFormat {
+    /// Bytes per pixel in read-back data.
+    pub const fn bytes_per_pixel(self) -> usize {
+        match self {
+            PixelFormat::Rgb888 => 3,
+            PixelFormat::Rgb332 => 1,
+            PixelFormat::Kcu116 => 2,
+            PixelFormat::DepthF32 => 4,
+            PixelFormat::NormalF32 => 12,
+        }
+    }
+
+    /// This format's bit in a capability mask.
+    pub const fn bit(self) -> u8 {
+        1 << self as u8
+    }
+}
+
+/// What a target can do, sent in its [`Hello`] so that the host refuses a job up front
+/// instead of discovering half-way through a frame that the board cannot draw it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct Caps {
+    /// The raster block is present.
+    pub raster: bool,
+    /// The ray-trace block is present.
+    pub ray_trace: bool,
+    /// Number formats the ray tracer can run in.
+    pub numeric: NumericSet,
+    /// Read-back pixel formats, as a mask of [`PixelFormat::bit`].
+    pub pixel_formats: u8,
+    /// Largest frame width in pixels.
+    pub max_width: u16,
+    /// Largest frame height in pixels.
+    pub max_height: u16,
+    /// Largest sub-pixel precision the raster block accepts.
+    pub max_subpixel_bits: u8,
+    /// Slots in the controller's command queue (the credit limit of the link).
+    pub queue_depth: u16,
+    /// Records in the FPGA's input FIFO.
+    pub fifo_depth: u16,
+    /// Objects the ray tracer holds (OBJ_NUM).
+    pub max_objects: u8,
+    /// Lights the ray tracer holds, the ambient one included (LIGHTS_NUM).
+    pub max_lights: u8,
+    /// Size of the texture memory in 32-bit texels.
+    pub texture_words: u32,
+}
+
+/// The first message in each direction. Each side compares the other's
+/// `protocol_version` and `schema_hash` with its own and refuses to continue on a
+/// mismatch (see [`Hello::check`]).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct Hello {
+    /// The sender's [`PROTOCOL_VERSION`].
+    pub protocol_version: u16,
+    /// The sender's [`SCHEMA_HASH`].
+    pub schema_hash: u64,
+    /// What the sender can do; the host sends its own needs here (all zero is fine).
+    pub caps: Caps,
+    /// Free-form identification ("fpgfx-firmware 0.1.0 stm32f405"), for error messages.
+    pub ident: String<IDENT_LEN>,
+}
+
+/// Why a handshake was refused: the two sides' values, so the message can name both.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum HandshakeError {
+    /// The protocol versions differ.
+    #[error("protocol version mismatch: this side speaks v{ours}, the peer speaks v{theirs}")]
+    Version {
+        /// This side's version.
+        ours: u16,
+        /// The peer's version.
+        theirs: u16,
+    },
+    /// The versions agree but the message schemas do not (a build from a different commit).
+    #[error(
+        "message schema mismatch (both speak protocol v{version}): this side's schema hash is \
+         {ours:#018x}, the peer's is {theirs:#018x}; rebuild both from the same fpgfx version"
+    )]
+    Schema {
+        /// The common protocol version.
+        version: u16,
+        /// This side's schema hash.
+        ours: u64,
+        /// The peer's schema hash.
+        theirs: u64,
+    },
+}
+
+impl Hello {
+    /// A hello for this build, with the given capabilities and identification (cut to
+    /// [`IDENT_LEN`] bytes at a character boundary if longer).
+    pub fn new(caps: Caps, ident: &str) -> Self {
+        let mut s = String::new();
+        for ch in ident.chars() {
+            if s.push(ch).is_err() {
+                break;
+            }
+        }
+        Self { protocol_version: PROTOCOL_VERSION, schema_hash: SCHEMA_HASH, caps, ident: s }
+    }
+
+    /// Checks the peer's hello against this build.
+    pub fn check(&self) -> Result<(), HandshakeError> {
+        if self.protocol_version != PROTOCOL_VERSION {
+            return Err(HandshakeError::Version {
+                ours: PROTOCOL_VERSION,
+                theirs: self.protocol_version,
+            });
+        }
+        if self.schema_hash != SCHEMA_HASH {
+            return Err(HandshakeError::Schema {
+                version: PROTOCOL_VERSION,
+                ours: SCHEMA_HASH,
+                theirs: self.schema_hash,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Sample pattern for supersampling anti-aliasing (seed 001).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub enum AaPattern {
+    /// One sample at the pixel centre.
+    #[default]
+    None,
+    /// An n × n regular grid.
+    Regular,
+    /// One random sample per stratum of an n × n grid (deterministic seed).
+    Jitter,
+    /// A regular grid rotated so that no two samples share a row or column (RGSS).
+    Rotated,
+    /// Poisson-disc samples (precomputed, deterministic).
+    Poisson,
+    /// Analytic coverage mask on triangle edges.
+    Coverage,
+}
+
+/// Anti-aliasing settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct Aa {
+    /// The sample pattern.
+    pub pattern: AaPattern,
+    /// Samples per pixel (ignored for [`AaPattern::None`]).
+    pub samples: u8,
+}
+
+/// Which triangles to discard by winding, after snapping.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub enum Cull {
+    /// Draw both windings.
+    #[default]
+    None,
+    /// Discard triangles that are clockwise on screen (y down).
+    Clockwise,
+    /// Discard triangles that are counter-clockwise on screen (y down).
+    CounterClockwise,
+}
+
+/// How the triangle block walks the pixels of a triangle. All strategies must give
+/// identical coverage; they differ in cycles and in how much of the bounding box they
+/// touch, which is what a hardware designer is choosing between.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub enum Traversal {
+    /// Every pixel of the bounding box.
+    BoundingBox,
+    /// Span per scanline between the edges.
+    Scanline,
+    /// Seed 004's zigzag block scan (with the corrected trivial reject).
+    Zigzag,
+    /// Hierarchical tiles with trivial accept and reject.
+    #[default]
+    Tiles,
+    /// Seed 000's eight pixels per step.
+    Simd8,
+}
+
+/// Frame-wide raster state. Sent before the first raster command of a frame; a new one
+/// resets the framebuffer size and clears it to `background`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct RasterSetup {
+    /// Framebuffer width in pixels.
+    pub width: u16,
+    /// Framebuffer height in pixels.
+    pub height: u16,
+    /// Fractional bits of every [`Point`] in the following commands.
+    pub subpixel_bits: u8,
+    /// Clear colour.
+    pub background: Rgb,
+    /// Anti-aliasing.
+    pub aa: Aa,
+    /// Back-face culling.
+    pub cull: Cull,
+    /// Triangle traversal strategy.
+    pub traversal: Traversal,
+}
+
+/// How a triangle is coloured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum Shade {
+    /// One colour for the whole primitive.
+    Flat(Rgb),
+    /// One colour per vertex, interpolated barycentrically (Gouraud).
+    Gouraud([Rgb; 3]),
+}
+
+/// Texture coordinates and sampler of a textured triangle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct TexRef {
+    /// First texel of the texture in texture memory.
+    pub base: u32,
+    /// log2 of the texture width (textures are powers of two, as MIP maps need).
+    pub width_log2: u8,
+    /// log2 of the texture height.
+    pub height_log2: u8,
+    /// Per-vertex (u, v) in Q16.16 texture units (1.0 = the whole texture).
+    pub uv: [[i32; 2]; 3],
+    /// Repeat or clamp outside [0, 1).
+    pub wrap: Wrap,
+    /// Nearest, bilinear or trilinear.
+    pub filter: Filter,
+}
+
+/// Texture addressing outside [0, 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum Wrap {
+    /// Tile the texture.
+    Repeat,
+    /// Use the edge texel.
+    Clamp,
+}
+
+/// Texture filtering.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum Filter {
+    /// Nearest texel.
+    Nearest,
+    /// Bilinear between the four nearest texels (centres at +0.5).
+    Bilinear,
+    /// Bilinear in the two nearest MIP levels, blended (MIP levels follow the base
+    /// texture in memory, each a quarter of the previous).
+    Trilinear,
+}
+
+/// A triangle with optional depth, perspective and texture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct Triangle {
+    /// Vertices in sub-pixel units.
+    pub v: [Point; 3],
+    /// Colour.
+    pub shade: Shade,
+    /// Per-vertex depth as unsigned 24-bit normalised values (0 = near, 2^24 − 1 = far);
+    /// when present the z test "less" applies against a z-buffer cleared to far.
+    pub z: Option<[u32; 3]>,
+    /// Per-vertex clip-space w in Q16.16 for perspective-correct interpolation; absent
+    /// means affine (screen-space linear) interpolation.
+    pub w: Option<[u32; 3]>,
+    /// Texture mapping.
+    pub tex: Option<TexRef>,
+}
+
+/// How a line is rasterized.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub enum LineAlgo {
+    /// Bresenham with p₁ = 2Δy − Δx (seed 000).
+    #[default]
+    Bresenham,
+    /// Digital differential analyser.
+    Dda,
+}
+
+/// A line segment, end points inclusive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct Line {
+    /// Start in sub-pixel units.
+    pub from: Point,
+    /// End in sub-pixel units.
+    pub to: Point,
+    /// Colour at `from`.
+    pub color: Rgb,
+    /// Colour at `to` when interpolated along the line; `None` = flat.
+    pub color_to: Option<Rgb>,
+    /// Width in sub-pixel units; one pixel or less draws a thin line.
+    pub width: u32,
+    /// Anti-aliased (coverage) rather than aliased.
+    pub aa: bool,
+    /// Thin-line algorithm.
+    pub algo: LineAlgo,
+}
+
+/// A circle by the midpoint algorithm (seed 000).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct Circle {
+    /// Centre in sub-pixel units.
+    pub center: Point,
+    /// Radius in sub-pixel units.
+    pub radius: u32,
+    /// Colour.
+    pub color: Rgb,
+    /// Filled by spans rather than outlined.
+    pub fill: bool,
+}
+
+/// Seed-fill connectivity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum Connectivity {
+    /// Up, down, left, right.
+    Four,
+    /// The four plus the diagonals.
+    Eight,
+}
+
+/// Fill the region of equal colour connected to a seed pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct SeedFill {
+    /// The start pixel.
+    pub seed: Pixel,
+    /// New colour.
+    pub color: Rgb,
+    /// Which neighbours count as connected.
+    pub connectivity: Connectivity,
+}
+
+/// Polygon fill rule.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum FillRule {
+    /// Inside where a ray crosses an odd number of edges.
+    EvenOdd,
+    /// Inside where the winding number is not zero.
+    NonZero,
+}
+
+/// A closed polygon filled by scanlines.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct Polygon {
+    /// Vertices in sub-pixel units; the last connects back to the first.
+    pub points: Vec<Point, MAX_POLYGON>,
+    /// Fill rule.
+    pub rule: FillRule,
+    /// Colour.
+    pub color: Rgb,
+}
+
+/// A quadratic (3 points) or cubic (4 points) Bézier curve.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct Bezier {
+    /// Control points in sub-pixel units.
+    pub points: Vec<Point, 4>,
+    /// Colour.
+    pub color: Rgb,
+    /// Largest allowed distance between the curve and its polyline, in sub-pixel units.
+    pub tolerance: u32,
+}
+
+/// A bicubic Bézier patch, tessellated by the device into `steps × steps × 2` triangles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct BezierPatch {
+    /// The 4 × 4 control net, row by row, in sub-pixel units.
+    pub points: [Point; 16],
+    /// Subdivisions per side.
+    pub steps: u8,
+    /// Colour.
+    pub color: Rgb,
+}
+
+/// One raster command. The controller packs each into the FPGA's bus words
+/// ([`crate::bus`]) in order.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum RasterCmd {
+    /// Clear the framebuffer (and the z-buffer) to a colour.
+    Clear(Rgb),
+    /// A line.
+    Line(Line),
+    /// A triangle.
+    Triangle(Triangle),
+    /// A circle.
+    Circle(Circle),
+    /// A seed fill.
+    Fill(SeedFill),
+    /// A scanline-filled polygon.
+    Polygon(Polygon),
+    /// A Bézier curve.
+    Bezier(Bezier),
+    /// A Bézier surface patch.
+    Patch(BezierPatch),
+}
+
+/// Texel data for the shared texture memory (ViRAY's TEXT_PAGE and the raster block's
+/// texture RAM are one memory in the model).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct TextureWrite {
+    /// Index of the first texel written.
+    pub offset: u32,
+    /// Texels as little-endian 32-bit words 0x00RRGGBB; the length must be a multiple
+    /// of four.
+    pub data: Vec<u8, TEXTURE_CHUNK>,
+}
+
+/// A run of consecutive 32-bit ray-tracer registers ([`crate::scene`] defines the map).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct RegWrite {
+    /// Word offset of the first register.
+    pub offset: u16,
+    /// Values for `offset`, `offset + 1`, ….
+    pub words: Vec<u32, REG_WRITE_WORDS>,
+}
+
+/// Start a job on a block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct StartFrame {
+    /// Chosen by the host; echoed in [`FrameDone`].
+    pub frame_id: u32,
+    /// Which block renders.
+    pub block: Block,
+    /// Number format for the ray tracer (ignored by the raster block).
+    pub numeric: Numeric,
+    /// Render again as soon as a frame is done (ViRAY's driver auto-restart), until the
+    /// next `StartFrame` or [`HostFrame::Stop`].
+    pub auto_restart: bool,
+}
+
+/// Which buffer a read-back comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub enum Plane {
+    /// The colour framebuffer.
+    Color,
+    /// The depth AOV (ray tracer) or z-buffer (raster).
+    Depth,
+    /// The normal AOV (ray tracer).
+    Normal,
+}
+
+/// Ask for a rectangle of a buffer. The device answers with [`ReadChunk`]s in offset
+/// order and a closing [`ReadDone`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct ReadRequest {
+    /// Buffer.
+    pub plane: Plane,
+    /// Pixels, row-major.
+    pub rect: Rect,
+    /// Layout of the returned bytes.
+    pub format: PixelFormat,
+}
+
+/// Messages from the host to the controller.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub enum HostFrame {
+    /// Handshake.
+    Hello(Hello),
+    /// Frame-wide raster state.
+    RasterSetup(RasterSetup),
+    /// A batch of raster commands, executed in order.
+    Raster(Vec<RasterCmd, RASTER_BATCH>),
+    /// Texel data.
+    Texture(TextureWrite),
+    /// Ray-tracer register writes.
+    Regs(RegWrite),
+    /// Start a frame.
+    Start(StartFrame),
+    /// Stop auto-restart after the current frame.
+    Stop,
+    /// Wait until every queued command has reached the framebuffer, then answer
+    /// [`DeviceFrame::Synced`] with the same token.
+    Sync(u32),
+    /// Read back part of a buffer.
+    Read(ReadRequest),
+    /// Ask for [`Stats`].
+    GetStats,
+    /// Drop queued work, clear counters and return to the state after the handshake.
+    Reset,
+}
+
+/// Counters kept by each end of a [`crate::link`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct LinkCounters {
+    /// Data frames sent for the first time.
+    pub sent: u32,
+    /// Data frames sent again (after a NAK or a timeout).
+    pub resent: u32,
+    /// Data frames delivered to the application.
+    pub delivered: u32,
+    /// Frames dropped because the CRC did not match.
+    pub crc_errors: u32,
+    /// Frames dropped because COBS decoding or the header failed.
+    pub framing_errors: u32,
+    /// Data frames received again and acknowledged without being delivered twice.
+    pub duplicates: u32,
+    /// Data frames refused because the receiver had no free slot, or bytes lost because
+    /// a frame exceeded the receive buffer.
+    pub overflows: u32,
+    /// NAKs sent.
+    pub naks: u32,
+}
+
+/// Counters of the controller and the FPGA model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct DeviceCounters {
+    /// Raster commands executed.
+    pub commands: u32,
+    /// Bus words (FIFO records or register writes) pushed to the FPGA.
+    pub bus_words: u32,
+    /// Fragments written to the framebuffer.
+    pub fragments: u64,
+    /// FPGA clock cycles spent by the blocks.
+    pub cycles: u64,
+    /// Cycles the controller waited on a full input FIFO.
+    pub fifo_stalls: u64,
+    /// Frames completed.
+    pub frames: u32,
+    /// Free slots in the controller's command queue now.
+    pub queue_free: u16,
+}
+
+/// Both ends' view of the link plus the device counters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
+pub struct Stats {
+    /// The controller's link counters.
+    pub link: LinkCounters,
+    /// The controller and FPGA counters.
+    pub device: DeviceCounters,
+}
+
+/// A frame finished.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct FrameDone {
+    /// The id from [`StartFrame`].
+    pub frame_id: u32,
+    /// FPGA cycles the frame took.
+    pub cycles: u64,
+    /// Rays traced (ray tracer) or fragments written (raster).
+    pub work: u64,
+}
+
+/// A piece of a read-back.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct ReadChunk {
+    /// Byte offset of `data` within the whole read-back.
+    pub offset: u32,
+    /// Pixel bytes in the requested format.
+    pub data: Vec<u8, READ_CHUNK>,
+}
+
+/// The end of a read-back: the host checks that it received `len` bytes whose CRC-32
+/// (the link's polynomial) is `crc32`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct ReadDone {
+    /// Total bytes sent.
+    pub len: u32,
+    /// CRC-32 of all of them.
+    pub crc32: u32,
+}
+
+/// Why the controller refused or failed a request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub enum ErrorCode {
+    /// The payload did not decode as a [`HostFrame`].
+    Malformed,
+    /// A value is outside what the bus layout or the target can represent.
+    OutOfRange,
+    /// The target lacks the capability (see [`Caps`]).
+    Unsupported,
+    /// The request is not valid now (a raster command before [`RasterSetup`], a read of a
+    /// buffer that does not exist, …).
+    BadState,
+    /// The handshake failed.
+    Handshake,
+    /// The FPGA reported a fault.
+    Device,
+}
+
+/// An error answer. `index` says where: the command's position in its batch, the
+/// register offset, or the byte offset, depending on the request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct ErrorReport {
+    /// What went wrong.
+    pub code: ErrorCode,
+    /// Link sequence number of the request that failed.
+    pub seq: u16,
+    /// Where within it (see the type's doc).
+    pub index: u32,
+}
+
+/// Messages from the controller to the host.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub enum DeviceFrame {
+    /// Handshake answer.
+    Hello(Hello),
+    /// A frame finished.
+    Done(FrameDone),
+    /// Answer to [`HostFrame::Sync`].
+    Synced(u32),
+    /// Read-back data.
+    Chunk(ReadChunk),
+    /// Read-back end.
+    ReadDone(ReadDone),
+    /// Answer to [`HostFrame::GetStats`].
+    Stats(Stats),
+    /// A request failed.
+    Error(ErrorReport),
+}
+
+/// Errors encoding or decoding a message.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CodecError {
+    /// The bytes are not a valid message of this schema.
+    #[error("malformed message: {0}")]
+    Decode(postcard::Error),
+    /// The message does not fit in [`MAX_PAYLOAD`] bytes.
+    #[error("message does not fit in {MAX_PAYLOAD} bytes")]
+    TooLarge,
+    /// Bytes were left over after a complete message (a sign of a schema mismatch).
+    #[error("{0} trailing bytes after a complete message")]
+    Trailing(usize),
+}
+
+/// Encodes a message into `buf`, returning the used prefix.
+pub fn encode<'a, T: Serialize>(msg: &T, buf: &'a mut [u8]) -> Result<&'a mut [u8], CodecError> {
+    let limit = buf.len().min(MAX_PAYLOAD);
+    postcard::to_slice(msg, &mut buf[..limit]).map_err(|e| match e {
+        postcard::Error::SerializeBufferFull => CodecError::TooLarge,
+        other => CodecError::Decode(other),
+    })
+}
+
+/// Decodes exactly one message from `bytes`; trailing bytes are an error, not ignored.
+pub fn decode<'de, T: Deserialize<'de>>(bytes: &'de [u8]) -> Result<T, CodecError> {
+    let (msg, rest) = postcard::take_from_bytes(bytes).map_err(CodecError::Decode)?;
+    if rest.is_empty() {
+        Ok(msg)
+    } else {
+        Err(CodecError::Trailing(rest.len()))
+    }
+}

@@ -1,0 +1,35 @@
+//! The only place an fpgfx wire format is defined.
+//!
+//! Three boundaries cross this crate, and each has its own module so that a reader who
+//! holds a captured byte string knows where to look:
+//!
+//! * [`frame`] — the messages between the host (`fpgfx`) and the controller firmware,
+//!   serialised with postcard. Both ends compare a [`frame::schema_hash`] in the
+//!   handshake so that two builds with different message layouts refuse each other
+//!   instead of exchanging garbage.
+//! * [`link`] — how those messages cross a byte stream (UART, pty, TCP): COBS framing,
+//!   CRC-32, sequence numbers, ACK/NAK, a retransmit window and credit-based flow control,
+//!   as a sans-I/O state machine that runs unchanged on the MCU and on the host.
+//! * [`bus`] — the bit-packed words the controller pushes into the FPGA's input FIFO
+//!   (the FITkit raster block and richer layouts), and [`scene`] — the ray tracer's
+//!   32-bit AXI4-Lite register image.
+//!
+//! The crate is `#![no_std]` without `alloc`: everything here must fit a Cortex-M4 with
+//! 128 KiB of RAM, so buffers are `heapless` and bounded by the named constants below.
+#![no_std]
+#![deny(missing_docs)]
+
+pub mod bus;
+pub mod frame;
+pub mod link;
+pub mod scene;
+
+/// Version of the host <-> controller protocol. Bump it whenever a change is not purely
+/// additive; the handshake reports both sides' values when they differ.
+pub const PROTOCOL_VERSION: u16 = 1;
+
+/// Largest postcard-encoded message (one [`frame::HostFrame`] or [`frame::DeviceFrame`])
+/// that may travel in one link frame. Sized so that the controller's receive buffer,
+/// a few window slots and the read-back buffer fit comfortably in the MCU's RAM, and so
+/// that a full frame still takes only ~23 ms at 115 200 baud.
+pub const MAX_PAYLOAD: usize = 256;

@@ -1,0 +1,1 @@
+//! The FPGA, emulated: a bit-exact golden model of the raster and ray-trace blocks.
