@@ -1,0 +1,64 @@
+//! `cargo xtask test` — the README's test command and the only thing `.ci/run` calls.
+//!
+//! It installs what the checks need (the Cortex-M target; later QEMU and stm32flash from
+//! Debian) idempotently, so a fresh machine needs nothing done by hand, then runs every
+//! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
+
+use std::process::Command;
+
+use anyhow::{bail, Context, Result};
+
+/// The MCU target the protocol crate (and later the firmware) must build for.
+const MCU_TARGET: &str = "thumbv7em-none-eabihf";
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match args.first().map(String::as_str) {
+        Some("test") => test(),
+        Some("setup") => setup(),
+        _ => {
+            eprintln!("usage: cargo xtask <test|setup>\n  setup  install the Rust target and packages the tests need\n  test   setup, then fmt, clippy, no_std builds and every test");
+            bail!("unknown or missing xtask command: {args:?}")
+        }
+    }
+}
+
+/// Runs a command, echoing it, and fails with the command line if it does not succeed.
+fn run(program: &str, args: &[&str]) -> Result<()> {
+    eprintln!("+ {program} {}", args.join(" "));
+    let status = Command::new(program)
+        .args(args)
+        .status()
+        .with_context(|| format!("could not start `{program}`"))?;
+    if !status.success() {
+        bail!("`{program} {}` failed with {status}", args.join(" "));
+    }
+    Ok(())
+}
+
+/// Whether a command succeeds and prints `needle` on stdout (used for idempotent checks).
+fn prints(program: &str, args: &[&str], needle: &str) -> bool {
+    Command::new(program)
+        .args(args)
+        .output()
+        .map(|o| o.status.success() && String::from_utf8_lossy(&o.stdout).contains(needle))
+        .unwrap_or(false)
+}
+
+fn setup() -> Result<()> {
+    if !prints("rustup", &["target", "list", "--installed"], MCU_TARGET) {
+        run("rustup", &["target", "add", MCU_TARGET])?;
+    }
+    Ok(())
+}
+
+fn test() -> Result<()> {
+    setup()?;
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    run(&cargo, &["fmt", "--all", "--check"])?;
+    run(&cargo, &["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"])?;
+    run(&cargo, &["build", "-p", "protocol", "--target", MCU_TARGET])?;
+    run(&cargo, &["test", "--workspace"])?;
+    eprintln!("xtask test: all checks passed");
+    Ok(())
+}
