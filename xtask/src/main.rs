@@ -56,7 +56,17 @@ fn test() -> Result<()> {
     setup()?;
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     run(&cargo, &["fmt", "--all", "--check"])?;
-    run(&cargo, &["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"])?;
+    run(
+        &cargo,
+        &[
+            "clippy",
+            "--workspace",
+            "--all-targets",
+            "--",
+            "-D",
+            "warnings",
+        ],
+    )?;
     run(&cargo, &["build", "-p", "protocol", "--target", MCU_TARGET])?;
     run(&cargo, &["test", "--workspace"])?;
     eprintln!("xtask test: all checks passed");
