@@ -1,7 +1,8 @@
 //! `cargo xtask test` — the README's test command and the only thing `.ci/run` calls.
 //!
-//! It installs what the checks need (the Cortex-M target; later QEMU and stm32flash from
-//! Debian) idempotently, so a fresh machine needs nothing done by hand, then runs every
+//! It installs what the checks need (the Cortex-M target; QEMU from Debian once the
+//! firmware's QEMU tests exist) idempotently,
+//! so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
 use std::process::Command;
@@ -68,6 +69,19 @@ fn test() -> Result<()> {
         ],
     )?;
     run(&cargo, &["build", "-p", "protocol", "--target", MCU_TARGET])?;
+    run(
+        &cargo,
+        &[
+            "build",
+            "-p",
+            "firmware",
+            "--features",
+            "board",
+            "--target",
+            MCU_TARGET,
+            "--release",
+        ],
+    )?;
     run(&cargo, &["test", "--workspace"])?;
     eprintln!("xtask test: all checks passed");
     Ok(())
