@@ -686,6 +686,12 @@ pub struct LinkCounters {
     pub overflows: u32,
     /// NAKs sent.
     pub naks: u32,
+    /// Retransmission timer expiries (each frame resent for lack of an ACK counts once).
+    pub timeouts: u32,
+    /// Valid frames ignored because they belong to an older reset epoch.
+    pub stale: u32,
+    /// Resets, started here or by the peer.
+    pub resets: u32,
 }
 
 /// Counters of the controller and the FPGA model.

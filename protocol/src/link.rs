@@ -1,1 +1,879 @@
-//! Placeholder: filled in by the link work.
+//! The reliable link: how postcard messages cross a lossy byte stream (UART, pty, TCP).
+//!
+//! The link is a sans-I/O state machine: it never reads a clock or touches a port. The
+//! caller feeds received bytes to [`Link::handle_input`], drains frames to write with
+//! [`Link::poll_transmit`], and tells it the time (milliseconds from any origin) on every
+//! call, so the same code runs in the firmware's main loop, in the host's async task and in
+//! a deterministic test with a simulated clock. It allocates nothing: every buffer is a
+//! fixed array sized by [`crate::MAX_PAYLOAD`] and the window `WINDOW`.
+//!
+//! # Frame format
+//!
+//! ```text
+//! COBS( header[6] ‖ payload[0..=256] ‖ CRC-32(header ‖ payload) as u32 LE ) ‖ 0x00
+//! ```
+//!
+//! COBS removes every zero byte, so `0x00` only ever appears as the delimiter and a receiver
+//! that lost bytes resynchronises at the next one. The CRC is CRC-32/ISO-HDLC (the zlib and
+//! Ethernet polynomial), so a captured frame can be checked with any standard tool.
+//!
+//! | byte | field | meaning |
+//! |---|---|---|
+//! | 0 | kind \| epoch << 4 | [`Kind`] in the low nibble, the sender's reset epoch in the high one |
+//! | 1–2 | seq (u16 LE) | Data/Probe: sequence number; Ack: SACK bitmap; Nak: the missing seq; Reset/ResetAck: nonce |
+//! | 3–4 | ack (u16 LE) | cumulative ACK: the next sequence number the sender of this frame expects |
+//! | 5 | credit | receive slots, counted from `ack`, that the sender of this frame grants its peer |
+//!
+//! # Reliability
+//!
+//! Selective repeat: up to `WINDOW` data frames are unacknowledged at once. The receiver
+//! buffers out-of-order frames inside its window and delivers strictly in order; it answers
+//! every data frame with an ACK whose SACK bitmap names which of the 16 frames after the
+//! cumulative point it already holds (so a timeout only resends what is really missing),
+//! and sends one NAK per detected gap (repeated at most once per `nak_holdoff_ms`), which
+//! triggers an immediate resend. A frame whose ACK never comes is resent after `rto_ms`.
+//! Duplicates are acknowledged (the first ACK may have been lost) but delivered once.
+//!
+//! Flow control is by credit: every frame advertises how many frames, counted from its
+//! cumulative ACK, the sender of that frame can still accept (`min(WINDOW, rx_credit)`,
+//! where the application sets `rx_credit`, e.g. to its free queue slots). A sender never
+//! sends past that point; when it is blocked it sends a Probe every `probe_ms`, which the
+//! peer answers with an ACK carrying its current credit, so a lost window update cannot
+//! deadlock the pair.
+//!
+//! A [`Link::reset`] bumps the 4-bit epoch and restarts both ends' sequence numbers at 0;
+//! frames of an older epoch still in the channel are counted as stale and ignored.
+
+use crate::frame::LinkCounters;
+use crate::MAX_PAYLOAD;
+use crc::{Crc, CRC_32_ISO_HDLC};
+
+/// Bytes of the link header that precedes every payload.
+pub const HEADER_LEN: usize = 6;
+/// Bytes of the CRC-32 trailer.
+pub const CRC_LEN: usize = 4;
+/// Largest frame before COBS: header, the largest payload and the CRC.
+const MAX_RAW: usize = HEADER_LEN + MAX_PAYLOAD + CRC_LEN;
+/// Largest COBS-encoded frame without its delimiter; the receive buffer's size.
+const MAX_ENCODED: usize = cobs::max_encoding_length(MAX_RAW);
+/// Worst-case bytes one frame occupies on the wire, including the `0x00` delimiter: the
+/// size of the buffer to hand to [`Link::poll_transmit`] and [`encode_frame`].
+pub const MAX_FRAME: usize = MAX_ENCODED + 1;
+
+const CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
+
+/// Why the link refused an operation or a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum LinkError {
+    /// A payload longer than [`crate::MAX_PAYLOAD`] cannot fit a receiver's slot.
+    #[error("payload of {len} bytes exceeds the maximum of {max}", max = MAX_PAYLOAD)]
+    TooLarge {
+        /// The rejected payload length.
+        len: usize,
+    },
+    /// `WINDOW` frames are unacknowledged; retry after ACKs arrive. Nothing was dropped.
+    #[error("send window full")]
+    WindowFull,
+    /// The peer has granted no more receive slots; retry later (the link probes meanwhile).
+    #[error("peer granted no credit")]
+    NoCredit,
+    /// The output buffer cannot hold the encoded frame; [`MAX_FRAME`] always suffices.
+    #[error("output buffer too small: need {need} bytes")]
+    BufferTooSmall {
+        /// Bytes the frame needs.
+        need: usize,
+    },
+    /// COBS decoding failed, the frame was too short or carried an unknown kind.
+    #[error("malformed frame")]
+    Framing,
+    /// The CRC-32 did not match: the frame was corrupted on the way.
+    #[error("CRC mismatch")]
+    Crc,
+}
+
+/// What a frame is for; the low nibble of header byte 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Kind {
+    /// Carries a payload and a sequence number; must be acknowledged.
+    Data = 1,
+    /// Cumulative acknowledgement; `seq` holds the SACK bitmap.
+    Ack = 2,
+    /// Asks for an immediate resend of the frame numbered `seq`.
+    Nak = 3,
+    /// Sent by a sender the peer has granted no credit; asks for a fresh ACK.
+    Probe = 4,
+    /// Starts a new epoch; `seq` holds a nonce that the peer echoes.
+    Reset = 5,
+    /// Confirms a [`Kind::Reset`]; `seq` echoes its nonce.
+    ResetAck = 6,
+}
+
+impl Kind {
+    fn from_nibble(n: u8) -> Option<Self> {
+        Some(match n {
+            1 => Kind::Data,
+            2 => Kind::Ack,
+            3 => Kind::Nak,
+            4 => Kind::Probe,
+            5 => Kind::Reset,
+            6 => Kind::ResetAck,
+            _ => return None,
+        })
+    }
+}
+
+/// The six header bytes of a link frame, decoded. See the module docs for the layout.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Header {
+    /// What the frame is for.
+    pub kind: Kind,
+    /// Reset epoch of the sender (0..=15); frames from another epoch are stale.
+    pub epoch: u8,
+    /// Sequence number, SACK bitmap or nonce, depending on `kind`.
+    pub seq: u16,
+    /// Next sequence number the sender of this frame expects (cumulative ACK).
+    pub ack: u16,
+    /// Receive slots, counted from `ack`, granted to the peer.
+    pub credit: u8,
+}
+
+impl Header {
+    /// The wire bytes; the epoch is truncated to its 4 bits.
+    pub fn to_bytes(&self) -> [u8; HEADER_LEN] {
+        let s = self.seq.to_le_bytes();
+        let a = self.ack.to_le_bytes();
+        [
+            self.kind as u8 | (self.epoch << 4),
+            s[0],
+            s[1],
+            a[0],
+            a[1],
+            self.credit,
+        ]
+    }
+
+    /// Parses the wire bytes; `None` for an unknown kind.
+    pub fn from_bytes(b: &[u8; HEADER_LEN]) -> Option<Self> {
+        Some(Header {
+            kind: Kind::from_nibble(b[0] & 0x0f)?,
+            epoch: b[0] >> 4,
+            seq: u16::from_le_bytes([b[1], b[2]]),
+            ack: u16::from_le_bytes([b[3], b[4]]),
+            credit: b[5],
+        })
+    }
+}
+
+/// Encodes one frame (COBS, CRC and the trailing `0x00`) into `out`; returns its length.
+///
+/// Exposed so that tools and tests can build frames without a [`Link`].
+pub fn encode_frame(header: &Header, payload: &[u8], out: &mut [u8]) -> Result<usize, LinkError> {
+    if payload.len() > MAX_PAYLOAD {
+        return Err(LinkError::TooLarge { len: payload.len() });
+    }
+    let raw_len = HEADER_LEN + payload.len() + CRC_LEN;
+    let need = cobs::max_encoding_length(raw_len) + 1;
+    if out.len() < need {
+        return Err(LinkError::BufferTooSmall { need });
+    }
+    let mut raw = [0u8; MAX_RAW];
+    raw[..HEADER_LEN].copy_from_slice(&header.to_bytes());
+    raw[HEADER_LEN..HEADER_LEN + payload.len()].copy_from_slice(payload);
+    let crc = CRC32.checksum(&raw[..HEADER_LEN + payload.len()]);
+    raw[HEADER_LEN + payload.len()..raw_len].copy_from_slice(&crc.to_le_bytes());
+    let n =
+        cobs::try_encode(&raw[..raw_len], out).map_err(|_| LinkError::BufferTooSmall { need })?;
+    out[n] = 0;
+    Ok(n + 1)
+}
+
+/// Decodes one frame in place: `buf` holds the COBS bytes, with or without the trailing
+/// delimiter. Returns the header and the payload (a sub-slice of `buf`).
+pub fn decode_frame(buf: &mut [u8]) -> Result<(Header, &[u8]), LinkError> {
+    let (header, len) = decode_in_place(buf)?;
+    Ok((header, &buf[HEADER_LEN..HEADER_LEN + len]))
+}
+
+/// [`decode_frame`] without the borrow, so the link can copy the payload out of its own
+/// receive buffer: returns the header and the payload length (payload at `HEADER_LEN`).
+fn decode_in_place(buf: &mut [u8]) -> Result<(Header, usize), LinkError> {
+    let end = match buf.last() {
+        Some(0) => buf.len() - 1,
+        _ => buf.len(),
+    };
+    let encoded = &mut buf[..end];
+    // COBS output never contains a zero; one inside means two frames ran together.
+    if encoded.is_empty() || encoded.contains(&0) {
+        return Err(LinkError::Framing);
+    }
+    let n = cobs::decode_in_place(encoded).map_err(|_| LinkError::Framing)?;
+    if n < HEADER_LEN + CRC_LEN {
+        return Err(LinkError::Framing);
+    }
+    let body = n - CRC_LEN;
+    let mut crc = [0u8; CRC_LEN];
+    crc.copy_from_slice(&encoded[body..n]);
+    if CRC32.checksum(&encoded[..body]) != u32::from_le_bytes(crc) {
+        return Err(LinkError::Crc);
+    }
+    let mut h = [0u8; HEADER_LEN];
+    h.copy_from_slice(&encoded[..HEADER_LEN]);
+    let header = Header::from_bytes(&h).ok_or(LinkError::Framing)?;
+    let len = body - HEADER_LEN;
+    if len > MAX_PAYLOAD || (len > 0 && header.kind != Kind::Data) {
+        return Err(LinkError::Framing);
+    }
+    Ok((header, len))
+}
+
+/// Timing and flow-control parameters. All times are in the caller's milliseconds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    /// Resend a data frame (or a Reset) not acknowledged after this long. Must exceed the
+    /// time to send a whole window plus the ACK: 8 full frames take ~190 ms at 115 200 baud.
+    pub rto_ms: u64,
+    /// After a NAK, do not NAK the same missing frame again for this long, so one loss
+    /// costs one resend rather than one per later frame that reveals the gap.
+    pub nak_holdoff_ms: u64,
+    /// How often a sender without credit probes the peer for a window update.
+    pub probe_ms: u64,
+    /// Frames the application can accept; the link advertises `min(WINDOW, rx_credit)`.
+    /// `u8::MAX` means the window is the only limit. Change it with [`Link::set_rx_credit`].
+    pub rx_credit: u8,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            rto_ms: 500,
+            nak_holdoff_ms: 250,
+            probe_ms: 200,
+            rx_credit: u8::MAX,
+        }
+    }
+}
+
+/// Something the application must act on, returned by [`Link::handle_input`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event<'a> {
+    /// The next payload in order; it borrows the link's buffer until the next call.
+    Data(&'a [u8]),
+    /// The reset this end started with [`Link::reset`] was confirmed by the peer.
+    Synced,
+    /// The peer started a new epoch: this end's unacknowledged frames were discarded
+    /// (the application must resend what still matters) and sequence numbers restart.
+    PeerReset {
+        /// Frames this end had queued or in flight that were dropped.
+        discarded: u16,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum TxState {
+    /// Accepted by `send`, not yet on the wire.
+    Unsent,
+    /// On the wire, waiting for an ACK.
+    InFlight,
+}
+
+#[derive(Clone, Copy)]
+struct TxSlot {
+    state: TxState,
+    /// The receiver holds it (SACK) but has not passed it cumulatively: never resend.
+    sacked: bool,
+    /// Resend at the next `poll_transmit` (NAK or timeout).
+    resend: bool,
+    sent_at: u64,
+    len: u16,
+    buf: [u8; MAX_PAYLOAD],
+}
+
+impl TxSlot {
+    const EMPTY: TxSlot = TxSlot {
+        state: TxState::Unsent,
+        sacked: false,
+        resend: false,
+        sent_at: 0,
+        len: 0,
+        buf: [0; MAX_PAYLOAD],
+    };
+}
+
+#[derive(Clone, Copy)]
+struct RxSlot {
+    full: bool,
+    seq: u16,
+    len: u16,
+    buf: [u8; MAX_PAYLOAD],
+}
+
+impl RxSlot {
+    const EMPTY: RxSlot = RxSlot {
+        full: false,
+        seq: 0,
+        len: 0,
+        buf: [0; MAX_PAYLOAD],
+    };
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Pending {
+    Synced,
+    PeerReset(u16),
+}
+
+/// One end of a reliable link with a window of `WINDOW` frames.
+///
+/// `WINDOW` must be a power of two (so that slot = seq mod WINDOW stays consistent when the
+/// u16 sequence number wraps) between 4 and 128 (so that "ahead" and "behind" are never
+/// ambiguous and the credit fits a byte); other values fail to compile.
+pub struct Link<const WINDOW: usize = 8> {
+    config: Config,
+    epoch: u8,
+    counters: LinkCounters,
+    // Transmit side.
+    tx: [TxSlot; WINDOW],
+    /// Oldest unacknowledged sequence number.
+    tx_base: u16,
+    /// Sequence number the next `send` gets.
+    tx_next: u16,
+    /// First sequence number the peer has not granted (its ack + its credit).
+    tx_limit: u16,
+    /// `send` failed for lack of credit: probe until credit arrives.
+    blocked: bool,
+    probe_due: bool,
+    last_probe: Option<u64>,
+    // Receive side.
+    rx: [RxSlot; WINDOW],
+    /// Next sequence number to deliver.
+    rx_next: u16,
+    rx_credit: u8,
+    ack_due: bool,
+    nak_due: Option<u16>,
+    /// The last NAK sent: the seq and when.
+    last_nak: Option<(u16, u64)>,
+    // Byte stream reassembly.
+    raw: [u8; MAX_ENCODED],
+    raw_len: usize,
+    /// A frame overflowed `raw`: skip to the next delimiter.
+    discarding: bool,
+    // Reset handshake.
+    /// Our Reset awaiting its ResetAck: nonce and last send time (None: send now).
+    reset_pending: Option<(u16, Option<u64>)>,
+    /// The peer's Reset we accepted last (epoch, nonce), to recognise its repeats.
+    peer_reset: Option<(u8, u16)>,
+    reset_ack_due: Option<u16>,
+    pending: Option<Pending>,
+}
+
+impl<const WINDOW: usize> Link<WINDOW> {
+    const WINDOW_OK: () = assert!(
+        WINDOW.is_power_of_two() && WINDOW >= 4 && WINDOW <= 128,
+        "Link WINDOW must be a power of two in 4..=128"
+    );
+
+    /// A link in epoch 0 with sequence numbers at 0 and no credit from the peer yet (the
+    /// first `send` makes it probe). Both ends of a fresh connection can start this way;
+    /// an end that restarts while its peer keeps running must call [`Link::reset`].
+    pub fn new(config: Config) -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::WINDOW_OK;
+        Link {
+            config,
+            epoch: 0,
+            counters: LinkCounters::default(),
+            tx: [TxSlot::EMPTY; WINDOW],
+            tx_base: 0,
+            tx_next: 0,
+            tx_limit: 0,
+            blocked: false,
+            probe_due: false,
+            last_probe: None,
+            rx: [RxSlot::EMPTY; WINDOW],
+            rx_next: 0,
+            rx_credit: config.rx_credit,
+            ack_due: false,
+            nak_due: None,
+            last_nak: None,
+            raw: [0; MAX_ENCODED],
+            raw_len: 0,
+            discarding: false,
+            reset_pending: None,
+            peer_reset: None,
+            reset_ack_due: None,
+            pending: None,
+        }
+    }
+
+    /// Frames queued or in flight, not yet acknowledged.
+    pub fn in_flight(&self) -> usize {
+        usize::from(self.tx_next.wrapping_sub(self.tx_base))
+    }
+
+    fn credit_left(&self) -> bool {
+        // tx_next is before tx_limit in modular order.
+        let d = self.tx_limit.wrapping_sub(self.tx_next);
+        d != 0 && d < 0x8000
+    }
+
+    /// Whether [`Link::send`] would accept a frame now.
+    pub fn can_send(&self) -> bool {
+        self.reset_pending.is_none() && self.in_flight() < WINDOW && self.credit_left()
+    }
+
+    /// The counters so far (for [`crate::frame::Stats`]).
+    pub fn counters(&self) -> LinkCounters {
+        self.counters
+    }
+
+    /// The 4-bit epoch this end is in.
+    pub fn epoch(&self) -> u8 {
+        self.epoch
+    }
+
+    fn slot(seq: u16) -> usize {
+        usize::from(seq) & (WINDOW - 1)
+    }
+
+    /// Queues `payload` for transmission and returns its sequence number. The payload is
+    /// copied, so the caller's buffer is free at once. On error nothing was queued: the
+    /// caller keeps the payload and retries after more input or a timeout.
+    pub fn send(&mut self, now_ms: u64, payload: &[u8]) -> Result<u16, LinkError> {
+        if payload.len() > MAX_PAYLOAD {
+            return Err(LinkError::TooLarge { len: payload.len() });
+        }
+        if self.in_flight() >= WINDOW {
+            return Err(LinkError::WindowFull);
+        }
+        if self.reset_pending.is_some() {
+            return Err(LinkError::NoCredit);
+        }
+        if !self.credit_left() {
+            if !self.blocked {
+                self.blocked = true;
+                self.probe_due = match self.last_probe {
+                    None => true,
+                    Some(t) => now_ms >= t + self.config.probe_ms,
+                };
+            }
+            return Err(LinkError::NoCredit);
+        }
+        let seq = self.tx_next;
+        let slot = &mut self.tx[Self::slot(seq)];
+        slot.state = TxState::Unsent;
+        slot.sacked = false;
+        slot.resend = false;
+        slot.len = payload.len() as u16;
+        slot.buf[..payload.len()].copy_from_slice(payload);
+        self.tx_next = seq.wrapping_add(1);
+        Ok(seq)
+    }
+
+    /// Credit this end advertises: free slots from `rx_next`.
+    fn advertised(&self) -> u8 {
+        // WINDOW <= 128, so the minimum fits a byte.
+        self.rx_credit.min(WINDOW as u8)
+    }
+
+    /// Sets how many frames the application can accept (e.g. its free queue slots, after
+    /// it queued or executed one). Raising it sends a window update at once.
+    pub fn set_rx_credit(&mut self, n: u8) {
+        let before = self.advertised();
+        self.rx_credit = n;
+        if self.advertised() > before {
+            self.ack_due = true;
+        }
+    }
+
+    /// Starts a new epoch: discards every queued and in-flight frame of both directions,
+    /// restarts sequence numbers at 0 and sends a Reset (repeated every `rto_ms`) until
+    /// the peer confirms it, which [`Event::Synced`] reports. `nonce` tells this reset from
+    /// older ones (a counter or random value). Returns the number of frames discarded.
+    pub fn reset(&mut self, _now_ms: u64, nonce: u16) -> u16 {
+        let discarded = self.in_flight() as u16;
+        self.clear_state();
+        self.epoch = (self.epoch + 1) & 0x0f;
+        self.reset_pending = Some((nonce, None));
+        self.counters.resets += 1;
+        discarded
+    }
+
+    fn clear_state(&mut self) {
+        self.tx_base = 0;
+        self.tx_next = 0;
+        self.tx_limit = 0;
+        self.blocked = false;
+        self.probe_due = false;
+        self.last_probe = None;
+        for s in self.rx.iter_mut() {
+            s.full = false;
+        }
+        self.rx_next = 0;
+        self.ack_due = false;
+        self.nak_due = None;
+        self.last_nak = None;
+        self.reset_pending = None;
+        self.reset_ack_due = None;
+        self.pending = None;
+    }
+
+    /// Feeds received bytes. Returns how many of `bytes` were consumed and, if something
+    /// happened, the event. Call it again with the rest (and finally with an empty slice)
+    /// until it returns `None`; only then have all bytes been consumed. Delivered payloads
+    /// borrow the link's receive buffer, which is why one call yields at most one event.
+    pub fn handle_input(&mut self, now_ms: u64, bytes: &[u8]) -> (usize, Option<Event<'_>>) {
+        if let Some(p) = self.pending.take() {
+            return (0, Some(Self::pending_event(p)));
+        }
+        let mut used = 0;
+        if !self.deliverable() {
+            while used < bytes.len() {
+                let b = bytes[used];
+                used += 1;
+                if self.push_byte(now_ms, b) {
+                    break;
+                }
+            }
+            if let Some(p) = self.pending.take() {
+                return (used, Some(Self::pending_event(p)));
+            }
+        }
+        if self.deliverable() {
+            let i = Self::slot(self.rx_next);
+            self.rx[i].full = false;
+            self.rx_next = self.rx_next.wrapping_add(1);
+            self.counters.delivered += 1;
+            let slot = &self.rx[i];
+            return (used, Some(Event::Data(&slot.buf[..usize::from(slot.len)])));
+        }
+        (used, None)
+    }
+
+    fn pending_event(p: Pending) -> Event<'static> {
+        match p {
+            Pending::Synced => Event::Synced,
+            Pending::PeerReset(discarded) => Event::PeerReset { discarded },
+        }
+    }
+
+    fn deliverable(&self) -> bool {
+        let s = &self.rx[Self::slot(self.rx_next)];
+        s.full && s.seq == self.rx_next
+    }
+
+    /// Adds one byte; returns true when a completed frame produced something to report.
+    fn push_byte(&mut self, now_ms: u64, b: u8) -> bool {
+        if b != 0 {
+            if self.discarding {
+                return false;
+            }
+            if self.raw_len == MAX_ENCODED {
+                self.counters.overflows += 1;
+                self.discarding = true;
+                self.raw_len = 0;
+                return false;
+            }
+            self.raw[self.raw_len] = b;
+            self.raw_len += 1;
+            return false;
+        }
+        let len = core::mem::take(&mut self.raw_len);
+        if core::mem::take(&mut self.discarding) || len == 0 {
+            return false;
+        }
+        match decode_in_place(&mut self.raw[..len]) {
+            Err(LinkError::Crc) => {
+                self.counters.crc_errors += 1;
+                false
+            }
+            Err(_) => {
+                self.counters.framing_errors += 1;
+                false
+            }
+            Ok((header, plen)) => self.on_frame(now_ms, header, plen),
+        }
+    }
+
+    /// Handles a valid frame whose payload sits at `raw[HEADER_LEN..][..plen]`.
+    fn on_frame(&mut self, now_ms: u64, h: Header, plen: usize) -> bool {
+        match h.kind {
+            Kind::Reset => return self.on_reset(h),
+            Kind::ResetAck => {
+                if let Some((nonce, _)) = self.reset_pending {
+                    if h.seq == nonce && h.epoch == self.epoch {
+                        self.reset_pending = None;
+                        self.tx_limit = h.ack.wrapping_add(u16::from(h.credit));
+                        self.pending = Some(Pending::Synced);
+                        return true;
+                    }
+                }
+                self.counters.stale += 1;
+                return false;
+            }
+            _ => {}
+        }
+        if h.epoch != self.epoch {
+            self.counters.stale += 1;
+            return false;
+        }
+        self.on_ack(h);
+        match h.kind {
+            Kind::Data => self.on_data(now_ms, h.seq, plen),
+            Kind::Nak => {
+                let off = h.seq.wrapping_sub(self.tx_base);
+                if usize::from(off) < self.in_flight() {
+                    let s = &mut self.tx[Self::slot(h.seq)];
+                    if s.state == TxState::InFlight && !s.sacked {
+                        s.resend = true;
+                    }
+                }
+            }
+            Kind::Probe => self.ack_due = true,
+            _ => {}
+        }
+        self.deliverable()
+    }
+
+    /// The cumulative ACK, credit and (for Ack frames) SACK bitmap of any current-epoch frame.
+    fn on_ack(&mut self, h: Header) {
+        let adv = h.ack.wrapping_sub(self.tx_base);
+        if usize::from(adv) > self.in_flight() {
+            // Acknowledges frames never sent: corrupted past the CRC or from a confused
+            // peer; trusting its credit could overrun the peer.
+            return;
+        }
+        self.tx_base = h.ack;
+        self.tx_limit = h.ack.wrapping_add(u16::from(h.credit));
+        if self.credit_left() {
+            self.blocked = false;
+            self.probe_due = false;
+        }
+        if h.kind == Kind::Ack {
+            for i in 0..16u16 {
+                if h.seq & (1 << i) == 0 {
+                    continue;
+                }
+                let seq = h.ack.wrapping_add(1 + i);
+                if usize::from(seq.wrapping_sub(self.tx_base)) < self.in_flight() {
+                    let s = &mut self.tx[Self::slot(seq)];
+                    if s.state == TxState::InFlight {
+                        s.sacked = true;
+                        s.resend = false;
+                    }
+                }
+            }
+        }
+    }
+
+    fn on_data(&mut self, now_ms: u64, seq: u16, plen: usize) {
+        self.ack_due = true;
+        let off = seq.wrapping_sub(self.rx_next);
+        if off >= 0x8000 {
+            // Behind the cumulative point: already delivered.
+            self.counters.duplicates += 1;
+            return;
+        }
+        let i = Self::slot(seq);
+        if usize::from(off) < WINDOW && self.rx[i].full && self.rx[i].seq == seq {
+            self.counters.duplicates += 1;
+            return;
+        }
+        if off >= u16::from(self.advertised()) {
+            // Past the credit we granted: refuse it (no ACK for it); the sender resends
+            // once a window update lets it.
+            self.counters.overflows += 1;
+            return;
+        }
+        let slot = &mut self.rx[i];
+        slot.full = true;
+        slot.seq = seq;
+        slot.len = plen as u16;
+        slot.buf[..plen].copy_from_slice(&self.raw[HEADER_LEN..HEADER_LEN + plen]);
+        if off > 0 && !self.rx[Self::slot(self.rx_next)].full {
+            let missing = self.rx_next;
+            let held_off = matches!(self.last_nak,
+                Some((s, t)) if s == missing && now_ms < t + self.config.nak_holdoff_ms);
+            if !held_off {
+                self.nak_due = Some(missing);
+                self.last_nak = Some((missing, now_ms));
+            }
+        }
+    }
+
+    fn on_reset(&mut self, h: Header) -> bool {
+        if self.peer_reset == Some((h.epoch, h.seq)) {
+            // A repeat: our ResetAck was lost. Confirm again if we are still there.
+            if self.epoch == h.epoch {
+                self.reset_ack_due = Some(h.seq);
+            } else {
+                self.counters.stale += 1;
+            }
+            return false;
+        }
+        if let Some((own, _)) = self.reset_pending {
+            // Both ends reset at once: the larger nonce wins, the other end adopts it.
+            if own >= h.seq {
+                return false;
+            }
+        }
+        let discarded = self.in_flight() as u16;
+        self.clear_state();
+        self.epoch = h.epoch & 0x0f;
+        self.tx_limit = h.ack.wrapping_add(u16::from(h.credit));
+        self.peer_reset = Some((self.epoch, h.seq));
+        self.reset_ack_due = Some(h.seq);
+        self.counters.resets += 1;
+        self.pending = Some(Pending::PeerReset(discarded));
+        true
+    }
+
+    /// Writes the next frame to send into `out` (at least [`MAX_FRAME`] bytes) and returns
+    /// its length, or `None` when nothing is due. Call it until it returns `None` after
+    /// every [`Link::send`], [`Link::handle_input`] and [`Link::handle_timeout`].
+    pub fn poll_transmit(&mut self, now_ms: u64, out: &mut [u8]) -> Option<usize> {
+        let credit = self.advertised();
+        let mut header = Header {
+            kind: Kind::Ack,
+            epoch: self.epoch,
+            seq: 0,
+            ack: self.rx_next,
+            credit,
+        };
+        if let Some((nonce, sent)) = self.reset_pending {
+            if sent.is_none() {
+                header.kind = Kind::Reset;
+                header.seq = nonce;
+                header.ack = 0;
+                let n = encode_frame(&header, &[], out).ok()?;
+                self.reset_pending = Some((nonce, Some(now_ms)));
+                return Some(n);
+            }
+        }
+        if let Some(nonce) = self.reset_ack_due {
+            header.kind = Kind::ResetAck;
+            header.seq = nonce;
+            let n = encode_frame(&header, &[], out).ok()?;
+            self.reset_ack_due = None;
+            return Some(n);
+        }
+        if self.reset_pending.is_some() {
+            return None;
+        }
+        if let Some(missing) = self.nak_due {
+            header.kind = Kind::Nak;
+            header.seq = missing;
+            let n = encode_frame(&header, &[], out).ok()?;
+            self.nak_due = None;
+            self.counters.naks += 1;
+            return Some(n);
+        }
+        if self.ack_due {
+            header.seq = self.sack_bitmap();
+            let n = encode_frame(&header, &[], out).ok()?;
+            self.ack_due = false;
+            return Some(n);
+        }
+        // Resends first (oldest first), then new frames, both in sequence order.
+        let mut seq = self.tx_base;
+        while seq != self.tx_next {
+            let i = Self::slot(seq);
+            let s = &self.tx[i];
+            let first = s.state == TxState::Unsent;
+            if first || s.resend {
+                header.kind = Kind::Data;
+                header.seq = seq;
+                let n = encode_frame(&header, &s.buf[..usize::from(s.len)], out).ok()?;
+                let s = &mut self.tx[i];
+                s.state = TxState::InFlight;
+                s.resend = false;
+                s.sent_at = now_ms;
+                if first {
+                    self.counters.sent += 1;
+                } else {
+                    self.counters.resent += 1;
+                }
+                return Some(n);
+            }
+            seq = seq.wrapping_add(1);
+        }
+        if self.probe_due {
+            header.kind = Kind::Probe;
+            header.seq = self.tx_next;
+            let n = encode_frame(&header, &[], out).ok()?;
+            self.probe_due = false;
+            self.last_probe = Some(now_ms);
+            return Some(n);
+        }
+        None
+    }
+
+    /// Bit i set: frame `rx_next + 1 + i` is held.
+    fn sack_bitmap(&self) -> u16 {
+        let mut bits = 0u16;
+        for i in 0..16u16.min(WINDOW as u16 - 1) {
+            let seq = self.rx_next.wrapping_add(1 + i);
+            let s = &self.rx[Self::slot(seq)];
+            if s.full && s.seq == seq {
+                bits |= 1 << i;
+            }
+        }
+        bits
+    }
+
+    /// Fires the timers that are due at `now_ms`: resends of unacknowledged frames, the
+    /// Reset repeat and the credit probe. Call it when [`Link::next_deadline`] passes (or
+    /// simply every few milliseconds), then drain [`Link::poll_transmit`].
+    pub fn handle_timeout(&mut self, now_ms: u64) {
+        if let Some((nonce, Some(t))) = self.reset_pending {
+            if now_ms >= t + self.config.rto_ms {
+                self.reset_pending = Some((nonce, None));
+                self.counters.timeouts += 1;
+            }
+            return;
+        }
+        let mut seq = self.tx_base;
+        while seq != self.tx_next {
+            let s = &mut self.tx[Self::slot(seq)];
+            if s.state == TxState::InFlight
+                && !s.sacked
+                && !s.resend
+                && now_ms >= s.sent_at + self.config.rto_ms
+            {
+                s.resend = true;
+                self.counters.timeouts += 1;
+            }
+            seq = seq.wrapping_add(1);
+        }
+        if self.blocked && !self.credit_left() {
+            if let Some(t) = self.last_probe {
+                if now_ms >= t + self.config.probe_ms {
+                    self.probe_due = true;
+                }
+            }
+        }
+    }
+
+    /// The earliest time [`Link::handle_timeout`] has something to do, if any.
+    pub fn next_deadline(&self) -> Option<u64> {
+        if let Some((_, sent)) = self.reset_pending {
+            return sent.map(|t| t + self.config.rto_ms);
+        }
+        let mut next: Option<u64> = None;
+        let mut seq = self.tx_base;
+        while seq != self.tx_next {
+            let s = &self.tx[Self::slot(seq)];
+            if s.state == TxState::InFlight && !s.sacked && !s.resend {
+                let t = s.sent_at + self.config.rto_ms;
+                next = Some(next.map_or(t, |n| n.min(t)));
+            }
+            seq = seq.wrapping_add(1);
+        }
+        if self.blocked && !self.probe_due {
+            if let Some(t) = self.last_probe {
+                let t = t + self.config.probe_ms;
+                next = Some(next.map_or(t, |n| n.min(t)));
+            }
+        }
+        next
+    }
+}

@@ -280,6 +280,9 @@ fn device_vectors() -> std::vec::Vec<(DeviceFrame, &'static [u8])> {
                     duplicates: 3,
                     overflows: 4,
                     naks: 1,
+                    timeouts: 5,
+                    stale: 0,
+                    resets: 300,
                 },
                 device: DeviceCounters {
                     commands: 5,
@@ -293,7 +296,8 @@ fn device_vectors() -> std::vec::Vec<(DeviceFrame, &'static [u8])> {
             }),
             &[
                 0x05, // Stats
-                0x64, 0x02, 0x62, 0x01, 0x00, 0x03, 0x04, 0x01, // link counters
+                0x64, 0x02, 0x62, 0x01, 0x00, 0x03, 0x04, 0x01, 0x05, 0x00, 0xac,
+                0x02, // link counters
                 0x05, 0xc8, 0x01, 0x0a, 0xc0, 0xc4, 0x07, 0xc0, 0x84, 0x3d, 0x11,
                 0x01, // device counters
             ],
@@ -486,6 +490,9 @@ fn worst_case_messages_fit_a_frame() {
             duplicates: u32::MAX,
             overflows: u32::MAX,
             naks: u32::MAX,
+            timeouts: u32::MAX,
+            stale: u32::MAX,
+            resets: u32::MAX,
         },
         device: DeviceCounters {
             commands: u32::MAX,
@@ -820,7 +827,7 @@ fn device_frame() -> impl Strategy<Value = DeviceFrame> {
             }),
         any::<(u32, u32)>().prop_map(|(len, crc32)| DeviceFrame::ReadDone(ReadDone { len, crc32 })),
         (
-            any::<[u32; 8]>(),
+            any::<[u32; 11]>(),
             (any::<(u32, u32, u64)>(), any::<(u64, u64, u32, u16)>())
                 .prop_map(|(a, b)| (a.0, a.1, a.2, b.0, b.1, b.2, b.3))
         )
@@ -835,6 +842,9 @@ fn device_frame() -> impl Strategy<Value = DeviceFrame> {
                         duplicates: l[5],
                         overflows: l[6],
                         naks: l[7],
+                        timeouts: l[8],
+                        stale: l[9],
+                        resets: l[10],
                     },
                     device: DeviceCounters {
                         commands: d.0,
