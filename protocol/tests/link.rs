@@ -1040,3 +1040,11 @@ fn largest_window_works() {
     assert!(sim.a.max_in_flight > 16, "a large window is actually used");
     assert!(sim.a.max_in_flight <= 128);
 }
+
+#[test]
+fn link_fits_the_mcu_budget() {
+    // Two windows of 256-byte slots plus the receive buffer: ~4.6 KiB of the MCU's 128 KiB.
+    let size = core::mem::size_of::<Link<8>>();
+    eprintln!("size_of::<Link<8>>() = {size}");
+    assert!(size < 5 * 1024, "{size}");
+}
