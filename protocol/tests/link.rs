@@ -1048,3 +1048,20 @@ fn link_fits_the_mcu_budget() {
     eprintln!("size_of::<Link<8>>() = {size}");
     assert!(size < 5 * 1024, "{size}");
 }
+
+#[test]
+fn changing_credit_under_loss_never_overruns_the_application() {
+    let loss = Loss {
+        corrupt_byte: 0.002,
+        drop: 0.03,
+        duplicate: 0.03,
+        reorder: 0.03,
+    };
+    let mut sim: Sim<8> = Sim::new(21, loss, Config::default(), 3_000, 1_000, 48);
+    // b's application queue holds 3 commands and executes one per millisecond;
+    // `End::receive` asserts it is never overrun.
+    sim.b.app_queue = Some((3, 0));
+    sim.b.link.set_rx_credit(3);
+    sim.run_to_completion(u64::MAX / 2);
+    assert_eq!((sim.a.next_recv, sim.b.next_recv), (1_000, 3_000));
+}
