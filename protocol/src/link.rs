@@ -43,6 +43,43 @@
 //!
 //! A [`Link::reset`] bumps the 4-bit epoch and restarts both ends' sequence numbers at 0;
 //! frames of an older epoch still in the channel are counted as stale and ignored.
+//!
+//! # Driving it
+//!
+//! ```
+//! use protocol::link::{Config, Event, Link, MAX_FRAME};
+//!
+//! /// Moves every frame `from` wants to send into `to`, collecting delivered payloads.
+//! fn pump(from: &mut Link, to: &mut Link, now: u64, got: &mut Vec<Vec<u8>>) {
+//!     let mut wire = [0u8; MAX_FRAME];
+//!     while let Some(n) = from.poll_transmit(now, &mut wire) {
+//!         let mut rest = &wire[..n];
+//!         loop {
+//!             let (used, event) = to.handle_input(now, rest);
+//!             rest = &rest[used..];
+//!             match event {
+//!                 Some(Event::Data(payload)) => got.push(payload.to_vec()),
+//!                 Some(_) => {}
+//!                 None => break, // everything consumed
+//!             }
+//!         }
+//!     }
+//! }
+//!
+//! let (mut host, mut device): (Link, Link) = (Link::new(Config::default()), Link::new(Config::default()));
+//! let mut got = Vec::new();
+//! // No credit has been granted yet: the refused send makes the host probe.
+//! assert!(host.send(0, b"hello").is_err());
+//! pump(&mut host, &mut device, 0, &mut got); // Probe
+//! pump(&mut device, &mut host, 0, &mut got); // Ack granting 8 slots
+//! assert_eq!(host.send(1, b"hello"), Ok(0));
+//! pump(&mut host, &mut device, 1, &mut got); // Data
+//! pump(&mut device, &mut host, 1, &mut got); // Ack
+//! assert_eq!(got, [b"hello".to_vec()]);
+//! assert_eq!(host.in_flight(), 0);
+//! // With nothing in flight there is no timer to serve.
+//! assert_eq!(host.next_deadline(), None);
+//! ```
 
 use crate::frame::LinkCounters;
 use crate::MAX_PAYLOAD;
@@ -143,7 +180,7 @@ impl Header {
         let s = self.seq.to_le_bytes();
         let a = self.ack.to_le_bytes();
         [
-            self.kind as u8 | (self.epoch << 4),
+            self.kind as u8 | ((self.epoch & 0x0f) << 4),
             s[0],
             s[1],
             a[0],
@@ -326,7 +363,11 @@ enum Pending {
 ///
 /// `WINDOW` must be a power of two (so that slot = seq mod WINDOW stays consistent when the
 /// u16 sequence number wraps) between 4 and 128 (so that "ahead" and "behind" are never
-/// ambiguous and the credit fits a byte); other values fail to compile.
+/// ambiguous and the credit fits a byte); other values fail to compile:
+///
+/// ```compile_fail,E0080
+/// let link = protocol::link::Link::<6>::new(Default::default());
+/// ```
 pub struct Link<const WINDOW: usize = 8> {
     config: Config,
     epoch: u8,
@@ -453,7 +494,7 @@ impl<const WINDOW: usize> Link<WINDOW> {
                 self.blocked = true;
                 self.probe_due = match self.last_probe {
                     None => true,
-                    Some(t) => now_ms >= t + self.config.probe_ms,
+                    Some(t) => now_ms >= t.saturating_add(self.config.probe_ms),
                 };
             }
             return Err(LinkError::NoCredit);
@@ -692,7 +733,7 @@ impl<const WINDOW: usize> Link<WINDOW> {
         if off > 0 && !self.rx[Self::slot(self.rx_next)].full {
             let missing = self.rx_next;
             let held_off = matches!(self.last_nak,
-                Some((s, t)) if s == missing && now_ms < t + self.config.nak_holdoff_ms);
+                Some((s, t)) if s == missing && now_ms < t.saturating_add(self.config.nak_holdoff_ms));
             if !held_off {
                 self.nak_due = Some(missing);
                 self.last_nak = Some((missing, now_ms));
@@ -825,7 +866,7 @@ impl<const WINDOW: usize> Link<WINDOW> {
     /// simply every few milliseconds), then drain [`Link::poll_transmit`].
     pub fn handle_timeout(&mut self, now_ms: u64) {
         if let Some((nonce, Some(t))) = self.reset_pending {
-            if now_ms >= t + self.config.rto_ms {
+            if now_ms >= t.saturating_add(self.config.rto_ms) {
                 self.reset_pending = Some((nonce, None));
                 self.counters.timeouts += 1;
             }
@@ -837,7 +878,7 @@ impl<const WINDOW: usize> Link<WINDOW> {
             if s.state == TxState::InFlight
                 && !s.sacked
                 && !s.resend
-                && now_ms >= s.sent_at + self.config.rto_ms
+                && now_ms >= s.sent_at.saturating_add(self.config.rto_ms)
             {
                 s.resend = true;
                 self.counters.timeouts += 1;
@@ -846,7 +887,7 @@ impl<const WINDOW: usize> Link<WINDOW> {
         }
         if self.blocked && !self.credit_left() {
             if let Some(t) = self.last_probe {
-                if now_ms >= t + self.config.probe_ms {
+                if now_ms >= t.saturating_add(self.config.probe_ms) {
                     self.probe_due = true;
                 }
             }
@@ -856,21 +897,21 @@ impl<const WINDOW: usize> Link<WINDOW> {
     /// The earliest time [`Link::handle_timeout`] has something to do, if any.
     pub fn next_deadline(&self) -> Option<u64> {
         if let Some((_, sent)) = self.reset_pending {
-            return sent.map(|t| t + self.config.rto_ms);
+            return sent.map(|t| t.saturating_add(self.config.rto_ms));
         }
         let mut next: Option<u64> = None;
         let mut seq = self.tx_base;
         while seq != self.tx_next {
             let s = &self.tx[Self::slot(seq)];
             if s.state == TxState::InFlight && !s.sacked && !s.resend {
-                let t = s.sent_at + self.config.rto_ms;
+                let t = s.sent_at.saturating_add(self.config.rto_ms);
                 next = Some(next.map_or(t, |n| n.min(t)));
             }
             seq = seq.wrapping_add(1);
         }
         if self.blocked && !self.probe_due {
             if let Some(t) = self.last_probe {
-                let t = t + self.config.probe_ms;
+                let t = t.saturating_add(self.config.probe_ms);
                 next = Some(next.map_or(t, |n| n.min(t)));
             }
         }
