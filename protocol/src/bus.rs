@@ -673,9 +673,15 @@ pub fn rgb332_decode(q: u8) -> Rgb {
 /// The nearest RGB332 colour (per channel, by value): the explicit, lossy step a caller
 /// takes before packing for an 8-bit layout.
 pub fn quantize_rgb332(c: Rgb) -> Rgb {
-    let q3 = |v: u8| ((u16::from(v) * 7 + 127) / 255) as u8;
-    let q2 = |v: u8| ((u16::from(v) * 3 + 127) / 255) as u8;
-    rgb332_decode(q3(c.r) << 5 | q3(c.g) << 2 | q2(c.b))
+    // Nearest of the levels bit replication actually produces (ties go to the darker).
+    let nearest = |v: u8, levels: u8, expand: fn(u8) -> u8| {
+        (0..levels)
+            .min_by_key(|&k| (i16::from(expand(k)) - i16::from(v)).abs())
+            .unwrap_or(0)
+    };
+    let e3 = |k: u8| (k << 5) | (k << 2) | (k >> 1);
+    let e2 = |k: u8| k * 0x55;
+    rgb332_decode(nearest(c.r, 8, e3) << 5 | nearest(c.g, 8, e3) << 2 | nearest(c.b, 4, e2))
 }
 
 impl<I: Io> Walker<'_, I> {
