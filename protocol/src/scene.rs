@@ -1,1 +1,1235 @@
-//! Placeholder: filled in by the scene work.
+//! The ray tracer's register image: 32-bit AXI4-Lite words the controller writes before a
+//! frame (seed 002, MicroBlaze driver, `WorldDescription`).
+//!
+//! The image carries everything the SPEC-RT scene file can express, so that the device
+//! needs no other input than these registers and the texture memory. Sizes are const
+//! parameters, `OBJ` objects and `LIGHTS` lights (the seed's OBJ_NUM = 8 and LIGHTS_NUM =
+//! 2; light 0 is the ambient light). Between frames the controller sends only what
+//! changed ([`diff`]), as [`RegWrite`] runs.
+//!
+//! # Number formats
+//!
+//! Real values are Q16.16 two's complement (the seed's `ap_fixed<32,16>`): value × 65536
+//! rounded to nearest, ties away from zero, range −32768 … 32767.99998. [`q16_from_f64`]
+//! refuses NaN, infinities and values outside that range, naming the field, rather than
+//! saturating. **Exception:** `MAX_DISTANCE` (1e6 in the seed) cannot be held by Q16.16,
+//! so it is an IEEE binary32 bit pattern. Counts, sizes, codes and seeds are plain
+//! unsigned integers.
+//!
+//! # Register map (word offsets)
+//!
+//! | offset | field | format |
+//! |---|---|---|
+//! | 0 | magic `0x46505254` ("FPRT") | u32 |
+//! | 1 | version (bits 0–15) \| OBJ (16–23) \| LIGHTS (24–31) | u32 |
+//! | 2 | object count | u32 ≤ OBJ |
+//! | 3 | light count (ambient included) | u32 ≤ LIGHTS |
+//! | 4, 5 | width, height | u32 ≥ 1 |
+//! | 6 | depth (RAYTRACING_DEPTH) | u32 ≥ 1 |
+//! | 7 | bias (CORE_BIAS) | Q16.16 |
+//! | 8 | max_distance | **f32 bits** |
+//! | 9–11 | background r, g, b | Q16.16 |
+//! | 12 | samples per pixel | u32 ≥ 1 |
+//! | 13 | flags ([`FLAG_SHADOWS`] …) | u32 |
+//! | 14 | jitter seed | u32 |
+//! | 15 | reserved, 0 | |
+//! | 16–18 | camera position | Q16.16 × 3 |
+//! | 19–21 | camera look_at | Q16.16 × 3 |
+//! | 22–24 | camera up | Q16.16 × 3 |
+//! | 25 | fov_y, degrees | Q16.16 |
+//! | 26–28, 29–31, 32–34 | basis u, v, w (ViRAY's form, derived by the host) | Q16.16 × 9 |
+//! | 35 | near_plane (image plane distance along −w) | Q16.16 |
+//! | 36 + 12·i | light i: [`light`] offsets | |
+//! | 36 + 12·LIGHTS + 42·j | object j: [`obj`] offsets | |
+//!
+//! Light block (12 words): kind (0 ambient, 1 point, 2 spot), position ×3, colour ×3,
+//! direction ×3, cos_outer, cos_inner. Object block (42 words): shape, translate ×3,
+//! scale ×3, rotate ×3 (degrees), ambient k + colour ×3, diffuse k + colour ×3 + model +
+//! σ², specular k + colour ×3 + model + exponent (u32 ≤ 1023), reflection mode + η + κ,
+//! texture kind, mapping, scale ×2, offset ×2, colour2 ×3, filter, seed, base texel,
+//! size (`width_log2 | height_log2 << 8`). With the defaults the map is 396 words.
+
+use heapless::Vec;
+
+use crate::frame::{RegWrite, REG_WRITE_WORDS};
+
+/// First word of the image: "FPRT".
+pub const MAGIC: u32 = 0x4650_5254;
+/// Register-map version in word 1.
+pub const VERSION: u16 = 1;
+
+/// Flag: trace shadow rays (SHADOW_ENABLE).
+pub const FLAG_SHADOWS: u32 = 1 << 0;
+/// Flag: flip normals facing away from the ray so both sides shade (INTERNAL_SHADING).
+pub const FLAG_INTERNAL_SHADING: u32 = 1 << 1;
+/// Flag: objects may shadow themselves (SELF_SHADOW_ENABLE).
+pub const FLAG_SELF_SHADOW: u32 = 1 << 2;
+/// Flag: sample textures (TEXTURE_ENABLE).
+pub const FLAG_TEXTURES: u32 = 1 << 3;
+
+/// Word offsets of the header.
+pub mod hdr {
+    /// [`super::MAGIC`].
+    pub const MAGIC: usize = 0;
+    /// Version and capacities.
+    pub const VERSION: usize = 1;
+    /// Objects in use.
+    pub const OBJECT_COUNT: usize = 2;
+    /// Lights in use, the ambient one included.
+    pub const LIGHT_COUNT: usize = 3;
+    /// Frame width.
+    pub const WIDTH: usize = 4;
+    /// Frame height.
+    pub const HEIGHT: usize = 5;
+    /// RAYTRACING_DEPTH.
+    pub const DEPTH: usize = 6;
+    /// CORE_BIAS, Q16.16.
+    pub const BIAS: usize = 7;
+    /// MAX_DISTANCE, f32 bits.
+    pub const MAX_DISTANCE: usize = 8;
+    /// Background colour, 3 × Q16.16.
+    pub const BACKGROUND: usize = 9;
+    /// Samples per pixel.
+    pub const SPP: usize = 12;
+    /// `FLAG_*` bits.
+    pub const FLAGS: usize = 13;
+    /// Seed of the sample jitter.
+    pub const SEED: usize = 14;
+    /// Words in the header.
+    pub const WORDS: usize = 16;
+}
+
+/// Word offsets of the camera, from [`cam::OFFSET`].
+pub mod cam {
+    /// First camera word.
+    pub const OFFSET: usize = super::hdr::WORDS;
+    /// Eye position.
+    pub const POSITION: usize = 0;
+    /// Point looked at.
+    pub const LOOK_AT: usize = 3;
+    /// Up vector.
+    pub const UP: usize = 6;
+    /// Vertical field of view in degrees.
+    pub const FOV_Y: usize = 9;
+    /// Basis u (right).
+    pub const U: usize = 10;
+    /// Basis v (up).
+    pub const V: usize = 13;
+    /// Basis w (backwards).
+    pub const W: usize = 16;
+    /// Image plane distance along −w.
+    pub const NEAR_PLANE: usize = 19;
+    /// Words in the camera block.
+    pub const WORDS: usize = 20;
+}
+
+/// Word offsets inside a light block.
+pub mod light {
+    /// First word of light 0.
+    pub const OFFSET: usize = super::cam::OFFSET + super::cam::WORDS;
+    /// [`super::LightKind`] code.
+    pub const KIND: usize = 0;
+    /// Position.
+    pub const POSITION: usize = 1;
+    /// Colour / intensity.
+    pub const COLOR: usize = 4;
+    /// Spot direction.
+    pub const DIRECTION: usize = 7;
+    /// cos(α/2).
+    pub const COS_OUTER: usize = 10;
+    /// cos(β/2).
+    pub const COS_INNER: usize = 11;
+    /// Words per light.
+    pub const WORDS: usize = 12;
+}
+
+/// Word offsets inside an object block.
+pub mod obj {
+    /// [`super::Shape`] code.
+    pub const SHAPE: usize = 0;
+    /// Translation.
+    pub const TRANSLATE: usize = 1;
+    /// Per-axis scale.
+    pub const SCALE: usize = 4;
+    /// Rotation about x, y, z in degrees.
+    pub const ROTATE: usize = 7;
+    /// Ambient k.
+    pub const AMBIENT_K: usize = 10;
+    /// Ambient colour.
+    pub const AMBIENT_COLOR: usize = 11;
+    /// Diffuse k.
+    pub const DIFFUSE_K: usize = 14;
+    /// Diffuse colour.
+    pub const DIFFUSE_COLOR: usize = 15;
+    /// [`super::DiffuseModel`] code.
+    pub const DIFFUSE_MODEL: usize = 18;
+    /// Oren–Nayar σ².
+    pub const SIGMA2: usize = 19;
+    /// Specular k.
+    pub const SPECULAR_K: usize = 20;
+    /// Specular colour.
+    pub const SPECULAR_COLOR: usize = 21;
+    /// [`super::SpecularModel`] code.
+    pub const SPECULAR_MODEL: usize = 24;
+    /// Specular exponent, u32 ≤ 1023.
+    pub const EXPONENT: usize = 25;
+    /// [`super::ReflectionMode`] code.
+    pub const REFLECTION_MODE: usize = 26;
+    /// Refractive index η.
+    pub const ETA: usize = 27;
+    /// Extinction coefficient κ.
+    pub const KAPPA: usize = 28;
+    /// [`super::TextureKind`] code.
+    pub const TEX_KIND: usize = 29;
+    /// [`super::Mapping`] code.
+    pub const TEX_MAPPING: usize = 30;
+    /// Texture scale (u, v).
+    pub const TEX_SCALE: usize = 31;
+    /// Texture offset (u, v).
+    pub const TEX_OFFSET: usize = 33;
+    /// Second colour of grey textures.
+    pub const TEX_COLOR2: usize = 35;
+    /// [`super::TexFilter`] code.
+    pub const TEX_FILTER: usize = 38;
+    /// Seed of procedural noise.
+    pub const TEX_SEED: usize = 39;
+    /// First texel in texture memory.
+    pub const TEX_BASE: usize = 40;
+    /// `width_log2 | height_log2 << 8`.
+    pub const TEX_SIZE: usize = 41;
+    /// Words per object.
+    pub const WORDS: usize = 42;
+}
+
+/// Where a value sits, for error messages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum At {
+    /// Header or camera.
+    Global,
+    /// Light block i.
+    Light(usize),
+    /// Object block i.
+    Object(usize),
+}
+
+impl core::fmt::Display for At {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            At::Global => Ok(()),
+            At::Light(i) => write!(f, "light {i}: "),
+            At::Object(i) => write!(f, "object {i}: "),
+        }
+    }
+}
+
+/// Why a scene value cannot be put into (or read from) the registers.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    /// Not finite or outside the Q16.16 range.
+    #[error("{at}`{field}` = {value} does not fit Q16.16 (finite, -32768 <= v < 32768)")]
+    Q16 {
+        /// Where.
+        at: At,
+        /// Field name.
+        field: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// Not a finite binary32 value.
+    #[error("{at}`{field}` = {value} is not a finite f32")]
+    F32 {
+        /// Where.
+        at: At,
+        /// Field name.
+        field: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// An integer outside its range.
+    #[error("{at}`{field}` = {value} is outside {min}..={max}")]
+    Int {
+        /// Where.
+        at: At,
+        /// Field name.
+        field: &'static str,
+        /// The value.
+        value: u64,
+        /// Smallest allowed.
+        min: u64,
+        /// Largest allowed.
+        max: u64,
+    },
+    /// A code word that names no enumeration value.
+    #[error("{at}`{field}` = {value} is not a valid code")]
+    Code {
+        /// Where.
+        at: At,
+        /// Field name.
+        field: &'static str,
+        /// The value.
+        value: u32,
+    },
+    /// A light or object index beyond the map's capacity.
+    #[error("{what} {index} does not exist (capacity {capacity})")]
+    Index {
+        /// "light" or "object".
+        what: &'static str,
+        /// The index.
+        index: usize,
+        /// The capacity.
+        capacity: usize,
+    },
+    /// A register write that runs past the map.
+    #[error("write of {len} words at offset {offset} runs past the {size}-word register map")]
+    Bounds {
+        /// First word.
+        offset: usize,
+        /// Words.
+        len: usize,
+        /// Words in the map.
+        size: usize,
+    },
+    /// A word slice of the wrong length.
+    #[error("expected {expected} words, got {got}")]
+    Length {
+        /// Words in the map.
+        expected: usize,
+        /// Words given.
+        got: usize,
+    },
+    /// Word 0 is not [`MAGIC`].
+    #[error("magic word is {found:#010x}, expected {MAGIC:#010x}")]
+    Magic {
+        /// The word found.
+        found: u32,
+    },
+    /// Word 1 does not match this map's version and capacities.
+    #[error("version word is {found:#010x}, expected {expected:#010x} (version | OBJ << 16 | LIGHTS << 24)")]
+    Version {
+        /// The word found.
+        found: u32,
+        /// This map's word.
+        expected: u32,
+    },
+}
+
+impl SceneError {
+    fn at(self, at: At) -> Self {
+        match self {
+            SceneError::Q16 { field, value, .. } => SceneError::Q16 { at, field, value },
+            SceneError::F32 { field, value, .. } => SceneError::F32 { at, field, value },
+            SceneError::Int {
+                field,
+                value,
+                min,
+                max,
+                ..
+            } => SceneError::Int {
+                at,
+                field,
+                value,
+                min,
+                max,
+            },
+            SceneError::Code { field, value, .. } => SceneError::Code { at, field, value },
+            other => other,
+        }
+    }
+}
+
+/// Converts to Q16.16, rounding to nearest (ties away from zero); NaN, infinities and
+/// values outside −32768 … 32767.99998 are errors naming `field`.
+pub fn q16_from_f64(field: &'static str, value: f64) -> Result<i32, SceneError> {
+    let err = SceneError::Q16 {
+        at: At::Global,
+        field,
+        value,
+    };
+    let scaled = value * 65536.0;
+    // NaN fails both comparisons.
+    if !(-2_147_483_648.5..2_147_483_647.5).contains(&scaled) {
+        return Err(err);
+    }
+    let r = if scaled >= 0.0 {
+        (scaled + 0.5) as i64
+    } else {
+        -((-scaled + 0.5) as i64)
+    };
+    i32::try_from(r).map_err(|_| err)
+}
+
+/// The value of a Q16.16 word.
+pub fn q16_to_f64(q: i32) -> f64 {
+    f64::from(q) / 65536.0
+}
+
+fn f32_bits(field: &'static str, value: f64) -> Result<u32, SceneError> {
+    let f = value as f32;
+    if f.is_finite() {
+        Ok(f.to_bits())
+    } else {
+        Err(SceneError::F32 {
+            at: At::Global,
+            field,
+            value,
+        })
+    }
+}
+
+macro_rules! code_enum {
+    ($(#[$m:meta])* $name:ident { $($(#[$vm:meta])* $v:ident = $c:literal),* $(,)? }) => {
+        $(#[$m])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+        pub enum $name {
+            $($(#[$vm])* $v = $c),*
+        }
+        impl $name {
+            /// Every value, in code order.
+            pub const ALL: &'static [$name] = &[$($name::$v),*];
+            /// The register code.
+            pub const fn code(self) -> u32 {
+                self as u32
+            }
+            /// The value of a register code.
+            pub fn from_code(c: u32) -> Option<Self> {
+                Self::ALL.iter().copied().find(|v| v.code() == c)
+            }
+        }
+    };
+}
+
+code_enum!(
+    /// Light type; light 0 is always ambient.
+    LightKind {
+        /// Uniform ambient light L_a (only the colour is used).
+        #[default]
+        Ambient = 0,
+        /// Point light with quadratic falloff.
+        Point = 1,
+        /// Point light with a spot cone.
+        Spot = 2,
+    }
+);
+
+code_enum!(
+    /// Canonical shape of an object (SPEC-RT, all inside [−1, 1]³).
+    Shape {
+        /// Unit sphere.
+        #[default]
+        Sphere = 0,
+        /// Plane y = 0.
+        Plane = 1,
+        /// Unit disk in y = 0.
+        Disk = 2,
+        /// Square |x|, |z| ≤ 1 in y = 0.
+        Square = 3,
+        /// Open cylinder.
+        Cylinder = 4,
+        /// Open cone.
+        Cone = 5,
+        /// Cube [−1, 1]³.
+        Cube = 6,
+    }
+);
+
+code_enum!(
+    /// Diffuse model.
+    DiffuseModel {
+        /// 1/π.
+        #[default]
+        Lambert = 0,
+        /// Oren–Nayar with σ².
+        OrenNayar = 1,
+    }
+);
+
+code_enum!(
+    /// Specular model.
+    SpecularModel {
+        /// Normalised Blinn–Phong.
+        #[default]
+        BlinnPhong = 0,
+        /// Torrance–Sparrow.
+        TorranceSparrow = 1,
+    }
+);
+
+code_enum!(
+    /// Reflectance of the mirror bounce.
+    ReflectionMode {
+        /// No reflected ray.
+        #[default]
+        None = 0,
+        /// r = k_s.
+        Constant = 1,
+        /// Fresnel with η − iκ.
+        Fresnel = 2,
+    }
+);
+
+code_enum!(
+    /// Texture source.
+    TextureKind {
+        /// Untextured.
+        #[default]
+        None = 0,
+        /// (x ⊕ y) & 255 grey.
+        Xor = 1,
+        /// Grey checkerboard.
+        Checkerboard = 2,
+        /// Red, green, blue texels.
+        RgbDots = 3,
+        /// Marble noise.
+        Marble = 4,
+        /// Wood noise.
+        Wood = 5,
+        /// An uploaded image.
+        Image = 6,
+    }
+);
+
+code_enum!(
+    /// Texture mapping from the object-space hit.
+    Mapping {
+        /// u = (x + 1)/2, v = (z + 1)/2.
+        #[default]
+        Planar = 0,
+        /// u from atan2(x, z), v = (y + 1)/2.
+        Cylindrical = 1,
+        /// u from atan2(x, z), v = 1 − acos(y)/π.
+        Spherical = 2,
+    }
+);
+
+code_enum!(
+    /// Texture filter.
+    TexFilter {
+        /// Nearest texel.
+        #[default]
+        Nearest = 0,
+        /// Bilinear.
+        Bilinear = 1,
+    }
+);
+
+/// Global settings (`[render]` of the scene file).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Render {
+    /// Frame width in pixels.
+    pub width: u32,
+    /// Frame height in pixels.
+    pub height: u32,
+    /// RAYTRACING_DEPTH.
+    pub depth: u32,
+    /// CORE_BIAS.
+    pub bias: f64,
+    /// MAX_DISTANCE (carried as f32).
+    pub max_distance: f64,
+    /// Background colour.
+    pub background: [f64; 3],
+    /// Samples per pixel.
+    pub spp: u32,
+    /// `FLAG_*` bits.
+    pub flags: u32,
+    /// Jitter seed.
+    pub seed: u32,
+}
+
+/// The camera in both the scene file's form and ViRAY's (basis + near plane); the host
+/// derives the latter from the former.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Camera {
+    /// Eye position.
+    pub position: [f64; 3],
+    /// Point looked at.
+    pub look_at: [f64; 3],
+    /// Up vector.
+    pub up: [f64; 3],
+    /// Vertical field of view in degrees.
+    pub fov_y: f64,
+    /// Basis u.
+    pub u: [f64; 3],
+    /// Basis v.
+    pub v: [f64; 3],
+    /// Basis w.
+    pub w: [f64; 3],
+    /// Image plane distance.
+    pub near_plane: f64,
+}
+
+/// One light.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Light {
+    /// Type.
+    pub kind: LightKind,
+    /// Position.
+    pub position: [f64; 3],
+    /// Colour / radiant intensity per channel.
+    pub color: [f64; 3],
+    /// Spot direction.
+    pub direction: [f64; 3],
+    /// cos(α/2).
+    pub cos_outer: f64,
+    /// cos(β/2).
+    pub cos_inner: f64,
+}
+
+/// A coefficient and a colour.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Term {
+    /// Coefficient k.
+    pub k: f64,
+    /// Colour.
+    pub color: [f64; 3],
+}
+
+/// The complete material of an object.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Material {
+    /// k_a, c_a.
+    pub ambient: Term,
+    /// k_d, c_d.
+    pub diffuse: Term,
+    /// Diffuse model.
+    pub diffuse_model: DiffuseModel,
+    /// Oren–Nayar σ².
+    pub sigma2: f64,
+    /// k_s, c_s.
+    pub specular: Term,
+    /// Specular model.
+    pub specular_model: SpecularModel,
+    /// Exponent e ≤ 1023.
+    pub exponent: u32,
+    /// Reflection mode.
+    pub reflection: ReflectionMode,
+    /// η.
+    pub eta: f64,
+    /// κ.
+    pub kappa: f64,
+    /// Texture.
+    pub texture: Texture,
+}
+
+/// Texture of a material.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Texture {
+    /// Source.
+    pub kind: TextureKind,
+    /// Mapping.
+    pub mapping: Mapping,
+    /// (u, v) scale.
+    pub scale: [f64; 2],
+    /// (u, v) offset.
+    pub offset: [f64; 2],
+    /// Second colour of grey textures.
+    pub color2: [f64; 3],
+    /// Filter.
+    pub filter: TexFilter,
+    /// Noise seed.
+    pub seed: u32,
+    /// First texel in texture memory.
+    pub base: u32,
+    /// log2 of the width in texels (≤ 8).
+    pub width_log2: u8,
+    /// log2 of the height in texels (≤ 8).
+    pub height_log2: u8,
+}
+
+/// One object.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Object {
+    /// Canonical shape.
+    pub shape: Shape,
+    /// Translation.
+    pub translate: [f64; 3],
+    /// Per-axis scale.
+    pub scale: [f64; 3],
+    /// Rotation in degrees about x, y, z.
+    pub rotate: [f64; 3],
+    /// Material.
+    pub material: Material,
+}
+
+// Block encoders: `w` is the block's words.
+fn put_q(w: &mut [u32], at: usize, field: &'static str, v: f64) -> Result<(), SceneError> {
+    w[at] = q16_from_f64(field, v)? as u32;
+    Ok(())
+}
+fn put_v<const N: usize>(
+    w: &mut [u32],
+    at: usize,
+    field: &'static str,
+    v: [f64; N],
+) -> Result<(), SceneError> {
+    for (i, x) in v.iter().enumerate() {
+        put_q(w, at + i, field, *x)?;
+    }
+    Ok(())
+}
+fn get_q(w: &[u32], at: usize) -> f64 {
+    q16_to_f64(w[at] as i32)
+}
+fn get_v<const N: usize>(w: &[u32], at: usize) -> [f64; N] {
+    core::array::from_fn(|i| get_q(w, at + i))
+}
+fn int(field: &'static str, value: u64, min: u64, max: u64) -> Result<(), SceneError> {
+    if value < min || value > max {
+        Err(SceneError::Int {
+            at: At::Global,
+            field,
+            value,
+            min,
+            max,
+        })
+    } else {
+        Ok(())
+    }
+}
+fn code<T>(field: &'static str, value: u32, f: fn(u32) -> Option<T>) -> Result<T, SceneError> {
+    f(value).ok_or(SceneError::Code {
+        at: At::Global,
+        field,
+        value,
+    })
+}
+
+/// The register image for `OBJ` objects and `LIGHTS` lights.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SceneRegs<const OBJ: usize = 8, const LIGHTS: usize = 2> {
+    header: [u32; hdr::WORDS],
+    camera: [u32; cam::WORDS],
+    lights: [[u32; light::WORDS]; LIGHTS],
+    objects: [[u32; obj::WORDS]; OBJ],
+}
+
+impl<const OBJ: usize, const LIGHTS: usize> Default for SceneRegs<OBJ, LIGHTS> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
+    /// Words in the map.
+    pub const WORDS: usize = hdr::WORDS + cam::WORDS + LIGHTS * light::WORDS + OBJ * obj::WORDS;
+    /// First word of the object blocks.
+    pub const OBJECTS_OFFSET: usize = light::OFFSET + LIGHTS * light::WORDS;
+    /// Word 1: version and capacities, so that a map built for other sizes is refused.
+    pub const VERSION_WORD: u32 = VERSION as u32 | (OBJ as u32) << 16 | (LIGHTS as u32) << 24;
+    // RegWrite offsets are u16 and the capacities must fit their bytes in word 1.
+    const FITS: () = assert!(Self::WORDS <= 1 << 16 && OBJ < 256 && LIGHTS < 256 && LIGHTS >= 1);
+
+    /// An empty scene: header magic and version set, no objects or lights, all else 0.
+    pub fn new() -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::FITS;
+        let mut header = [0; hdr::WORDS];
+        header[hdr::MAGIC] = MAGIC;
+        header[hdr::VERSION] = Self::VERSION_WORD;
+        SceneRegs {
+            header,
+            camera: [0; cam::WORDS],
+            lights: [[0; light::WORDS]; LIGHTS],
+            objects: [[0; obj::WORDS]; OBJ],
+        }
+    }
+
+    /// Word offset of light `i`.
+    pub const fn light_offset(i: usize) -> usize {
+        light::OFFSET + i * light::WORDS
+    }
+
+    /// Word offset of object `i`.
+    pub const fn object_offset(i: usize) -> usize {
+        Self::OBJECTS_OFFSET + i * obj::WORDS
+    }
+
+    /// The word at `offset`.
+    pub fn word(&self, offset: usize) -> Option<u32> {
+        self.word_ref(offset)
+    }
+
+    fn word_mut(&mut self, offset: usize) -> Option<&mut u32> {
+        if offset < hdr::WORDS {
+            return self.header.get_mut(offset);
+        }
+        let o = offset - hdr::WORDS;
+        if o < cam::WORDS {
+            return self.camera.get_mut(o);
+        }
+        let o = o - cam::WORDS;
+        if o < LIGHTS * light::WORDS {
+            return self.lights[o / light::WORDS].get_mut(o % light::WORDS);
+        }
+        let o = o - LIGHTS * light::WORDS;
+        self.objects
+            .get_mut(o / obj::WORDS)
+            .and_then(|b| b.get_mut(o % obj::WORDS))
+    }
+
+    /// Every word in offset order.
+    pub fn words(&self) -> impl Iterator<Item = u32> + '_ {
+        self.header
+            .iter()
+            .chain(self.camera.iter())
+            .chain(self.lights.iter().flatten())
+            .chain(self.objects.iter().flatten())
+            .copied()
+    }
+
+    /// Copies the image into `out` (at least [`Self::WORDS`] long); returns the length.
+    pub fn to_words(&self, out: &mut [u32]) -> Result<usize, SceneError> {
+        if out.len() < Self::WORDS {
+            return Err(SceneError::Length {
+                expected: Self::WORDS,
+                got: out.len(),
+            });
+        }
+        for (o, w) in out.iter_mut().zip(self.words()) {
+            *o = w;
+        }
+        Ok(Self::WORDS)
+    }
+
+    /// Rebuilds an image from exactly [`Self::WORDS`] words, checking magic and version.
+    /// Field values are not checked here (the typed getters do that).
+    pub fn from_words(words: &[u32]) -> Result<Self, SceneError> {
+        if words.len() != Self::WORDS {
+            return Err(SceneError::Length {
+                expected: Self::WORDS,
+                got: words.len(),
+            });
+        }
+        if words[hdr::MAGIC] != MAGIC {
+            return Err(SceneError::Magic {
+                found: words[hdr::MAGIC],
+            });
+        }
+        if words[hdr::VERSION] != Self::VERSION_WORD {
+            return Err(SceneError::Version {
+                found: words[hdr::VERSION],
+                expected: Self::VERSION_WORD,
+            });
+        }
+        let mut s = Self::new();
+        for (i, &w) in words.iter().enumerate() {
+            if let Some(slot) = s.word_mut(i) {
+                *slot = w;
+            }
+        }
+        Ok(s)
+    }
+
+    /// Writes a run of words, as the device does for a [`RegWrite`].
+    pub fn write(&mut self, offset: usize, words: &[u32]) -> Result<(), SceneError> {
+        if offset + words.len() > Self::WORDS {
+            return Err(SceneError::Bounds {
+                offset,
+                len: words.len(),
+                size: Self::WORDS,
+            });
+        }
+        for (i, &w) in words.iter().enumerate() {
+            if let Some(slot) = self.word_mut(offset + i) {
+                *slot = w;
+            }
+        }
+        Ok(())
+    }
+
+    /// Sets the numbers of objects and lights in use (lights include the ambient one).
+    pub fn set_counts(&mut self, objects: usize, lights: usize) -> Result<(), SceneError> {
+        int("object_count", objects as u64, 0, OBJ as u64)?;
+        int("light_count", lights as u64, 0, LIGHTS as u64)?;
+        self.header[hdr::OBJECT_COUNT] = objects as u32;
+        self.header[hdr::LIGHT_COUNT] = lights as u32;
+        Ok(())
+    }
+
+    /// Objects in use.
+    pub fn object_count(&self) -> u32 {
+        self.header[hdr::OBJECT_COUNT]
+    }
+
+    /// Lights in use.
+    pub fn light_count(&self) -> u32 {
+        self.header[hdr::LIGHT_COUNT]
+    }
+
+    /// Writes the global settings.
+    pub fn set_render(&mut self, r: &Render) -> Result<(), SceneError> {
+        int("width", u64::from(r.width), 1, u64::from(u16::MAX))?;
+        int("height", u64::from(r.height), 1, u64::from(u16::MAX))?;
+        int("depth", u64::from(r.depth), 1, 16)?;
+        int("spp", u64::from(r.spp), 1, 1 << 16)?;
+        let mut h = self.header;
+        h[hdr::WIDTH] = r.width;
+        h[hdr::HEIGHT] = r.height;
+        h[hdr::DEPTH] = r.depth;
+        put_q(&mut h, hdr::BIAS, "bias", r.bias)?;
+        h[hdr::MAX_DISTANCE] = f32_bits("max_distance", r.max_distance)?;
+        put_v(&mut h, hdr::BACKGROUND, "background", r.background)?;
+        h[hdr::SPP] = r.spp;
+        h[hdr::FLAGS] = r.flags;
+        h[hdr::SEED] = r.seed;
+        self.header = h;
+        Ok(())
+    }
+
+    /// Reads the global settings.
+    pub fn render(&self) -> Render {
+        let h = &self.header;
+        Render {
+            width: h[hdr::WIDTH],
+            height: h[hdr::HEIGHT],
+            depth: h[hdr::DEPTH],
+            bias: get_q(h, hdr::BIAS),
+            max_distance: f64::from(f32::from_bits(h[hdr::MAX_DISTANCE])),
+            background: get_v(h, hdr::BACKGROUND),
+            spp: h[hdr::SPP],
+            flags: h[hdr::FLAGS],
+            seed: h[hdr::SEED],
+        }
+    }
+
+    /// Writes the camera.
+    pub fn set_camera(&mut self, c: &Camera) -> Result<(), SceneError> {
+        let mut w = [0; cam::WORDS];
+        put_v(&mut w, cam::POSITION, "camera.position", c.position)?;
+        put_v(&mut w, cam::LOOK_AT, "camera.look_at", c.look_at)?;
+        put_v(&mut w, cam::UP, "camera.up", c.up)?;
+        put_q(&mut w, cam::FOV_Y, "camera.fov_y", c.fov_y)?;
+        put_v(&mut w, cam::U, "camera.u", c.u)?;
+        put_v(&mut w, cam::V, "camera.v", c.v)?;
+        put_v(&mut w, cam::W, "camera.w", c.w)?;
+        put_q(&mut w, cam::NEAR_PLANE, "camera.near_plane", c.near_plane)?;
+        self.camera = w;
+        Ok(())
+    }
+
+    /// Reads the camera.
+    pub fn camera(&self) -> Camera {
+        let w = &self.camera;
+        Camera {
+            position: get_v(w, cam::POSITION),
+            look_at: get_v(w, cam::LOOK_AT),
+            up: get_v(w, cam::UP),
+            fov_y: get_q(w, cam::FOV_Y),
+            u: get_v(w, cam::U),
+            v: get_v(w, cam::V),
+            w: get_v(w, cam::W),
+            near_plane: get_q(w, cam::NEAR_PLANE),
+        }
+    }
+
+    fn light_index(i: usize) -> Result<(), SceneError> {
+        if i < LIGHTS {
+            Ok(())
+        } else {
+            Err(SceneError::Index {
+                what: "light",
+                index: i,
+                capacity: LIGHTS,
+            })
+        }
+    }
+
+    fn object_index(i: usize) -> Result<(), SceneError> {
+        if i < OBJ {
+            Ok(())
+        } else {
+            Err(SceneError::Index {
+                what: "object",
+                index: i,
+                capacity: OBJ,
+            })
+        }
+    }
+
+    /// Writes light `i`. Light 0 must be ambient and only light 0 may be.
+    pub fn set_light(&mut self, i: usize, l: &Light) -> Result<(), SceneError> {
+        Self::light_index(i)?;
+        let at = At::Light(i);
+        if (i == 0) != (l.kind == LightKind::Ambient) {
+            return Err(SceneError::Code {
+                at,
+                field: "kind",
+                value: l.kind.code(),
+            });
+        }
+        let enc = || -> Result<[u32; light::WORDS], SceneError> {
+            let mut w = [0; light::WORDS];
+            w[light::KIND] = l.kind.code();
+            put_v(&mut w, light::POSITION, "position", l.position)?;
+            put_v(&mut w, light::COLOR, "color", l.color)?;
+            put_v(&mut w, light::DIRECTION, "direction", l.direction)?;
+            put_q(&mut w, light::COS_OUTER, "cos_outer", l.cos_outer)?;
+            put_q(&mut w, light::COS_INNER, "cos_inner", l.cos_inner)?;
+            Ok(w)
+        };
+        self.lights[i] = enc().map_err(|e| e.at(at))?;
+        Ok(())
+    }
+
+    /// Reads light `i`.
+    pub fn light(&self, i: usize) -> Result<Light, SceneError> {
+        Self::light_index(i)?;
+        let w = &self.lights[i];
+        Ok(Light {
+            kind: code("kind", w[light::KIND], LightKind::from_code)
+                .map_err(|e| e.at(At::Light(i)))?,
+            position: get_v(w, light::POSITION),
+            color: get_v(w, light::COLOR),
+            direction: get_v(w, light::DIRECTION),
+            cos_outer: get_q(w, light::COS_OUTER),
+            cos_inner: get_q(w, light::COS_INNER),
+        })
+    }
+
+    /// Writes object `i`.
+    pub fn set_object(&mut self, i: usize, o: &Object) -> Result<(), SceneError> {
+        Self::object_index(i)?;
+        self.objects[i] = encode_object(o).map_err(|e| e.at(At::Object(i)))?;
+        Ok(())
+    }
+
+    /// Reads object `i`.
+    pub fn object(&self, i: usize) -> Result<Object, SceneError> {
+        Self::object_index(i)?;
+        decode_object(&self.objects[i]).map_err(|e| e.at(At::Object(i)))
+    }
+}
+
+fn encode_object(o: &Object) -> Result<[u32; obj::WORDS], SceneError> {
+    let m = &o.material;
+    let t = &m.texture;
+    int("material.specular.exponent", u64::from(m.exponent), 0, 1023)?;
+    int("material.texture.width_log2", u64::from(t.width_log2), 0, 8)?;
+    int(
+        "material.texture.height_log2",
+        u64::from(t.height_log2),
+        0,
+        8,
+    )?;
+    int("material.texture.base", u64::from(t.base), 0, (1 << 16) - 1)?;
+    let mut w = [0; obj::WORDS];
+    w[obj::SHAPE] = o.shape.code();
+    put_v(&mut w, obj::TRANSLATE, "translate", o.translate)?;
+    put_v(&mut w, obj::SCALE, "scale", o.scale)?;
+    put_v(&mut w, obj::ROTATE, "rotate", o.rotate)?;
+    put_q(&mut w, obj::AMBIENT_K, "material.ambient.k", m.ambient.k)?;
+    put_v(
+        &mut w,
+        obj::AMBIENT_COLOR,
+        "material.ambient.color",
+        m.ambient.color,
+    )?;
+    put_q(&mut w, obj::DIFFUSE_K, "material.diffuse.k", m.diffuse.k)?;
+    put_v(
+        &mut w,
+        obj::DIFFUSE_COLOR,
+        "material.diffuse.color",
+        m.diffuse.color,
+    )?;
+    w[obj::DIFFUSE_MODEL] = m.diffuse_model.code();
+    put_q(&mut w, obj::SIGMA2, "material.diffuse.sigma2", m.sigma2)?;
+    put_q(&mut w, obj::SPECULAR_K, "material.specular.k", m.specular.k)?;
+    put_v(
+        &mut w,
+        obj::SPECULAR_COLOR,
+        "material.specular.color",
+        m.specular.color,
+    )?;
+    w[obj::SPECULAR_MODEL] = m.specular_model.code();
+    w[obj::EXPONENT] = m.exponent;
+    w[obj::REFLECTION_MODE] = m.reflection.code();
+    put_q(&mut w, obj::ETA, "material.reflection.eta", m.eta)?;
+    put_q(&mut w, obj::KAPPA, "material.reflection.k", m.kappa)?;
+    w[obj::TEX_KIND] = t.kind.code();
+    w[obj::TEX_MAPPING] = t.mapping.code();
+    put_v(&mut w, obj::TEX_SCALE, "material.texture.scale", t.scale)?;
+    put_v(&mut w, obj::TEX_OFFSET, "material.texture.offset", t.offset)?;
+    put_v(&mut w, obj::TEX_COLOR2, "material.texture.color2", t.color2)?;
+    w[obj::TEX_FILTER] = t.filter.code();
+    w[obj::TEX_SEED] = t.seed;
+    w[obj::TEX_BASE] = t.base;
+    w[obj::TEX_SIZE] = u32::from(t.width_log2) | u32::from(t.height_log2) << 8;
+    Ok(w)
+}
+
+fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
+    let size = w[obj::TEX_SIZE];
+    int("material.texture.size", u64::from(size), 0, 0x0808)?;
+    int("material.texture.width_log2", u64::from(size & 0xff), 0, 8)?;
+    int(
+        "material.specular.exponent",
+        u64::from(w[obj::EXPONENT]),
+        0,
+        1023,
+    )?;
+    int(
+        "material.texture.base",
+        u64::from(w[obj::TEX_BASE]),
+        0,
+        (1 << 16) - 1,
+    )?;
+    Ok(Object {
+        shape: code("shape", w[obj::SHAPE], Shape::from_code)?,
+        translate: get_v(w, obj::TRANSLATE),
+        scale: get_v(w, obj::SCALE),
+        rotate: get_v(w, obj::ROTATE),
+        material: Material {
+            ambient: Term {
+                k: get_q(w, obj::AMBIENT_K),
+                color: get_v(w, obj::AMBIENT_COLOR),
+            },
+            diffuse: Term {
+                k: get_q(w, obj::DIFFUSE_K),
+                color: get_v(w, obj::DIFFUSE_COLOR),
+            },
+            diffuse_model: code(
+                "material.diffuse.model",
+                w[obj::DIFFUSE_MODEL],
+                DiffuseModel::from_code,
+            )?,
+            sigma2: get_q(w, obj::SIGMA2),
+            specular: Term {
+                k: get_q(w, obj::SPECULAR_K),
+                color: get_v(w, obj::SPECULAR_COLOR),
+            },
+            specular_model: code(
+                "material.specular.model",
+                w[obj::SPECULAR_MODEL],
+                SpecularModel::from_code,
+            )?,
+            exponent: w[obj::EXPONENT],
+            reflection: code(
+                "material.reflection.mode",
+                w[obj::REFLECTION_MODE],
+                ReflectionMode::from_code,
+            )?,
+            eta: get_q(w, obj::ETA),
+            kappa: get_q(w, obj::KAPPA),
+            texture: Texture {
+                kind: code(
+                    "material.texture.kind",
+                    w[obj::TEX_KIND],
+                    TextureKind::from_code,
+                )?,
+                mapping: code(
+                    "material.texture.mapping",
+                    w[obj::TEX_MAPPING],
+                    Mapping::from_code,
+                )?,
+                scale: get_v(w, obj::TEX_SCALE),
+                offset: get_v(w, obj::TEX_OFFSET),
+                color2: get_v(w, obj::TEX_COLOR2),
+                filter: code(
+                    "material.texture.filter",
+                    w[obj::TEX_FILTER],
+                    TexFilter::from_code,
+                )?,
+                seed: w[obj::TEX_SEED],
+                base: w[obj::TEX_BASE],
+                width_log2: (size & 0xff) as u8,
+                height_log2: (size >> 8) as u8,
+            },
+        },
+    })
+}
+
+/// Unchanged words a run may bridge rather than start a new [`RegWrite`]. A new run costs
+/// a new message: about 10 bytes of link framing plus ~4 bytes of header, while a bridged
+/// word costs at most 5 bytes (a worst-case postcard varint), so bridging pays up to two
+/// words.
+pub const DEFAULT_MERGE_GAP: usize = 2;
+
+/// The register writes that turn `old` into `new`: runs of at most [`REG_WRITE_WORDS`]
+/// words, covering every changed word and unchanged ones only inside gaps of at most
+/// [`DEFAULT_MERGE_GAP`] words.
+pub fn diff<'a, const OBJ: usize, const LIGHTS: usize>(
+    old: &'a SceneRegs<OBJ, LIGHTS>,
+    new: &'a SceneRegs<OBJ, LIGHTS>,
+) -> Diff<'a, OBJ, LIGHTS> {
+    diff_with_gap(old, new, DEFAULT_MERGE_GAP)
+}
+
+/// [`diff`] with an explicit merge gap (0 = never write an unchanged word).
+pub fn diff_with_gap<'a, const OBJ: usize, const LIGHTS: usize>(
+    old: &'a SceneRegs<OBJ, LIGHTS>,
+    new: &'a SceneRegs<OBJ, LIGHTS>,
+    max_gap: usize,
+) -> Diff<'a, OBJ, LIGHTS> {
+    Diff {
+        old,
+        new,
+        pos: 0,
+        max_gap,
+    }
+}
+
+/// Iterator returned by [`diff`].
+#[derive(Debug)]
+pub struct Diff<'a, const OBJ: usize, const LIGHTS: usize> {
+    old: &'a SceneRegs<OBJ, LIGHTS>,
+    new: &'a SceneRegs<OBJ, LIGHTS>,
+    pos: usize,
+    max_gap: usize,
+}
+
+impl<const OBJ: usize, const LIGHTS: usize> Iterator for Diff<'_, OBJ, LIGHTS> {
+    type Item = RegWrite;
+
+    fn next(&mut self) -> Option<RegWrite> {
+        let n = SceneRegs::<OBJ, LIGHTS>::WORDS;
+        let changed = |i: usize| self.old.word_ref(i) != self.new.word_ref(i);
+        let start = (self.pos..n).find(|&i| changed(i))?;
+        let mut last = start;
+        let mut j = start + 1;
+        while j < n && j - start < REG_WRITE_WORDS && j - last <= self.max_gap + 1 {
+            if changed(j) {
+                last = j;
+            }
+            j += 1;
+        }
+        self.pos = last + 1;
+        let mut words = Vec::new();
+        for i in start..=last {
+            // At most REG_WRITE_WORDS words by construction of the loop above.
+            let _ = words.push(self.new.word_ref(i).unwrap_or(0));
+        }
+        Some(RegWrite {
+            offset: start as u16,
+            words,
+        })
+    }
+}
+
+impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
+    fn word_ref(&self, offset: usize) -> Option<u32> {
+        if offset < hdr::WORDS {
+            return self.header.get(offset).copied();
+        }
+        let o = offset - hdr::WORDS;
+        if o < cam::WORDS {
+            return self.camera.get(o).copied();
+        }
+        let o = o - cam::WORDS;
+        if o < LIGHTS * light::WORDS {
+            return self.lights[o / light::WORDS].get(o % light::WORDS).copied();
+        }
+        let o = o - LIGHTS * light::WORDS;
+        self.objects
+            .get(o / obj::WORDS)
+            .and_then(|b| b.get(o % obj::WORDS))
+            .copied()
+    }
+}
+
+/// Applies one register write, as the device does; a write past the map is an error and
+/// changes nothing.
+pub fn apply<const OBJ: usize, const LIGHTS: usize>(
+    regs: &mut SceneRegs<OBJ, LIGHTS>,
+    w: &RegWrite,
+) -> Result<(), SceneError> {
+    regs.write(usize::from(w.offset), &w.words)
+}
