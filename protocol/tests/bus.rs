@@ -763,3 +763,35 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn layouts_are_validated() {
+    for l in LAYOUTS {
+        l.validate().unwrap();
+    }
+    let bad = BusLayout {
+        coord_bits: 4,
+        subpixel_bits: 4,
+        ..FITKIT
+    };
+    assert!(matches!(
+        bad.validate(),
+        Err(BusError::BadLayout {
+            layout: "fitkit",
+            ..
+        })
+    ));
+    assert!(pack(&bad, &RasterCmd::Clear(Rgb::default()), FIT).is_err());
+    assert!(unpack(&bad, 3, &[0x8_0000_0000], 0).is_err());
+    let huge = PackOptions {
+        subpixel_bits: 200,
+        clear: false,
+    };
+    assert!(matches!(
+        pack(&FITKIT, &RasterCmd::Clear(Rgb::default()), huge),
+        Err(BusError::OutOfRange {
+            field: "subpixel_bits",
+            ..
+        })
+    ));
+}
