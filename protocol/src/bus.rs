@@ -193,7 +193,8 @@ impl BusLayout {
 
     /// Checks that the numbers describe a bus the packer can drive: records of 1…64 bits,
     /// coordinates of 2…32 bits with at least one integer bit besides the sign and at most
-    /// 16 pixel bits, colour of 8 or 24 bits, z of at most 32 bits, opcode of at most 8.
+    /// 16 pixel bits, colour of 8 or 24 bits, z of at most 32 bits, opcode of at most 8, and
+    /// without an opcode only the commands that have a FITkit channel.
     pub const fn validate(&self) -> Result<(), BusError> {
         let reason = if self.record_bits == 0 || self.record_bits > 64 {
             Some("record_bits must be 1..=64")
@@ -209,6 +210,10 @@ impl BusLayout {
             Some("z_bits must be at most 32")
         } else if self.opcode_bits > 8 {
             Some("opcode_bits must be at most 8")
+        } else if self.opcode_bits == 0
+            && self.commands & !(Kind::Clear.bit() | Kind::Line.bit() | Kind::Triangle.bit()) != 0
+        {
+            Some("without an opcode only clear, line and triangle have a channel")
         } else {
             None
         };

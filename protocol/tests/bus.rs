@@ -783,6 +783,11 @@ fn layouts_are_validated() {
     ));
     assert!(pack(&bad, &RasterCmd::Clear(Rgb::default()), FIT).is_err());
     assert!(unpack(&bad, 3, &[0x8_0000_0000], 0).is_err());
+    let no_channel = BusLayout {
+        commands: EXTENDED.commands,
+        ..FITKIT
+    };
+    assert!(no_channel.validate().is_err());
     let huge = PackOptions {
         subpixel_bits: 200,
         clear: false,
