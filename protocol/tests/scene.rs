@@ -449,3 +449,18 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    /// Every Q16.16 word survives the trip through f64 and back.
+    #[test]
+    fn q16_words_round_trip(q: i32) {
+        prop_assert_eq!(q16_from_f64("x", q16_to_f64(q)), Ok(q));
+    }
+
+    /// Conversion is within half an ulp (2^-17) of the value.
+    #[test]
+    fn q16_rounds_to_nearest(v in -32768.0f64..32767.99) {
+        let q = q16_from_f64("x", v).unwrap();
+        prop_assert!((q16_to_f64(q) - v).abs() <= 0.5 / 65536.0);
+    }
+}
