@@ -186,7 +186,44 @@ impl BusLayout {
     /// Bits of a whole-pixel position (seed fill, fragments): the integer part of a
     /// coordinate, without the sign bit.
     pub const fn pixel_bits(&self) -> u8 {
-        self.coord_bits - self.subpixel_bits - self.signed_coords as u8
+        self.coord_bits
+            .saturating_sub(self.subpixel_bits)
+            .saturating_sub(self.signed_coords as u8)
+    }
+
+    /// Checks that the numbers describe a bus the packer can drive: records of 1…64 bits,
+    /// coordinates of 2…32 bits with at least one integer bit besides the sign and at most
+    /// 16 pixel bits, colour of 8 or 24 bits, z of at most 32 bits, opcode of at most 8, and
+    /// without an opcode only the commands that have a FITkit channel.
+    pub const fn validate(&self) -> Result<(), BusError> {
+        let reason = if self.record_bits == 0 || self.record_bits > 64 {
+            Some("record_bits must be 1..=64")
+        } else if self.coord_bits < 2 || self.coord_bits > 32 {
+            Some("coord_bits must be 2..=32")
+        } else if self.subpixel_bits as u16 + self.signed_coords as u16 >= self.coord_bits as u16
+            || self.pixel_bits() > 16
+        {
+            Some("coordinates need 1..=16 integer bits")
+        } else if self.color_bits != 8 && self.color_bits != 24 {
+            Some("color_bits must be 8 or 24")
+        } else if self.z_bits > 32 {
+            Some("z_bits must be at most 32")
+        } else if self.opcode_bits > 8 {
+            Some("opcode_bits must be at most 8")
+        } else if self.opcode_bits == 0
+            && self.commands & !(Kind::Clear.bit() | Kind::Line.bit() | Kind::Triangle.bit()) != 0
+        {
+            Some("without an opcode only clear, line and triangle have a channel")
+        } else {
+            None
+        };
+        match reason {
+            Some(reason) => Err(BusError::BadLayout {
+                layout: self.name,
+                reason,
+            }),
+            None => Ok(()),
+        }
     }
 
     /// Smallest and largest raw coordinate value.
@@ -411,6 +448,14 @@ pub enum BusError {
     /// A field wider than 64 bits or a record width outside 1…64.
     #[error("bad width {0}")]
     BadWidth(u8),
+    /// A [`BusLayout`] whose numbers make no bus (see [`BusLayout::validate`]).
+    #[error("layout {layout}: {reason}")]
+    BadLayout {
+        /// Layout name.
+        layout: &'static str,
+        /// What is wrong.
+        reason: &'static str,
+    },
 }
 
 const fn mask(width: u32) -> u64 {
@@ -1142,6 +1187,23 @@ impl<I: Io> Walker<'_, I> {
     }
 }
 
+/// Largest caller sub-pixel precision: keeps every rescaled coordinate inside an i64.
+pub const MAX_SUBPIXEL_BITS: u8 = 24;
+
+fn check(layout: &BusLayout, subpixel_bits: u8) -> Result<(), BusError> {
+    layout.validate()?;
+    if subpixel_bits > MAX_SUBPIXEL_BITS {
+        return Err(BusError::OutOfRange {
+            layout: layout.name,
+            field: "subpixel_bits",
+            value: i64::from(subpixel_bits),
+            min: 0,
+            max: i64::from(MAX_SUBPIXEL_BITS),
+        });
+    }
+    Ok(())
+}
+
 /// A command of `kind` with every field zero: what decoding fills in.
 fn template(kind: Kind) -> RasterCmd {
     let black = Rgb::default();
@@ -1249,6 +1311,7 @@ pub fn pack_into(
     opts: PackOptions,
     out: &mut [u64],
 ) -> Result<usize, BusError> {
+    check(layout, opts.subpixel_bits)?;
     let kind = Kind::of(cmd);
     if !layout.supports(kind) {
         return Err(unsupported(layout, kind));
@@ -1287,6 +1350,7 @@ pub fn unpack(
     records: &[u64],
     subpixel_bits: u8,
 ) -> Result<Decoded, BusError> {
+    check(layout, subpixel_bits)?;
     let fixed = kind_of_channel(layout, channel)?;
     let mut w = Walker {
         io: Dec(BitReader::new(records, layout.record_bits, 0)?),
@@ -1345,6 +1409,7 @@ fn walk_fragment<I: Io>(w: &mut Walker<'_, I>, f: &mut Fragment) -> Result<(), B
 
 /// Packs a fragment right-aligned (unused top bits, as in the seed's output FIFO).
 pub fn pack_fragment(layout: &BusLayout, f: Fragment) -> Result<Vec<u64, 2>, BusError> {
+    layout.validate()?;
     let (n, pad) = fragment_geometry(layout);
     let mut buf = [0u64; 2];
     let out = buf
@@ -1362,6 +1427,7 @@ pub fn pack_fragment(layout: &BusLayout, f: Fragment) -> Result<Vec<u64, 2>, Bus
 
 /// Decodes a fragment; the unused top bits must be zero.
 pub fn unpack_fragment(layout: &BusLayout, records: &[u64]) -> Result<Fragment, BusError> {
+    layout.validate()?;
     let (n, pad) = fragment_geometry(layout);
     if records.len() != n {
         return Err(BusError::TrailingRecords {
@@ -1390,6 +1456,7 @@ pub fn unpack_fragment(layout: &BusLayout, records: &[u64]) -> Result<Fragment, 
 /// The fields of the base form of a `kind` packet on `layout` (every optional flag off;
 /// a polygon with 3 vertices, a quadratic Bézier), header included.
 pub fn fields(layout: &BusLayout, kind: Kind) -> Result<Vec<Field, MAX_FIELDS>, BusError> {
+    layout.validate()?;
     if !layout.supports(kind) {
         return Err(unsupported(layout, kind));
     }

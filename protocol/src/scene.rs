@@ -821,7 +821,10 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
 
     /// Writes a run of words, as the device does for a [`RegWrite`].
     pub fn write(&mut self, offset: usize, words: &[u32]) -> Result<(), SceneError> {
-        if offset + words.len() > Self::WORDS {
+        if offset
+            .checked_add(words.len())
+            .is_none_or(|end| end > Self::WORDS)
+        {
             return Err(SceneError::Bounds {
                 offset,
                 len: words.len(),

@@ -763,3 +763,66 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn layouts_are_validated() {
+    for l in LAYOUTS {
+        l.validate().unwrap();
+    }
+    let bad = BusLayout {
+        coord_bits: 4,
+        subpixel_bits: 4,
+        ..FITKIT
+    };
+    assert!(matches!(
+        bad.validate(),
+        Err(BusError::BadLayout {
+            layout: "fitkit",
+            ..
+        })
+    ));
+    assert!(pack(&bad, &RasterCmd::Clear(Rgb::default()), FIT).is_err());
+    assert!(unpack(&bad, 3, &[0x8_0000_0000], 0).is_err());
+    let no_channel = BusLayout {
+        commands: EXTENDED.commands,
+        ..FITKIT
+    };
+    assert!(no_channel.validate().is_err());
+    let huge = PackOptions {
+        subpixel_bits: 200,
+        clear: false,
+    };
+    assert!(matches!(
+        pack(&FITKIT, &RasterCmd::Clear(Rgb::default()), huge),
+        Err(BusError::OutOfRange {
+            field: "subpixel_bits",
+            ..
+        })
+    ));
+}
+
+proptest! {
+    /// Lengths and depths beyond their fields are errors naming the field, on every rich
+    /// layout.
+    #[test]
+    fn out_of_range_lengths_and_depths_error(li in 1..3usize, excess in 1u32..1000, which in 0..3usize) {
+        let layout = &LAYOUTS[li];
+        let sub = layout.subpixel_bits;
+        let opts = PackOptions { subpixel_bits: sub, clear: false };
+        let radius = (1u32 << layout.coord_bits) - 1 + excess;
+        let circle = RasterCmd::Circle(Circle { center: p(0, 0), radius, color: Rgb::default(), fill: false });
+        let e = pack(layout, &circle, opts).unwrap_err();
+        let radius_named = matches!(e, BusError::OutOfRange { field: "radius", .. });
+        prop_assert!(radius_named);
+        let mut z = [0u32; 3];
+        z[which] = (1u32 << layout.z_bits) - 1 + excess;
+        let mut t = flat_tri([p(0, 0); 3], Rgb::default());
+        if let RasterCmd::Triangle(tri) = &mut t {
+            tri.z = Some(z);
+        }
+        let e = pack(layout, &t, opts).unwrap_err();
+        let field = ["z0", "z1", "z2"][which];
+        let z_named = matches!(e, BusError::OutOfRange { field: f, .. } if f == field);
+        prop_assert!(z_named);
+    }
+}
