@@ -425,7 +425,7 @@ impl Ctx {
     }
 
     fn length(&self, field: &str, v: f64) -> Result<u32, String> {
-        if !v.is_finite() || v < 0.0 || v > 2.0 * GUARD_BAND {
+        if !v.is_finite() || !(0.0..=2.0 * GUARD_BAND).contains(&v) {
             return Err(format!(
                 "`{field}`: {v} is outside 0..={}",
                 2.0 * GUARD_BAND
@@ -502,7 +502,7 @@ impl Ctx {
     }
 
     fn circle(&self, c: CircleCmd) -> Result<RasterCmd, String> {
-        if !(c.radius > 0.0) {
+        if c.radius.is_nan() || c.radius <= 0.0 {
             return Err(format!("`radius`: {} must be positive", c.radius));
         }
         Ok(RasterCmd::Circle(Circle {
@@ -549,7 +549,7 @@ impl Ctx {
             let _ = points.push(self.point(&format!("points[{i}]"), *p)?);
         }
         let tol = b.tolerance.unwrap_or(0.25);
-        if !(tol > 0.0) {
+        if tol.is_nan() || tol <= 0.0 {
             return Err(format!("`tolerance`: {tol} must be positive"));
         }
         Ok(RasterCmd::Bezier(Bezier {

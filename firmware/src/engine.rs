@@ -1,0 +1,304 @@
+//! What the controller does with each host message, independent of how bytes arrive.
+//!
+//! Every request is checked against the target's [`Caps`] before anything reaches the
+//! FPGA, so a job the board cannot do is refused up front with an error frame naming the
+//! request and the position inside it, never half-drawn.
+
+use crc::{Crc, Digest, CRC_32_ISO_HDLC};
+use heapless::{Deque, Vec};
+
+use protocol::bus::{BusError, BusLayout, Kind, PackOptions};
+use protocol::frame::{
+    Block, Caps, DeviceCounters, DeviceFrame, ErrorCode, ErrorReport, Hello, HostFrame,
+    LinkCounters, RasterCmd, RasterSetup, ReadChunk, ReadDone, ReadRequest, Stats, READ_CHUNK,
+};
+
+use crate::fpga::FpgaBus;
+
+static CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
+
+/// Answers waiting for the link. Each request produces at most two (an error, or a hello,
+/// a stats or a synced answer), so four never overflow between two polls.
+const OUTBOX: usize = 4;
+
+/// A read-back in progress: streamed one chunk per poll so that it never needs a buffer
+/// the size of the framebuffer, and interleaves with other traffic.
+struct ReadJob {
+    req: ReadRequest,
+    offset: u32,
+    len: u32,
+    crc: Digest<'static, u32>,
+}
+
+/// The controller's message semantics over an [`FpgaBus`].
+pub struct Engine<B: FpgaBus> {
+    bus: B,
+    caps: Caps,
+    layout: &'static BusLayout,
+    ident: &'static str,
+    handshaken: bool,
+    setup: Option<RasterSetup>,
+    outbox: Deque<DeviceFrame, OUTBOX>,
+    read: Option<ReadJob>,
+    counters: DeviceCounters,
+}
+
+impl<B: FpgaBus> Engine<B> {
+    /// An engine for a target with these capabilities whose raster block reads records in
+    /// `layout`. `ident` goes into the hello ("fpgfx-firmware 0.1.0 stm32f405").
+    pub fn new(bus: B, caps: Caps, layout: &'static BusLayout, ident: &'static str) -> Self {
+        Self {
+            bus,
+            caps,
+            layout,
+            ident,
+            handshaken: false,
+            setup: None,
+            outbox: Deque::new(),
+            read: None,
+            counters: DeviceCounters::default(),
+        }
+    }
+
+    /// The bus, for inspection in tests and for the board's idle loop.
+    pub fn bus(&mut self) -> &mut B {
+        &mut self.bus
+    }
+
+    /// Whether the handshake has succeeded.
+    pub fn handshaken(&self) -> bool {
+        self.handshaken
+    }
+
+    fn answer(&mut self, frame: DeviceFrame) {
+        // The outbox is drained before each request is handled, and one request queues at
+        // most two answers (see OUTBOX), so this cannot overflow; if it ever did, the oldest
+        // answer would be kept and this one counted as an overflow by the caller's stats.
+        let _ = self.outbox.push_back(frame);
+    }
+
+    /// Refuses a request the controller could not even hand to the engine.
+    pub fn refuse(&mut self, code: ErrorCode, seq: u16, index: u32) {
+        self.error(code, seq, index);
+    }
+
+    fn error(&mut self, code: ErrorCode, seq: u16, index: u32) {
+        self.answer(DeviceFrame::Error(ErrorReport { code, seq, index }));
+    }
+
+    /// Whether the engine can take another request now (its answers have been collected).
+    pub fn ready(&self) -> bool {
+        self.outbox.is_empty()
+    }
+
+    /// Handles one request. `seq` identifies it in error answers; `link` is the
+    /// controller's link counters, reported by [`HostFrame::GetStats`].
+    /// Returns an error only when the FPGA transport itself fails.
+    pub fn handle(
+        &mut self,
+        seq: u16,
+        frame: &HostFrame,
+        link: LinkCounters,
+    ) -> Result<(), B::Error> {
+        if let HostFrame::Hello(peer) = frame {
+            return self.hello(seq, peer);
+        }
+        if !self.handshaken {
+            self.error(ErrorCode::Handshake, seq, 0);
+            return Ok(());
+        }
+        match frame {
+            HostFrame::Hello(_) => {}
+            HostFrame::RasterSetup(setup) => self.raster_setup(seq, setup)?,
+            HostFrame::Raster(cmds) => self.raster(seq, cmds)?,
+            HostFrame::Texture(t) => {
+                let words = (t.data.len() / 4) as u64;
+                if t.data.len() % 4 != 0 {
+                    self.error(ErrorCode::Malformed, seq, t.data.len() as u32);
+                } else if u64::from(t.offset) + words > u64::from(self.caps.texture_words) {
+                    self.error(ErrorCode::OutOfRange, seq, t.offset);
+                } else {
+                    self.bus.write_texels(t.offset, &t.data)?;
+                    self.counters.bus_words += words as u32;
+                }
+            }
+            HostFrame::Regs(r) => {
+                let end = usize::from(r.offset) + r.words.len();
+                if !self.caps.ray_trace {
+                    self.error(ErrorCode::Unsupported, seq, 0);
+                } else if end
+                    > protocol::scene::light::OFFSET
+                        + usize::from(self.caps.max_lights) * protocol::scene::light::WORDS
+                        + usize::from(self.caps.max_objects) * protocol::scene::obj::WORDS
+                {
+                    self.error(ErrorCode::OutOfRange, seq, u32::from(r.offset));
+                } else {
+                    self.bus.write_regs(r.offset, &r.words)?;
+                    self.counters.bus_words += r.words.len() as u32;
+                }
+            }
+            HostFrame::Start(s) => {
+                let ok = match s.block {
+                    Block::Raster => self.caps.raster && self.setup.is_some(),
+                    Block::RayTrace => self.caps.ray_trace && self.caps.numeric.contains(s.numeric),
+                };
+                if ok {
+                    self.bus.start(s)?;
+                } else {
+                    self.error(ErrorCode::Unsupported, seq, 0);
+                }
+            }
+            HostFrame::Stop => self.bus.stop()?,
+            HostFrame::Sync(token) => {
+                // The raster block drains its FIFO at one record per cycle, so this wait
+                // is short; the link keeps its timers because the host sees no ACK delay
+                // beyond one frame time.
+                while !self.bus.idle()? {
+                    self.bus.wait()?;
+                }
+                self.answer(DeviceFrame::Synced(*token));
+            }
+            HostFrame::Read(req) => match self.bus.read_len(req)? {
+                Some(len) if self.read.is_none() => {
+                    self.read = Some(ReadJob {
+                        req: *req,
+                        offset: 0,
+                        len,
+                        crc: CRC32.digest(),
+                    });
+                }
+                _ => self.error(ErrorCode::BadState, seq, 0),
+            },
+            HostFrame::GetStats => {
+                let device = self.device_counters()?;
+                self.answer(DeviceFrame::Stats(Stats { link, device }));
+            }
+            HostFrame::Reset => {
+                self.bus.reset()?;
+                self.setup = None;
+                self.read = None;
+                self.outbox.clear();
+                self.counters = DeviceCounters::default();
+            }
+        }
+        Ok(())
+    }
+
+    fn device_counters(&mut self) -> Result<DeviceCounters, B::Error> {
+        let fpga = self.bus.counters()?;
+        Ok(DeviceCounters {
+            commands: self.counters.commands,
+            bus_words: self.counters.bus_words,
+            fragments: fpga.fragments,
+            cycles: fpga.cycles,
+            fifo_stalls: self.counters.fifo_stalls,
+            frames: fpga.frames,
+            queue_free: self.counters.queue_free,
+        })
+    }
+
+    /// Lets the link layer report its free slots in the stats.
+    pub fn set_queue_free(&mut self, free: u16) {
+        self.counters.queue_free = free;
+    }
+
+    fn hello(&mut self, seq: u16, peer: &Hello) -> Result<(), B::Error> {
+        // Answer with our hello either way: the host needs our version and hash to name
+        // both sides in its error message.
+        self.answer(DeviceFrame::Hello(Hello::new(self.caps, self.ident)));
+        match peer.check() {
+            Ok(()) => self.handshaken = true,
+            Err(_) => {
+                self.handshaken = false;
+                self.error(ErrorCode::Handshake, seq, 0);
+            }
+        }
+        Ok(())
+    }
+
+    fn raster_setup(&mut self, seq: u16, s: &RasterSetup) -> Result<(), B::Error> {
+        if !self.caps.raster {
+            self.error(ErrorCode::Unsupported, seq, 0);
+        } else if s.width == 0
+            || s.height == 0
+            || s.width > self.caps.max_width
+            || s.height > self.caps.max_height
+            || s.subpixel_bits > self.caps.max_subpixel_bits
+        {
+            self.error(ErrorCode::OutOfRange, seq, 0);
+        } else {
+            self.bus.raster_setup(s)?;
+            self.setup = Some(*s);
+        }
+        Ok(())
+    }
+
+    fn raster(&mut self, seq: u16, cmds: &[RasterCmd]) -> Result<(), B::Error> {
+        let Some(setup) = self.setup else {
+            self.error(ErrorCode::BadState, seq, 0);
+            return Ok(());
+        };
+        for (i, cmd) in cmds.iter().enumerate() {
+            // A clear is its own command here; folding it into the next command's CB
+            // bit is the packer's business.
+            let opts = PackOptions {
+                subpixel_bits: setup.subpixel_bits,
+                clear: false,
+            };
+            let packed = protocol::bus::channel(self.layout, Kind::of(cmd))
+                .and_then(|ch| Ok((ch, protocol::bus::pack(self.layout, cmd, opts)?)));
+            let (channel, records) = match packed {
+                Ok(p) => p,
+                Err(e) => {
+                    let code = match e {
+                        BusError::UnsupportedCommand { .. }
+                        | BusError::UnsupportedFeature { .. } => ErrorCode::Unsupported,
+                        _ => ErrorCode::OutOfRange,
+                    };
+                    self.error(code, seq, i as u32);
+                    return Ok(());
+                }
+            };
+            // Back-pressure: wait for the FIFO_FREE count to cover the whole packet.
+            while self.bus.fifo_free()? < records.len() {
+                self.counters.fifo_stalls += 1;
+                self.bus.wait()?;
+            }
+            self.bus.push_packet(channel, &records)?;
+            self.counters.commands += 1;
+            self.counters.bus_words += records.len() as u32;
+        }
+        Ok(())
+    }
+
+    /// The next answer for the host, if any: queued answers first, then the next chunk of
+    /// a read-back, then a finished frame.
+    pub fn next_output(&mut self) -> Result<Option<DeviceFrame>, B::Error> {
+        if let Some(f) = self.outbox.pop_front() {
+            return Ok(Some(f));
+        }
+        if let Some(job) = &mut self.read {
+            if job.offset >= job.len {
+                let done = ReadDone {
+                    len: job.len,
+                    crc32: core::mem::replace(&mut job.crc, CRC32.digest()).finalize(),
+                };
+                self.read = None;
+                return Ok(Some(DeviceFrame::ReadDone(done)));
+            }
+            let n = (job.len - job.offset).min(READ_CHUNK as u32) as usize;
+            let mut data = Vec::<u8, READ_CHUNK>::new();
+            // n ≤ READ_CHUNK, so the resize always succeeds.
+            let _ = data.resize(n, 0);
+            let req = job.req;
+            let offset = job.offset;
+            self.bus.read(&req, offset, &mut data)?;
+            if let Some(job) = &mut self.read {
+                job.crc.update(&data);
+                job.offset += n as u32;
+            }
+            return Ok(Some(DeviceFrame::Chunk(ReadChunk { offset, data })));
+        }
+        Ok(self.bus.poll_done()?.map(DeviceFrame::Done))
+    }
+}

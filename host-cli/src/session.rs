@@ -1,0 +1,339 @@
+//! The host end of the link: one [`Session`] per target, over any byte [`Transport`]
+//! (the built-in in-process target, a pseudo-terminal, a USB UART).
+//!
+//! Everything above this module speaks [`HostFrame`] / [`DeviceFrame`]; everything
+//! below is bytes. Errors the target reports are mapped back to what the user asked for
+//! (each request is remembered by its link sequence number with a description, e.g.
+//! `cmd[12] (triangle)`), so a refusal says which line of which file caused it.
+
+use std::collections::{HashMap, VecDeque};
+use std::io;
+use std::time::{Duration, Instant};
+
+use protocol::frame::{
+    decode, encode, Caps, DeviceFrame, ErrorReport, Hello, HostFrame, ReadRequest,
+};
+use protocol::link::{Event, Link, LinkError, MAX_FRAME};
+use protocol::MAX_PAYLOAD;
+
+/// A byte pipe to a target.
+pub trait Transport {
+    /// Writes all of `bytes`.
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()>;
+    /// Reads what has arrived, waiting at most `timeout` for the first byte; `Ok(0)`
+    /// means nothing came.
+    fn read(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize>;
+}
+
+/// What can go wrong talking to a target.
+#[derive(Debug, thiserror::Error)]
+pub enum SessionError {
+    /// The transport failed.
+    #[error("transport: {0}")]
+    Io(#[from] io::Error),
+    /// No progress for too long.
+    #[error("the target did not answer within {0:?} (is the port right and the board running?)")]
+    Timeout(Duration),
+    /// The handshake failed; the message names both sides' versions.
+    #[error("handshake with {peer:?} failed: {source}")]
+    Handshake {
+        /// The target's identification.
+        peer: String,
+        /// Which values differ.
+        source: protocol::frame::HandshakeError,
+    },
+    /// The target refused a request.
+    #[error("the target refused {what}: {code:?} (at index {index})")]
+    Refused {
+        /// The request, as the caller described it.
+        what: String,
+        /// The target's reason.
+        code: protocol::frame::ErrorCode,
+        /// Where inside the request.
+        index: u32,
+    },
+    /// A message from the target did not decode.
+    #[error("malformed answer from the target: {0}")]
+    Malformed(protocol::frame::CodecError),
+    /// A message that cannot be sent (a bug in the caller: batches are sized to fit).
+    #[error("request does not fit in a frame: {0}")]
+    Encode(protocol::frame::CodecError),
+    /// An answer that makes no sense at this point.
+    #[error("unexpected answer from the target: {0}")]
+    Unexpected(String),
+    /// A read-back whose length or CRC does not match what the target announced.
+    #[error("read-back corrupt: {0}")]
+    ReadBack(String),
+}
+
+/// Describes a request for error messages: called with the index the target reports.
+pub type Describe = Box<dyn Fn(u32) -> String>;
+
+/// The host end of one connection.
+pub struct Session<T: Transport> {
+    transport: T,
+    link: Link,
+    epoch: Instant,
+    requests: HashMap<u16, Describe>,
+    inbox: VecDeque<DeviceFrame>,
+    /// Give up when nothing moves for this long.
+    pub timeout: Duration,
+    next_token: u32,
+    peer: Option<Hello>,
+}
+
+impl<T: Transport> Session<T> {
+    /// A session over `transport`; call [`Session::handshake`] next.
+    pub fn new(transport: T) -> Self {
+        Self {
+            transport,
+            link: Link::new(Default::default()),
+            epoch: Instant::now(),
+            requests: HashMap::new(),
+            inbox: VecDeque::new(),
+            timeout: Duration::from_secs(10),
+            next_token: 1,
+            peer: None,
+        }
+    }
+
+    fn now(&self) -> u64 {
+        self.epoch.elapsed().as_millis() as u64
+    }
+
+    /// The transport, e.g. to read the built-in target's model directly in tests.
+    pub fn transport(&mut self) -> &mut T {
+        &mut self.transport
+    }
+
+    /// The target's hello, once the handshake is done.
+    pub fn peer(&self) -> Option<&Hello> {
+        self.peer.as_ref()
+    }
+
+    /// This end's link counters.
+    pub fn link_counters(&self) -> protocol::frame::LinkCounters {
+        self.link.counters()
+    }
+
+    /// Moves bytes both ways once, waiting at most `wait` for input.
+    fn pump(&mut self, wait: Duration) -> Result<(), SessionError> {
+        let now = self.now();
+        self.link.handle_timeout(now);
+        let mut out = [0u8; MAX_FRAME];
+        while let Some(n) = self.link.poll_transmit(now, &mut out) {
+            self.transport.write_all(&out[..n])?;
+        }
+        let mut buf = [0u8; 4096];
+        let n = self.transport.read(&mut buf, wait)?;
+        let now = self.now();
+        let mut input = &buf[..n];
+        loop {
+            let (used, event) = self.link.handle_input(now, input);
+            input = &input[used..];
+            match event {
+                Some(Event::Data(payload)) => {
+                    let frame = decode::<DeviceFrame>(payload).map_err(SessionError::Malformed)?;
+                    self.inbox.push_back(frame);
+                }
+                Some(Event::PeerReset { .. }) => {
+                    return Err(SessionError::Unexpected(
+                        "the target restarted its link mid-session".into(),
+                    ))
+                }
+                Some(Event::Synced) => {}
+                None if input.is_empty() => break,
+                None => {}
+            }
+        }
+        let now = self.now();
+        while let Some(n) = self.link.poll_transmit(now, &mut out) {
+            self.transport.write_all(&out[..n])?;
+        }
+        Ok(())
+    }
+
+    /// Sends one request, waiting for window and credit; `describe` names it (given the
+    /// index inside it) if the target refuses it later.
+    pub fn send(&mut self, frame: &HostFrame, describe: Describe) -> Result<u16, SessionError> {
+        let mut buf = [0u8; MAX_PAYLOAD];
+        let bytes = encode(frame, &mut buf).map_err(SessionError::Encode)?;
+        let start = Instant::now();
+        loop {
+            match self.link.send(self.now(), bytes) {
+                Ok(seq) => {
+                    self.requests.insert(seq, describe);
+                    return Ok(seq);
+                }
+                Err(LinkError::WindowFull) | Err(LinkError::NoCredit) => {
+                    if start.elapsed() > self.timeout {
+                        return Err(SessionError::Timeout(self.timeout));
+                    }
+                    self.pump(Duration::from_millis(1))?;
+                    // Errors may arrive while we wait: report them at once rather than
+                    // after the whole job.
+                    self.take_error()?;
+                }
+                Err(e) => return Err(SessionError::Unexpected(e.to_string())),
+            }
+        }
+    }
+
+    fn take_error(&mut self) -> Result<(), SessionError> {
+        if let Some(pos) = self
+            .inbox
+            .iter()
+            .position(|f| matches!(f, DeviceFrame::Error(_)))
+        {
+            if let Some(DeviceFrame::Error(report)) = self.inbox.remove(pos) {
+                return Err(self.refused(report));
+            }
+        }
+        Ok(())
+    }
+
+    fn refused(&self, r: ErrorReport) -> SessionError {
+        let what = self
+            .requests
+            .get(&r.seq)
+            .map(|d| d(r.index))
+            .unwrap_or_else(|| format!("request #{}", r.seq));
+        SessionError::Refused {
+            what,
+            code: r.code,
+            index: r.index,
+        }
+    }
+
+    /// The next answer, or a timeout; error answers become [`SessionError::Refused`].
+    pub fn recv(&mut self) -> Result<DeviceFrame, SessionError> {
+        let start = Instant::now();
+        loop {
+            if let Some(f) = self.inbox.pop_front() {
+                return match f {
+                    DeviceFrame::Error(r) => Err(self.refused(r)),
+                    other => Ok(other),
+                };
+            }
+            if start.elapsed() > self.timeout {
+                return Err(SessionError::Timeout(self.timeout));
+            }
+            self.pump(Duration::from_millis(5))?;
+        }
+    }
+
+    /// Exchanges hellos; a version or schema mismatch is an error naming both sides.
+    pub fn handshake(&mut self) -> Result<Hello, SessionError> {
+        let ours = Hello::new(
+            Caps::default(),
+            concat!("fpgfx ", env!("CARGO_PKG_VERSION")),
+        );
+        self.send(&HostFrame::Hello(ours), Box::new(|_| "the hello".into()))?;
+        // The target answers with its own hello even when it refuses ours, so the error
+        // can name both sides; check it before looking at a refusal.
+        let start = Instant::now();
+        loop {
+            if let Some(pos) = self
+                .inbox
+                .iter()
+                .position(|f| matches!(f, DeviceFrame::Hello(_)))
+            {
+                let Some(DeviceFrame::Hello(peer)) = self.inbox.remove(pos) else {
+                    unreachable!("position() found a hello here")
+                };
+                peer.check().map_err(|source| SessionError::Handshake {
+                    peer: peer.ident.to_string(),
+                    source,
+                })?;
+                self.take_error()?;
+                self.peer = Some(peer.clone());
+                return Ok(peer);
+            }
+            if start.elapsed() > self.timeout {
+                return Err(SessionError::Timeout(self.timeout));
+            }
+            self.pump(Duration::from_millis(5))?;
+        }
+    }
+
+    /// Waits until everything sent so far has been executed by the target.
+    pub fn sync(&mut self) -> Result<(), SessionError> {
+        let token = self.next_token;
+        self.next_token = self.next_token.wrapping_add(1);
+        self.send(&HostFrame::Sync(token), Box::new(|_| "sync".into()))?;
+        loop {
+            match self.recv()? {
+                DeviceFrame::Synced(t) if t == token => return Ok(()),
+                DeviceFrame::Synced(_) | DeviceFrame::Done(_) => {}
+                other => {
+                    return Err(SessionError::Unexpected(format!(
+                        "{other:?} while waiting for sync"
+                    )))
+                }
+            }
+        }
+    }
+
+    /// Reads back a buffer rectangle, checking order, length and CRC.
+    pub fn read_back(&mut self, req: ReadRequest) -> Result<Vec<u8>, SessionError> {
+        self.send(
+            &HostFrame::Read(req),
+            Box::new(move |_| format!("read-back of {req:?}")),
+        )?;
+        let expected = req.rect.area() as usize * req.format.bytes_per_pixel();
+        let mut data = Vec::with_capacity(expected);
+        loop {
+            match self.recv()? {
+                DeviceFrame::Chunk(c) => {
+                    if c.offset as usize != data.len() {
+                        return Err(SessionError::ReadBack(format!(
+                            "chunk at offset {} where {} was expected",
+                            c.offset,
+                            data.len()
+                        )));
+                    }
+                    data.extend_from_slice(&c.data);
+                }
+                DeviceFrame::ReadDone(done) => {
+                    let crc = crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC).checksum(&data);
+                    if done.len as usize != data.len() || done.len as usize != expected {
+                        return Err(SessionError::ReadBack(format!(
+                            "{} bytes received, the target announced {}, the request needs {expected}",
+                            data.len(),
+                            done.len
+                        )));
+                    }
+                    if done.crc32 != crc {
+                        return Err(SessionError::ReadBack(format!(
+                            "CRC-32 {crc:#010x} of the received bytes, the target announced {:#010x}",
+                            done.crc32
+                        )));
+                    }
+                    return Ok(data);
+                }
+                DeviceFrame::Done(_) => {}
+                other => {
+                    return Err(SessionError::Unexpected(format!(
+                        "{other:?} during a read-back"
+                    )))
+                }
+            }
+        }
+    }
+
+    /// Asks for both ends' statistics.
+    pub fn stats(&mut self) -> Result<protocol::frame::Stats, SessionError> {
+        self.send(&HostFrame::GetStats, Box::new(|_| "stats".into()))?;
+        loop {
+            match self.recv()? {
+                DeviceFrame::Stats(s) => return Ok(s),
+                DeviceFrame::Done(_) | DeviceFrame::Synced(_) => {}
+                other => {
+                    return Err(SessionError::Unexpected(format!(
+                        "{other:?} while waiting for stats"
+                    )))
+                }
+            }
+        }
+    }
+}
