@@ -14,13 +14,17 @@ fn mid(a: P, b: P) -> P {
     ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0)
 }
 
+/// Distance to the chord *segment*: the capsule around it is convex and holds the end
+/// points, so if it holds the inner control points it holds the hull and the curve.
 fn dist_to_chord(p: P, a: P, b: P) -> f64 {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len = dx.hypot(dy);
-    if len == 0.0 {
-        return (p.0 - a.0).hypot(p.1 - a.1);
-    }
-    ((p.0 - a.0) * dy - (p.1 - a.1) * dx).abs() / len
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 == 0.0 {
+        0.0
+    } else {
+        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / l2).clamp(0.0, 1.0)
+    };
+    (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
 }
 
 /// De Casteljau split at ½ of a quadratic or cubic (any degree) control polygon.
@@ -39,7 +43,7 @@ fn split(c: &[P]) -> (Vec<P>, Vec<P>) {
 
 /// The polyline of a quadratic (3 points) or cubic (4 points) Bézier curve. The first
 /// and last vertices are the end points exactly; every piece is accepted only when its
-/// inner control points lie within `tolerance − 0.75` units of its chord (the curve
+/// inner control points lie within `tolerance − 0.75` units of its chord segment (the curve
 /// lies in the hull, and rounding a vertex moves it by at most √½), so the curve stays
 /// within `tolerance` sub-pixel units of the polyline.
 pub fn flatten(points: &[Point], tolerance: u32) -> Result<Vec<Point>, RasterError> {
