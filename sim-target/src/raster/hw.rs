@@ -114,7 +114,8 @@ impl Model {
     }
 
     /// Accounts one command of `records` FIFO records that keeps `unit` busy for `busy`
-    /// cycles producing `fragments` fragments.
+    /// cycles producing `fragments` fragments, written `lanes` per cycle (the writer is
+    /// as wide as the block: an 8-lane block writes 8-pixel SDRAM bursts).
     pub fn command(
         &mut self,
         stats: &mut Stats,
@@ -122,6 +123,7 @@ impl Model {
         records: u32,
         busy: u64,
         fragments: u64,
+        lanes: u64,
     ) {
         let records = records.min(FIFO_DEPTH);
         // Back-pressure: wait until the block has popped enough records.
@@ -134,8 +136,10 @@ impl Model {
         }
         self.now += records as u64 * self.push_period;
         stats.fifo_records += records as u64;
-        // The SDRAM writer takes one fragment per cycle; the FIFO hides short bursts.
-        let drain = fragments.saturating_sub(FRAG_FIFO_DEPTH);
+        // The writer drains `lanes` fragments per cycle; the FIFO hides short bursts.
+        let drain = fragments
+            .saturating_sub(FRAG_FIFO_DEPTH)
+            .div_ceil(lanes.max(1));
         let stall = drain.saturating_sub(busy);
         stats.fragment_stalls += stall;
         let busy = busy + stall;

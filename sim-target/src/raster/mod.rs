@@ -261,7 +261,13 @@ impl Raster {
         let frags = self.fb.fragments() - before;
         self.stats.fragments += frags;
         let records = records(cmd);
-        self.hw.command(&mut self.stats, unit, records, busy, frags);
+        let lanes = if self.setup.traversal == Traversal::Simd8 && unit == hw::Unit::Triangle {
+            8
+        } else {
+            1
+        };
+        self.hw
+            .command(&mut self.stats, unit, records, busy, frags, lanes);
         Ok(())
     }
 
