@@ -156,10 +156,13 @@ impl Framebuffer {
         let idx = y as usize * self.width as usize + x0 as usize;
         let n = (x1 - x0) as usize;
         let row = &mut self.rgb[idx * 3..(idx + n) * 3];
-        for px in row.chunks_exact_mut(3) {
-            px[0] = c.r;
-            px[1] = c.g;
-            px[2] = c.b;
+        row[..3].copy_from_slice(&[c.r, c.g, c.b]);
+        // Doubling copies: a span costs log2(n) memcpys instead of n 3-byte stores.
+        let mut filled = 3;
+        while filled < row.len() {
+            let k = filled.min(row.len() - filled);
+            row.copy_within(..k, filled);
+            filled += k;
         }
         self.count(idx, n);
     }

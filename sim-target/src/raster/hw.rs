@@ -91,6 +91,8 @@ pub struct Model {
     now: u64,
     block_free: u64,
     queued: VecDeque<(u64, u32)>,
+    /// Sum of `queued` records, kept incrementally (the queue can hold 512 entries).
+    occ: u32,
 }
 
 impl Default for Model {
@@ -100,6 +102,7 @@ impl Default for Model {
             now: 0,
             block_free: 0,
             queued: VecDeque::new(),
+            occ: 0,
         }
     }
 }
@@ -107,10 +110,14 @@ impl Default for Model {
 impl Model {
     fn occupancy(&mut self) -> u32 {
         let now = self.now;
-        while self.queued.front().is_some_and(|&(start, _)| start <= now) {
+        while let Some(&(start, r)) = self.queued.front() {
+            if start > now {
+                break;
+            }
             self.queued.pop_front();
+            self.occ -= r;
         }
-        self.queued.iter().map(|q| q.1).sum()
+        self.occ
     }
 
     /// Accounts one command of `records` FIFO records that keeps `unit` busy for `busy`
@@ -146,6 +153,7 @@ impl Model {
         let start = self.now.max(self.block_free);
         self.block_free = start + busy;
         self.queued.push_back((start, records));
+        self.occ += records;
         let occ = self.occupancy();
         stats.fifo_max = stats.fifo_max.max(occ);
         stats.end_cycle = self.block_free.max(self.now);

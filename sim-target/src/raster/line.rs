@@ -93,13 +93,19 @@ pub fn draw_skip_first(fb: &mut Framebuffer, l: &Line, bits: u8, skip_first: boo
     let b = ((l.to.x >> bits) as i64, (l.to.y >> bits) as i64);
     let (w, h) = (fb.width() as i64, fb.height() as i64);
     let mut n = 0u64;
+    let flat = l.color_to.is_none();
     thin_pixels(a, b, l.algo, &mut |x, y, k, len| {
         n += 1;
         if skip_first && (x, y) == a {
             return;
         }
         if (0..w).contains(&x) && (0..h).contains(&y) {
-            fb.put(x as u32, y as u32, lerp(l.color, c1, k, len));
+            let c = if flat {
+                l.color
+            } else {
+                lerp(l.color, c1, k, len)
+            };
+            fb.put(x as u32, y as u32, c);
         }
     });
     n

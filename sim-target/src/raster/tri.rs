@@ -283,7 +283,10 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
 fn simd8<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
     let [x0, y0, x1, y1] = s.bbox;
     let [e0, e1, e2] = s.edges;
-    const L: [i64; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+    // Lane offsets a·l, computed once: the eight units then only add and test signs.
+    let o0: [i64; 8] = core::array::from_fn(|l| e0.a * l as i64);
+    let o1: [i64; 8] = core::array::from_fn(|l| e1.a * l as i64);
+    let o2: [i64; 8] = core::array::from_fn(|l| e2.a * l as i64);
     for j in y0..y1 {
         let mut start: Option<u32> = None;
         let mut x = x0;
@@ -293,18 +296,22 @@ fn simd8<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut
             e2.at(x0 as i64, j as i64),
         );
         while x < x1 {
-            // Eight lanes evaluate in parallel, as seed 000's eight edge units do.
             let mut mask = 0u32;
-            for (l, &k) in L.iter().enumerate() {
-                let inside = ((v0 + e0.a * k) | (v1 + e1.a * k) | (v2 + e2.a * k)) >= 0;
-                mask |= (inside as u32) << l;
+            for l in 0..8 {
+                let out = ((v0 + o0[l]) | (v1 + o1[l]) | (v2 + o2[l])) < 0;
+                mask |= (!out as u32) << l;
             }
             let lanes = (x1 - x).min(8);
-            mask &= (1u32 << lanes) - 1;
+            let full = (1u32 << lanes) - 1;
+            mask &= full;
             c.wide_steps += 1;
-            if mask == (1 << lanes) - 1 {
+            if mask == full {
                 if start.is_none() {
                     start = Some(x);
+                }
+            } else if mask == 0 {
+                if let Some(s0) = start.take() {
+                    emit(j, s0, x);
                 }
             } else {
                 for l in 0..lanes {
