@@ -499,3 +499,19 @@ fn bezier_draws_from_end_to_end() {
         }))
         .is_err());
 }
+
+proptest! {
+    #[test]
+    fn drawn_lines_equal_the_walk(ax in 0i64..64, ay in 0i64..48, bx in -8i64..72, by in -8i64..56, dda in any::<bool>()) {
+        // The raster's flat in-bounds fast path and the clipped general path must both
+        // plot exactly the walk's pixels.
+        let algo = if dda { LineAlgo::Dda } else { LineAlgo::Bresenham };
+        let mut r = raster(64, 48, 4);
+        let white = Rgb::new(255, 255, 255);
+        let l = Line { from: Point { x: (ax << 4) + 3, y: (ay << 4) + 9 }, to: Point { x: (bx << 4) + 15, y: by << 4 }, color: white, color_to: None, width: 0, aa: false, algo };
+        r.draw(&RasterCmd::Line(l)).expect("draw");
+        let want: BTreeSet<(i64, i64)> = pixels((ax, ay), (bx, by), algo).into_iter().filter(|&(x, y)| (0..64).contains(&x) && (0..48).contains(&y)).collect();
+        let got: BTreeSet<(i64, i64)> = (0..48).flat_map(|y| (0..64).map(move |x| (x, y))).filter(|&(x, y)| r.framebuffer().pixel(x as u32, y as u32) == Some(white)).collect();
+        prop_assert_eq!(got, want);
+    }
+}

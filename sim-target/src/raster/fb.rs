@@ -167,6 +167,21 @@ impl Framebuffer {
         self.count(idx, n);
     }
 
+    /// Whether per-pixel write counts are kept (fast paths must then go through `put`).
+    pub fn tracking(&self) -> bool {
+        self.writes.is_some()
+    }
+
+    /// Raw RGB bytes for the fast line path, which counts its fragments itself.
+    pub(crate) fn raw_rgb_mut(&mut self) -> &mut [u8] {
+        &mut self.rgb
+    }
+
+    /// Adds fragments written through [`Self::raw_rgb_mut`].
+    pub(crate) fn add_fragments(&mut self, n: u64) {
+        self.fragments += n;
+    }
+
     /// Depth test "less" and write: returns whether the fragment passed.
     #[inline]
     pub fn depth_test(&mut self, x: u32, y: u32, z: u32) -> bool {

@@ -92,6 +92,16 @@ pub fn draw_skip_first(fb: &mut Framebuffer, l: &Line, bits: u8, skip_first: boo
     let a = ((l.from.x >> bits) as i64, (l.from.y >> bits) as i64);
     let b = ((l.to.x >> bits) as i64, (l.to.y >> bits) as i64);
     let (w, h) = (fb.width() as i64, fb.height() as i64);
+    let inside = |p: (i64, i64)| (0..w).contains(&p.0) && (0..h).contains(&p.1);
+    if l.algo == LineAlgo::Bresenham
+        && l.color_to.is_none()
+        && !skip_first
+        && !fb.tracking()
+        && inside(a)
+        && inside(b)
+    {
+        return fast_bresenham(fb, a, b, l.color);
+    }
     let mut n = 0u64;
     let flat = l.color_to.is_none();
     thin_pixels(a, b, l.algo, &mut |x, y, k, len| {
@@ -109,6 +119,42 @@ pub fn draw_skip_first(fb: &mut Framebuffer, l: &Line, bits: u8, skip_first: boo
         }
     });
     n
+}
+
+/// The same walk as [`thin_pixels`] (canonical direction, p₁ = 2Δy − Δx) stepping a
+/// byte offset, for flat lines that lie inside the framebuffer: no per-pixel clipping.
+fn fast_bresenham(fb: &mut Framebuffer, a: (i64, i64), b: (i64, i64), c: Rgb) -> u64 {
+    let width = fb.width() as i64;
+    let (dx, dy) = ((b.0 - a.0).abs(), (b.1 - a.1).abs());
+    let x_major = dx >= dy;
+    let key = |p: (i64, i64)| if x_major { (p.0, p.1) } else { (p.1, p.0) };
+    let (s, e) = if key(b) < key(a) { (b, a) } else { (a, b) };
+    let (dm, dn) = if x_major {
+        (e.0 - s.0, dy)
+    } else {
+        (e.1 - s.1, dx)
+    };
+    let (step_m, step_n) = if x_major {
+        (3, if e.1 >= s.1 { 3 * width } else { -3 * width })
+    } else {
+        (3 * width, if e.0 >= s.0 { 3 } else { -3 })
+    };
+    let rgb = fb.raw_rgb_mut();
+    let mut o = 3 * (s.1 * width + s.0);
+    let mut p = 2 * dn - dm;
+    for _ in 0..=dm {
+        let k = o as usize;
+        rgb[k..k + 3].copy_from_slice(&[c.r, c.g, c.b]);
+        o += step_m;
+        if p < 0 {
+            p += 2 * dn;
+        } else {
+            o += step_n;
+            p += 2 * dn - 2 * dm;
+        }
+    }
+    fb.add_fragments(dm as u64 + 1);
+    dm as u64 + 1
 }
 
 /// Thick line: pixel centres with |a·x + b·y + c| ≤ h·√(a² + b²)/2 (SPEC §3), squared to

@@ -237,6 +237,49 @@ fn row_span(s: &TriSetup, j: u32) -> (u32, u32) {
     }
 }
 
+/// Joins spans that touch within a band of rows, so that block traversals hand the
+/// framebuffer one long span per row instead of one per block (the SDRAM burst model).
+struct Merger {
+    y0: u32,
+    rows: Vec<(u32, u32)>,
+}
+
+impl Merger {
+    fn new(y0: u32, n: u32) -> Self {
+        Self {
+            y0,
+            rows: vec![(0, 0); n as usize],
+        }
+    }
+
+    #[inline]
+    fn push<F: FnMut(u32, u32, u32)>(&mut self, y: u32, a: u32, b: u32, emit: &mut F) {
+        let Some(p) = self.rows.get_mut((y - self.y0) as usize) else {
+            emit(y, a, b);
+            return;
+        };
+        if p.0 == p.1 {
+            *p = (a, b);
+        } else if p.1 == a {
+            p.1 = b;
+        } else if b == p.0 {
+            p.0 = a;
+        } else {
+            emit(y, p.0, p.1);
+            *p = (a, b);
+        }
+    }
+
+    fn flush<F: FnMut(u32, u32, u32)>(&mut self, emit: &mut F) {
+        for (k, p) in self.rows.iter_mut().enumerate() {
+            if p.0 < p.1 {
+                emit(self.y0 + k as u32, p.0, p.1);
+            }
+            *p = (0, 0);
+        }
+    }
+}
+
 /// Walks the triangle with `t`, calling `emit(y, x0, x1)` for runs of covered pixels.
 /// All traversals emit exactly the same pixel set (each pixel once); order differs.
 pub fn traverse<F: FnMut(u32, u32, u32)>(
@@ -267,16 +310,29 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
         Traversal::Tiles => {
             let t0 = TILE_SIZES[0];
             let mut ty = y0;
+            let mut m = Merger::new(y0, t0);
             while ty < y1 {
+                m.y0 = ty;
                 let mut tx = x0;
                 while tx < x1 {
-                    tile(s, tx, ty, 0, c, emit);
+                    tile(s, tx, ty, 0, c, &mut |y, a, b| m.push(y, a, b, emit));
                     tx += t0;
                 }
+                m.flush(emit);
                 ty += t0;
             }
         }
-        Traversal::Zigzag => zigzag(s, c, emit),
+        Traversal::Zigzag => {
+            let mut m = Merger::new(y0, ZIGZAG_BLOCK);
+            zigzag(s, c, &mut |y, a, b| {
+                if y >= m.y0 + ZIGZAG_BLOCK {
+                    m.flush(emit);
+                    m.y0 = y - (y - y0) % ZIGZAG_BLOCK;
+                }
+                m.push(y, a, b, emit)
+            });
+            m.flush(emit);
+        }
     }
 }
 
