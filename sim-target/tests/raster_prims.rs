@@ -508,7 +508,7 @@ proptest! {
         let algo = if dda { LineAlgo::Dda } else { LineAlgo::Bresenham };
         let mut r = raster(64, 48, 4);
         let white = Rgb::new(255, 255, 255);
-        let l = Line { from: Point { x: (ax << 4) + 3, y: (ay << 4) + 9 }, to: Point { x: (bx << 4) + 15, y: by << 4 }, color: white, color_to: None, width: 0, aa: false, algo };
+        let l = Line { from: Point { x: (ax as i32) * 16 + 3, y: (ay as i32) * 16 + 9 }, to: Point { x: (bx as i32) * 16 + 15, y: (by as i32) * 16 }, color: white, color_to: None, width: 0, aa: false, algo };
         r.draw(&RasterCmd::Line(l)).expect("draw");
         let want: BTreeSet<(i64, i64)> = pixels((ax, ay), (bx, by), algo).into_iter().filter(|&(x, y)| (0..64).contains(&x) && (0..48).contains(&y)).collect();
         let got: BTreeSet<(i64, i64)> = (0..48).flat_map(|y| (0..64).map(move |x| (x, y))).filter(|&(x, y)| r.framebuffer().pixel(x as u32, y as u32) == Some(white)).collect();
