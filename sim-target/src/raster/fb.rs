@@ -1,0 +1,199 @@
+//! The framebuffer: RGB888 colour, an optional 24-bit depth plane and write counters.
+
+use protocol::frame::Rgb;
+
+/// Depth value of a cleared z-buffer ("far"): the largest unorm24.
+pub const Z_FAR: u32 = (1 << 24) - 1;
+
+/// Colour plane (RGB888, row-major, no padding) plus depth and bookkeeping.
+///
+/// The write counters exist for the watertightness tests: a mesh drawn with the top-left
+/// rule must write every covered pixel exactly once, so `overdraw` must stay zero.
+#[derive(Debug, Clone)]
+pub struct Framebuffer {
+    width: u32,
+    height: u32,
+    rgb: Vec<u8>,
+    depth: Vec<u32>,
+    writes: Option<Vec<u8>>,
+    fragments: u64,
+    overdraw: u64,
+}
+
+impl Framebuffer {
+    /// A framebuffer cleared to `background`, depth cleared to far.
+    pub fn new(width: u32, height: u32, background: Rgb) -> Self {
+        let n = width as usize * height as usize;
+        let mut fb = Self {
+            width,
+            height,
+            rgb: vec![0; n * 3],
+            depth: vec![Z_FAR; n],
+            writes: None,
+            fragments: 0,
+            overdraw: 0,
+        };
+        fb.clear(background);
+        fb
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// RGB bytes, row-major, 3 bytes per pixel.
+    pub fn rgb(&self) -> &[u8] {
+        &self.rgb
+    }
+
+    /// Depth plane (unorm24 in u32), row-major.
+    pub fn depth(&self) -> &[u32] {
+        &self.depth
+    }
+
+    /// Colour of one pixel; `None` outside the framebuffer.
+    pub fn pixel(&self, x: u32, y: u32) -> Option<Rgb> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
+        let o = (y as usize * self.width as usize + x as usize) * 3;
+        Some(Rgb::new(self.rgb[o], self.rgb[o + 1], self.rgb[o + 2]))
+    }
+
+    /// Fragments written since creation.
+    pub fn fragments(&self) -> u64 {
+        self.fragments
+    }
+
+    /// Writes to pixels already written since the last clear (only counted while write
+    /// tracking is on).
+    pub fn overdraw(&self) -> u64 {
+        self.overdraw
+    }
+
+    /// Per-pixel write counts since the last clear (saturating at 255), if tracked.
+    pub fn write_counts(&self) -> Option<&[u8]> {
+        self.writes.as_deref()
+    }
+
+    /// Turns per-pixel write tracking on or off. Off by default because it costs a
+    /// byte per fragment in the hot loop.
+    pub fn track_writes(&mut self, on: bool) {
+        self.writes = on.then(|| vec![0; self.width as usize * self.height as usize]);
+        self.overdraw = 0;
+    }
+
+    /// Clears colour, depth and write counts.
+    pub fn clear(&mut self, c: Rgb) {
+        for px in self.rgb.chunks_exact_mut(3) {
+            px[0] = c.r;
+            px[1] = c.g;
+            px[2] = c.b;
+        }
+        self.depth.fill(Z_FAR);
+        if let Some(w) = &mut self.writes {
+            w.fill(0);
+        }
+        self.overdraw = 0;
+    }
+
+    #[inline]
+    fn count(&mut self, idx: usize, n: usize) {
+        self.fragments += n as u64;
+        if let Some(w) = &mut self.writes {
+            for c in &mut w[idx..idx + n] {
+                if *c > 0 {
+                    self.overdraw += 1;
+                }
+                *c = c.saturating_add(1);
+            }
+        }
+    }
+
+    /// Writes one pixel; coordinates outside are ignored (callers clip, this is a guard).
+    #[inline]
+    pub fn put(&mut self, x: u32, y: u32, c: Rgb) {
+        if x >= self.width || y >= self.height {
+            return;
+        }
+        let idx = y as usize * self.width as usize + x as usize;
+        let o = idx * 3;
+        self.rgb[o] = c.r;
+        self.rgb[o + 1] = c.g;
+        self.rgb[o + 2] = c.b;
+        self.count(idx, 1);
+    }
+
+    /// Blends `c` over the pixel with weight `k / n` (AA coverage), rounding to nearest.
+    pub fn blend(&mut self, x: u32, y: u32, c: Rgb, k: u32, n: u32) {
+        if x >= self.width || y >= self.height || k == 0 || n == 0 {
+            return;
+        }
+        let k = k.min(n);
+        let idx = y as usize * self.width as usize + x as usize;
+        let o = idx * 3;
+        let mix = |s: u8, d: u8| ((s as u32 * k + d as u32 * (n - k) + n / 2) / n) as u8;
+        self.rgb[o] = mix(c.r, self.rgb[o]);
+        self.rgb[o + 1] = mix(c.g, self.rgb[o + 1]);
+        self.rgb[o + 2] = mix(c.b, self.rgb[o + 2]);
+        self.count(idx, 1);
+    }
+
+    /// Fills pixels `x0..x1` of row `y` with one colour: the flat-shaded fast path, a
+    /// slice write with no per-pixel test.
+    #[inline]
+    pub fn fill_span(&mut self, y: u32, x0: u32, x1: u32, c: Rgb) {
+        let x1 = x1.min(self.width);
+        if y >= self.height || x0 >= x1 {
+            return;
+        }
+        let idx = y as usize * self.width as usize + x0 as usize;
+        let n = (x1 - x0) as usize;
+        let row = &mut self.rgb[idx * 3..(idx + n) * 3];
+        row[..3].copy_from_slice(&[c.r, c.g, c.b]);
+        // Doubling copies: a span costs log2(n) memcpys instead of n 3-byte stores.
+        let mut filled = 3;
+        while filled < row.len() {
+            let k = filled.min(row.len() - filled);
+            row.copy_within(..k, filled);
+            filled += k;
+        }
+        self.count(idx, n);
+    }
+
+    /// Whether per-pixel write counts are kept (fast paths must then go through `put`).
+    pub fn tracking(&self) -> bool {
+        self.writes.is_some()
+    }
+
+    /// Raw RGB bytes for the fast line path, which counts its fragments itself.
+    pub(crate) fn raw_rgb_mut(&mut self) -> &mut [u8] {
+        &mut self.rgb
+    }
+
+    /// Adds fragments written through [`Self::raw_rgb_mut`].
+    pub(crate) fn add_fragments(&mut self, n: u64) {
+        self.fragments += n;
+    }
+
+    /// Depth test "less" and write: returns whether the fragment passed.
+    #[inline]
+    pub fn depth_test(&mut self, x: u32, y: u32, z: u32) -> bool {
+        if x >= self.width || y >= self.height {
+            return false;
+        }
+        let idx = y as usize * self.width as usize + x as usize;
+        if z < self.depth[idx] {
+            self.depth[idx] = z;
+            true
+        } else {
+            false
+        }
+    }
+}

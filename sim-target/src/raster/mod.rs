@@ -1,0 +1,444 @@
+//! The raster block's golden model (SPEC §3): bit-exact coverage, a framebuffer the
+//! device reads back, and a cycle/FIFO model for board-time estimates.
+//!
+//! The device calls [`Raster::new`] on a [`RasterSetup`], [`Raster::draw`] per command and
+//! reads [`Raster::framebuffer`] and [`Raster::stats`]. Geometry arrives already snapped
+//! to sub-pixel units (`round(px · 2^subpixel_bits)`); everything after that is integer
+//! arithmetic, so every traversal produces the same pixels.
+
+pub mod aa;
+pub mod circle;
+pub mod curve;
+pub mod fb;
+pub mod fill;
+pub mod hw;
+pub mod line;
+pub mod tex;
+pub mod tri;
+
+pub use fb::Framebuffer;
+pub use hw::Stats;
+
+use protocol::frame::{AaPattern, Point, RasterCmd, RasterSetup, Rgb, Shade, Traversal, Triangle};
+use tri::{TravCounters, TriSetup};
+
+/// Why a command or set-up was refused. Nothing from outside may panic the model.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RasterError {
+    /// Framebuffer size zero or above [`tri::MAX_DIM`].
+    #[error("framebuffer {width}x{height} outside 1..={max} per side")]
+    Size {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// Largest side.
+        max: u32,
+    },
+    /// More fractional bits than the edge-function widths were sized for.
+    #[error("subpixel_bits {0} above the maximum {max}", max = tri::MAX_SUBPIXEL_BITS)]
+    SubpixelBits(u8),
+    /// A coordinate beyond the guard band.
+    #[error("{field} = {value} outside ±{limit} sub-pixel units", limit = tri::COORD_LIMIT)]
+    Coordinate {
+        /// Which field.
+        field: &'static str,
+        /// The value.
+        value: i64,
+    },
+    /// A w of zero cannot be divided by.
+    #[error("perspective w of vertex {0} is zero")]
+    ZeroW(usize),
+    /// Bézier curves need 3 or 4 control points.
+    #[error("Bézier curve with {0} control points (need 3 or 4)")]
+    BezierArity(usize),
+    /// Seed outside the framebuffer.
+    #[error("seed ({x}, {y}) outside the framebuffer")]
+    SeedOutside {
+        /// Column.
+        x: u16,
+        /// Row.
+        y: u16,
+    },
+    /// The seed fill's bounded span stack overflowed.
+    #[error("seed fill needed more than {0} stacked spans")]
+    FillStack(usize),
+    /// A texture reference reaches past texture memory.
+    #[error("texture at {base} ({w}x{h} with MIP levels) exceeds {words} texels")]
+    Texture {
+        /// First texel.
+        base: u32,
+        /// Width.
+        w: u32,
+        /// Height.
+        h: u32,
+        /// Texture memory size.
+        words: usize,
+    },
+    /// Texture write past the end of texture memory or not a whole number of texels.
+    #[error("texture write at {offset} of {len} bytes does not fit {words} texels")]
+    TextureWrite {
+        /// First texel.
+        offset: u32,
+        /// Bytes.
+        len: usize,
+        /// Texture memory size.
+        words: usize,
+    },
+}
+
+/// Texels of texture memory in the model.
+pub const TEXTURE_WORDS: usize = 1 << 18;
+
+/// The raster block.
+#[derive(Debug, Clone)]
+pub struct Raster {
+    setup: RasterSetup,
+    fb: Framebuffer,
+    texture: Vec<u32>,
+    stats: Stats,
+    hw: hw::Model,
+}
+
+fn check_point(p: &Point, field: &'static str) -> Result<(), RasterError> {
+    for v in [p.x, p.y] {
+        if v.unsigned_abs() > tri::COORD_LIMIT as u32 {
+            return Err(RasterError::Coordinate {
+                field,
+                value: v as i64,
+            });
+        }
+    }
+    Ok(())
+}
+
+impl Raster {
+    /// A block with a framebuffer of `width × height` cleared to the set-up's background.
+    pub fn new(width: u32, height: u32, setup: &RasterSetup) -> Result<Self, RasterError> {
+        if width == 0 || height == 0 || width > tri::MAX_DIM || height > tri::MAX_DIM {
+            return Err(RasterError::Size {
+                width,
+                height,
+                max: tri::MAX_DIM,
+            });
+        }
+        if setup.subpixel_bits > tri::MAX_SUBPIXEL_BITS {
+            return Err(RasterError::SubpixelBits(setup.subpixel_bits));
+        }
+        Ok(Self {
+            setup: *setup,
+            fb: Framebuffer::new(width, height, setup.background),
+            texture: vec![0; TEXTURE_WORDS],
+            stats: Stats::default(),
+            hw: hw::Model::default(),
+        })
+    }
+
+    /// The framebuffer (read-back).
+    pub fn framebuffer(&self) -> &Framebuffer {
+        &self.fb
+    }
+
+    /// Mutable framebuffer, for tests that turn on write tracking.
+    pub fn framebuffer_mut(&mut self) -> &mut Framebuffer {
+        &mut self.fb
+    }
+
+    /// Counters and cycle model.
+    pub fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    /// Changes the traversal (the benches compare them on one block).
+    pub fn set_traversal(&mut self, t: Traversal) {
+        self.setup.traversal = t;
+    }
+
+    /// Cycles per record the controller needs to push into the input FIFO.
+    pub fn set_push_period(&mut self, cycles: u64) {
+        self.hw.push_period = cycles.max(1);
+    }
+
+    /// Writes texels (little-endian 0x00RRGGBB words) into texture memory.
+    pub fn write_texture(&mut self, offset: u32, data: &[u8]) -> Result<(), RasterError> {
+        let words = self.texture.len();
+        let err = RasterError::TextureWrite {
+            offset,
+            len: data.len(),
+            words,
+        };
+        if data.len() % 4 != 0 {
+            return Err(err);
+        }
+        let start = offset as usize;
+        let end = start.checked_add(data.len() / 4).ok_or(err.clone())?;
+        if end > words {
+            return Err(err);
+        }
+        for (t, b) in self.texture[start..end]
+            .iter_mut()
+            .zip(data.chunks_exact(4))
+        {
+            *t = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+        }
+        Ok(())
+    }
+
+    /// Executes one command.
+    pub fn draw(&mut self, cmd: &RasterCmd) -> Result<(), RasterError> {
+        let bits = self.setup.subpixel_bits;
+        let before = self.fb.fragments();
+        let (unit, busy) = match cmd {
+            RasterCmd::Clear(c) => {
+                self.fb.clear(*c);
+                (
+                    hw::Unit::Clear,
+                    self.fb.width() as u64 * self.fb.height() as u64,
+                )
+            }
+            RasterCmd::Triangle(t) => (hw::Unit::Triangle, self.triangle(t)?),
+            RasterCmd::Line(l) => {
+                check_point(&l.from, "line.from")?;
+                check_point(&l.to, "line.to")?;
+                (hw::Unit::Line, line::draw(&mut self.fb, l, bits))
+            }
+            RasterCmd::Circle(c) => {
+                check_point(&c.center, "circle.center")?;
+                if c.radius > tri::COORD_LIMIT as u32 {
+                    return Err(RasterError::Coordinate {
+                        field: "circle.radius",
+                        value: c.radius as i64,
+                    });
+                }
+                (hw::Unit::Circle, circle::draw(&mut self.fb, c, bits))
+            }
+            RasterCmd::Fill(f) => (hw::Unit::Fill, fill::seed_fill(&mut self.fb, f)?),
+            RasterCmd::Polygon(p) => {
+                for q in &p.points {
+                    check_point(q, "polygon.points")?;
+                }
+                (hw::Unit::Fill, fill::polygon(&mut self.fb, p, bits))
+            }
+            RasterCmd::Bezier(b) => {
+                for q in &b.points {
+                    check_point(q, "bezier.points")?;
+                }
+                let pts = curve::flatten(&b.points, b.tolerance)?;
+                let mut busy = 0;
+                for (k, w) in pts.windows(2).enumerate() {
+                    let l = protocol::frame::Line {
+                        from: w[0],
+                        to: w[1],
+                        color: b.color,
+                        color_to: None,
+                        width: 0,
+                        aa: false,
+                        algo: protocol::frame::LineAlgo::Bresenham,
+                    };
+                    // Joints are shared: skip each segment's first pixel after the first.
+                    busy += line::draw_skip_first(&mut self.fb, &l, bits, k > 0);
+                }
+                (hw::Unit::Line, busy)
+            }
+            RasterCmd::Patch(p) => {
+                for q in &p.points {
+                    check_point(q, "patch.points")?;
+                }
+                let mut busy = 0;
+                for v in curve::patch_triangles(p) {
+                    let t = Triangle {
+                        v,
+                        shade: Shade::Flat(p.color),
+                        z: None,
+                        w: None,
+                        tex: None,
+                    };
+                    busy += self.triangle(&t)?;
+                }
+                (hw::Unit::Triangle, busy)
+            }
+        };
+        let frags = self.fb.fragments() - before;
+        self.stats.fragments += frags;
+        let records = records(cmd);
+        let lanes = if self.setup.traversal == Traversal::Simd8 && unit == hw::Unit::Triangle {
+            8
+        } else {
+            1
+        };
+        self.hw
+            .command(&mut self.stats, unit, records, busy, frags, lanes);
+        Ok(())
+    }
+
+    /// Draws a triangle, returns busy cycles.
+    fn triangle(&mut self, t: &Triangle) -> Result<u64, RasterError> {
+        for (k, v) in t.v.iter().enumerate() {
+            check_point(v, ["triangle.v[0]", "triangle.v[1]", "triangle.v[2]"][k])?;
+        }
+        if let Some(w) = &t.w {
+            if let Some(k) = w.iter().position(|&w| w == 0) {
+                return Err(RasterError::ZeroW(k));
+            }
+        }
+        if let Some(tx) = &t.tex {
+            tex::check(tx, self.texture.len())?;
+        }
+        let (w, h) = (self.fb.width(), self.fb.height());
+        let bits = self.setup.subpixel_bits;
+        if self.setup.aa.pattern != AaPattern::None {
+            let n = aa::draw_triangle(&mut self.fb, t, bits, self.setup.cull, self.setup.aa);
+            self.stats.pixel_tests += n;
+            return Ok(hw::SETUP_CYCLES + n);
+        }
+        let Some(s) = tri::setup(&t.v, bits, w, h, self.setup.cull) else {
+            return Ok(hw::SETUP_CYCLES);
+        };
+        let mut c = TravCounters::default();
+        let trav = self.setup.traversal;
+        match (t.shade, t.z, t.tex) {
+            (Shade::Flat(col), None, None) => {
+                let fb = &mut self.fb;
+                tri::traverse(&s, trav, &mut c, &mut |y, x0, x1| {
+                    fb.fill_span(y, x0, x1, col)
+                });
+            }
+            _ => {
+                let sh = Shader::new(t, &s, &self.texture);
+                let fb = &mut self.fb;
+                tri::traverse(&s, trav, &mut c, &mut |y, x0, x1| {
+                    for x in x0..x1 {
+                        sh.fragment(fb, &s, x, y);
+                    }
+                });
+            }
+        }
+        self.stats.pixel_tests += c.pixel_tests;
+        self.stats.block_tests += c.block_tests;
+        let lanes = if trav == Traversal::Simd8 { 8 } else { 1 };
+        Ok(hw::SETUP_CYCLES
+            + c.block_tests
+            + c.wide_steps
+            + (c.pixel_tests + c.accepted).div_ceil(lanes))
+    }
+}
+
+/// Input FIFO records a command occupies. Lines and flat triangles whose coordinates fit
+/// the FITkit layout (9-bit integer coordinates, 8-bit colour) use seed 000's 2 records;
+/// anything richer is costed with 16-bit coordinates, 24-bit colours, 24-bit z, 32-bit w
+/// and texture words, plus a 4-bit opcode and the CB bit.
+pub fn records(cmd: &RasterCmd) -> u32 {
+    let bits: u32 = match cmd {
+        RasterCmd::Clear(_) => 5 + 24,
+        RasterCmd::Line(l) => {
+            if l.color_to.is_none() && !l.aa && l.width == 0 {
+                45
+            } else {
+                5 + 64 + 48 + 16 + 2
+            }
+        }
+        RasterCmd::Triangle(t) => {
+            let mut b = 5 + 96 + 24;
+            if matches!(t.shade, Shade::Gouraud(_)) {
+                b += 48;
+            }
+            if t.z.is_some() {
+                b += 72;
+            }
+            if t.w.is_some() {
+                b += 96;
+            }
+            if t.tex.is_some() {
+                b += 32 + 8 + 192 + 2;
+            }
+            b
+        }
+        RasterCmd::Circle(_) => 5 + 32 + 16 + 24 + 1,
+        RasterCmd::Fill(_) => 5 + 32 + 24 + 1,
+        RasterCmd::Polygon(p) => 5 + 32 * p.points.len() as u32 + 24 + 1 + 5,
+        RasterCmd::Bezier(b) => 5 + 32 * b.points.len() as u32 + 24 + 16,
+        RasterCmd::Patch(_) => 5 + 32 * 16 + 8 + 24,
+    };
+    bits.div_ceil(hw::RECORD_BITS)
+}
+
+/// Per-fragment attribute evaluation for the non-flat paths. Everything is exact
+/// integer arithmetic on the raw edge values (barycentric numerators), so the result
+/// of a pixel does not depend on the traversal order.
+struct Shader<'a> {
+    colors: [Rgb; 3],
+    z: Option<[u32; 3]>,
+    /// Perspective weights w_j·w_k per vertex (so that l_i/w_i ∝ l_i·w_j·w_k).
+    pw: Option<[u128; 3]>,
+    tex: Option<(protocol::frame::TexRef, u32)>,
+    texture: &'a [u32],
+}
+
+impl<'a> Shader<'a> {
+    fn new(t: &Triangle, s: &TriSetup, texture: &'a [u32]) -> Self {
+        let colors = match t.shade {
+            Shade::Flat(c) => [c; 3],
+            Shade::Gouraud(c) => c,
+        };
+        let o = s.order;
+        let colors = [colors[o[0]], colors[o[1]], colors[o[2]]];
+        let z = t.z.map(|z| [z[o[0]], z[o[1]], z[o[2]]]);
+        let pw = t.w.map(|w| {
+            let w = [w[o[0]] as u128, w[o[1]] as u128, w[o[2]] as u128];
+            [w[1] * w[2], w[0] * w[2], w[0] * w[1]]
+        });
+        let tex = t.tex.map(|mut tx| {
+            tx.uv = [tx.uv[o[0]], tx.uv[o[1]], tx.uv[o[2]]];
+            let lod = tex::lod(&tx, s);
+            (tx, lod)
+        });
+        Self {
+            colors,
+            z,
+            pw,
+            tex,
+            texture,
+        }
+    }
+
+    #[inline]
+    fn fragment(&self, fb: &mut Framebuffer, s: &TriSetup, x: u32, y: u32) {
+        let l = s.edges.map(|e| e.raw(x as i64, y as i64).max(0) as u128);
+        if let Some(z) = self.z {
+            // Depth is affine in screen space (z/w is what the projection makes linear).
+            let area = s.area as u128;
+            let num: u128 = (0..3).map(|k| z[k] as u128 * l[k]).sum();
+            let zv = ((num + area / 2) / area) as u32;
+            if !fb.depth_test(x, y, zv) {
+                return;
+            }
+        }
+        let q = match self.pw {
+            Some(pw) => [l[0] * pw[0], l[1] * pw[1], l[2] * pw[2]],
+            None => l,
+        };
+        // Keep 96 significant bits so that i32 texture coordinates × weights fit i128.
+        let sum: u128 = q.iter().sum();
+        let shift = (128 - sum.leading_zeros()).saturating_sub(96);
+        let q = q.map(|v| v >> shift);
+        let den: u128 = q.iter().sum();
+        if den == 0 {
+            return;
+        }
+        let c = if let Some((tx, lod)) = &self.tex {
+            let interp = |k: usize| -> i64 {
+                let num: i128 = (0..3).map(|v| tx.uv[v][k] as i128 * q[v] as i128).sum();
+                let d = den as i128;
+                (2 * num + d).div_euclid(2 * d) as i64
+            };
+            tex::sample(self.texture, tx, interp(0), interp(1), *lod)
+        } else {
+            let ch = |f: fn(&Rgb) -> u8| -> u8 {
+                let num: u128 = (0..3).map(|k| f(&self.colors[k]) as u128 * q[k]).sum();
+                ((num + den / 2) / den) as u8
+            };
+            Rgb::new(ch(|c| c.r), ch(|c| c.g), ch(|c| c.b))
+        };
+        fb.put(x, y, c);
+    }
+}
