@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use firmware::{Controller, ControllerError, FpgaBus};
 use protocol::bus::BusLayout;
-use protocol::frame::Caps;
+use protocol::frame::{Caps, DeviceCounters, FrameDone, RasterSetup, ReadRequest, StartFrame};
 
 use crate::session::Transport;
 
@@ -126,4 +126,65 @@ impl<B: FpgaBus> Transport for BuiltIn<B> {
             }
         }
     }
+}
+
+/// The emulated FPGA ([`sim_target::device::Device`]) as the controller's bus.
+pub struct SimBus(pub sim_target::device::Device);
+
+impl FpgaBus for SimBus {
+    type Error = sim_target::device::DeviceError;
+
+    fn fifo_free(&mut self) -> Result<usize, Self::Error> {
+        Ok(self.0.fifo_free())
+    }
+    fn push_packet(&mut self, channel: u8, records: &[u64]) -> Result<(), Self::Error> {
+        self.0.push_packet(channel, records)
+    }
+    fn wait(&mut self) -> Result<(), Self::Error> {
+        self.0.wait()
+    }
+    fn idle(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.0.idle())
+    }
+    fn raster_setup(&mut self, setup: &RasterSetup) -> Result<(), Self::Error> {
+        self.0.raster_setup(setup)
+    }
+    fn write_regs(&mut self, offset: u16, words: &[u32]) -> Result<(), Self::Error> {
+        self.0.write_regs(offset, words)
+    }
+    fn write_texels(&mut self, offset: u32, bytes: &[u8]) -> Result<(), Self::Error> {
+        self.0.write_texels(offset, bytes)
+    }
+    fn start(&mut self, start: &StartFrame) -> Result<(), Self::Error> {
+        self.0.start(start)
+    }
+    fn stop(&mut self) -> Result<(), Self::Error> {
+        Ok(())
+    }
+    fn poll_done(&mut self) -> Result<Option<FrameDone>, Self::Error> {
+        Ok(self.0.poll_done())
+    }
+    fn read_len(&mut self, req: &ReadRequest) -> Result<Option<u32>, Self::Error> {
+        Ok(self.0.read_len(req))
+    }
+    fn read(&mut self, req: &ReadRequest, offset: u32, out: &mut [u8]) -> Result<(), Self::Error> {
+        self.0.read(req, offset, out);
+        Ok(())
+    }
+    fn counters(&mut self) -> Result<DeviceCounters, Self::Error> {
+        Ok(self.0.counters())
+    }
+    fn reset(&mut self) -> Result<(), Self::Error> {
+        self.0.reset();
+        Ok(())
+    }
+}
+
+/// The built-in target: controller and emulated FPGA in this process, WIDE bus layout
+/// (16.8 coordinates, so the command file's 8 sub-pixel bits pass unchanged).
+pub fn sim_target() -> BuiltIn<SimBus> {
+    let layout = &protocol::bus::WIDE;
+    let device = sim_target::device::Device::new(layout);
+    let caps = device.caps();
+    BuiltIn::new(SimBus(device), caps, layout)
 }

@@ -196,3 +196,51 @@ fn capability_refusal_before_anything_is_sent() {
     assert!(err.to_string().contains("4000×10 exceeds"), "{err}");
     assert!(session.transport().bus().setup.is_none());
 }
+
+/// The whole built-in path (link, controller, WIDE packing, FIFO, device) must draw
+/// exactly what the raster block draws when called directly with the same commands.
+#[test]
+fn built_in_target_matches_the_raster_block_exactly() {
+    let text = r##"
+size = [160, 120]
+background = "#102030"
+[[cmd]]
+op = "triangle"
+v = [[10.5, 20.25], [150.0, 30.0], [50.0, 110.75]]
+colors = ["#ff0000", "#00ff00", "#0000ff"]
+[[cmd]]
+op = "line"
+from = [3.0, 4.0]
+to = [150.0, 100.0]
+color = "#ffffff"
+[[cmd]]
+op = "circle"
+center = [100.0, 60.0]
+radius = 30.5
+color = "#00ff00"
+fill = true
+[[cmd]]
+op = "fill"
+seed = [2, 118]
+color = "#808000"
+connectivity = 8
+[[cmd]]
+op = "bezier"
+points = [[10.0, 100.0], [40.0, 10.0], [80.0, 110.0], [150.0, 20.0]]
+color = "#ffff00"
+"##;
+    let job = raster_file::parse(text, "g.toml").expect("valid");
+    let mut session = Session::new(host_cli::builtin::sim_target());
+    session.handshake().expect("handshake");
+    let out = host_cli::raster::run(&mut session, &job, "g.toml").expect("runs");
+
+    let mut direct = sim_target::raster::Raster::new(160, 120, &job.setup).expect("setup");
+    for cmd in &job.cmds {
+        direct.draw(cmd).expect("draws");
+    }
+    let want = direct.framebuffer().rgb();
+    let got = out.image.as_raw();
+    let diff = want.iter().zip(got).filter(|(a, b)| a != b).count();
+    assert_eq!(diff, 0, "{diff} bytes differ between built-in and direct");
+    assert_eq!(out.stats.device.fragments, direct.stats().fragments);
+}

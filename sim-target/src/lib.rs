@@ -1,2 +1,3 @@
 //! The FPGA, emulated: a bit-exact golden model of the raster and ray-trace blocks.
+pub mod device;
 pub mod raster;

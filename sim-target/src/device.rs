@@ -1,0 +1,361 @@
+//! The emulated FPGA as the controller sees it: an input FIFO of bus records, the raster
+//! block behind it, the ray tracer's register file and texture memory, and read-back.
+//!
+//! Records are decoded with the same [`protocol::bus`] layout the controller packed them
+//! with, so a packing bug shows up as a wrong picture or a decode error here, exactly as it
+//! would on a board. Every mode (built-in, `fpgfx-sim`, QEMU) drives this one type.
+
+use std::collections::VecDeque;
+
+use protocol::bus::{quantize_rgb332, rgb332_encode, unpack, BusError, BusLayout, MAX_RECORDS};
+use protocol::frame::{
+    Block, Caps, FrameDone, NumericSet, PixelFormat, Plane, RasterSetup, ReadRequest, Rgb,
+    StartFrame,
+};
+
+use crate::raster::{Raster, RasterError};
+
+/// Records in the input FIFO: seed 000's RAMB16_S36_S36, 512 × 36 bits.
+pub const FIFO_RECORDS: usize = 512;
+
+/// Packets the model executes per [`Device::wait`]: how far the FPGA gets while the
+/// controller waits once. Small, so back-pressure is exercised in every run.
+const PACKETS_PER_WAIT: usize = 4;
+
+/// A fault of the emulated FPGA: what a board would flag on its error line.
+#[derive(Debug, thiserror::Error)]
+pub enum DeviceError {
+    /// A FIFO packet did not decode with the device's layout.
+    #[error("input FIFO packet #{packet} on channel {channel:#04x}: {source}")]
+    Packet {
+        /// Index of the packet since power-on.
+        packet: u64,
+        /// Its channel.
+        channel: u8,
+        /// The decoder's complaint.
+        source: BusError,
+    },
+    /// The raster block refused a command.
+    #[error("raster command #{packet}: {source}")]
+    Raster {
+        /// Index of the packet since power-on.
+        packet: u64,
+        /// The block's complaint.
+        source: RasterError,
+    },
+    /// The raster block was used before its set-up, or set up wrongly.
+    #[error("raster set-up: {0}")]
+    Setup(RasterError),
+    /// A packet larger than the FIFO's free space: the controller ignored FIFO_FREE.
+    #[error("input FIFO overrun: {len} records pushed with {free} free")]
+    Overrun {
+        /// Records pushed.
+        len: usize,
+        /// Free records.
+        free: usize,
+    },
+    /// Raster records arrived before any set-up.
+    #[error("raster packet #{0} before any raster set-up")]
+    NoSetup(u64),
+    /// A register write past the end of the register file.
+    #[error("register write at {offset} of {len} words past the {size}-word register file")]
+    Registers {
+        /// First register.
+        offset: u16,
+        /// Words.
+        len: usize,
+        /// Size of the register file.
+        size: usize,
+    },
+    /// The ray-trace block is not in this build of the model.
+    #[error("this device has no {0:?} block")]
+    NoBlock(Block),
+}
+
+/// The emulated FPGA.
+pub struct Device {
+    layout: &'static BusLayout,
+    fifo: VecDeque<(u8, heapless::Vec<u64, MAX_RECORDS>)>,
+    fifo_records: usize,
+    packets: u64,
+    raster: Option<Raster>,
+    setup: Option<RasterSetup>,
+    regs: Vec<u32>,
+    texels: Vec<u32>,
+    done: VecDeque<FrameDone>,
+    frames: u32,
+}
+
+impl Device {
+    /// A device whose raster block reads `layout` records.
+    pub fn new(layout: &'static BusLayout) -> Self {
+        Self {
+            layout,
+            fifo: VecDeque::new(),
+            fifo_records: 0,
+            packets: 0,
+            raster: None,
+            setup: None,
+            regs: vec![0; protocol::scene::SceneRegs::<8, 2>::WORDS],
+            texels: vec![0; crate::raster::TEXTURE_WORDS],
+            done: VecDeque::new(),
+            frames: 0,
+        }
+    }
+
+    /// What this model can do, for the controller's hello.
+    pub fn caps(&self) -> Caps {
+        Caps {
+            raster: true,
+            ray_trace: false,
+            numeric: NumericSet::default(),
+            pixel_formats: PixelFormat::Rgb888.bit()
+                | PixelFormat::Rgb332.bit()
+                | PixelFormat::DepthF32.bit(),
+            max_width: crate::raster::tri::MAX_DIM as u16,
+            max_height: crate::raster::tri::MAX_DIM as u16,
+            max_subpixel_bits: crate::raster::tri::MAX_SUBPIXEL_BITS,
+            queue_depth: 4,
+            fifo_depth: FIFO_RECORDS as u16,
+            max_objects: 8,
+            max_lights: 2,
+            texture_words: crate::raster::TEXTURE_WORDS as u32,
+        }
+    }
+
+    /// The bus layout the raster block decodes.
+    pub fn layout(&self) -> &'static BusLayout {
+        self.layout
+    }
+
+    /// The raster block, once set up.
+    pub fn raster(&self) -> Option<&Raster> {
+        self.raster.as_ref()
+    }
+
+    /// FIFO_FREE: records the input FIFO can take.
+    pub fn fifo_free(&self) -> usize {
+        FIFO_RECORDS - self.fifo_records
+    }
+
+    /// Pushes one packet into the input FIFO.
+    pub fn push_packet(&mut self, channel: u8, records: &[u64]) -> Result<(), DeviceError> {
+        let free = self.fifo_free();
+        let packet = heapless::Vec::from_slice(records).map_err(|_| DeviceError::Overrun {
+            len: records.len(),
+            free,
+        })?;
+        if records.len() > free {
+            return Err(DeviceError::Overrun {
+                len: records.len(),
+                free,
+            });
+        }
+        self.fifo_records += records.len();
+        self.fifo.push_back((channel, packet));
+        Ok(())
+    }
+
+    /// Lets the FPGA run for a moment: executes a few packets from the FIFO.
+    pub fn wait(&mut self) -> Result<(), DeviceError> {
+        for _ in 0..PACKETS_PER_WAIT {
+            if !self.step()? {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// Executes one packet; `false` if the FIFO was empty.
+    fn step(&mut self) -> Result<bool, DeviceError> {
+        let Some((channel, records)) = self.fifo.pop_front() else {
+            return Ok(false);
+        };
+        self.fifo_records -= records.len();
+        let packet = self.packets;
+        self.packets += 1;
+        let (Some(raster), Some(setup)) = (self.raster.as_mut(), self.setup) else {
+            return Err(DeviceError::NoSetup(packet));
+        };
+        let decoded =
+            unpack(self.layout, channel, &records, setup.subpixel_bits).map_err(|source| {
+                DeviceError::Packet {
+                    packet,
+                    channel,
+                    source,
+                }
+            })?;
+        if decoded.clear && !matches!(decoded.cmd, protocol::frame::RasterCmd::Clear(_)) {
+            // CB on a drawing command: clear to the set-up's background first (seed 000).
+            raster
+                .draw(&protocol::frame::RasterCmd::Clear(setup.background))
+                .map_err(|source| DeviceError::Raster { packet, source })?;
+        }
+        raster
+            .draw(&decoded.cmd)
+            .map_err(|source| DeviceError::Raster { packet, source })?;
+        Ok(true)
+    }
+
+    /// Runs until the FIFO is empty.
+    pub fn drain(&mut self) -> Result<(), DeviceError> {
+        while self.step()? {}
+        Ok(())
+    }
+
+    /// Whether every pushed packet has been executed.
+    pub fn idle(&self) -> bool {
+        self.fifo.is_empty()
+    }
+
+    /// Programs the raster block; earlier packets finish first, as on a board where the
+    /// set-up registers are written behind the FIFO.
+    pub fn raster_setup(&mut self, setup: &RasterSetup) -> Result<(), DeviceError> {
+        self.drain()?;
+        let mut raster = Raster::new(u32::from(setup.width), u32::from(setup.height), setup)
+            .map_err(DeviceError::Setup)?;
+        raster
+            .write_texture(0, &texels_bytes(&self.texels))
+            .map_err(DeviceError::Setup)?;
+        self.raster = Some(raster);
+        self.setup = Some(*setup);
+        Ok(())
+    }
+
+    /// Writes ray-tracer registers.
+    pub fn write_regs(&mut self, offset: u16, words: &[u32]) -> Result<(), DeviceError> {
+        let start = usize::from(offset);
+        let size = self.regs.len();
+        let slot = self
+            .regs
+            .get_mut(start..start + words.len())
+            .ok_or(DeviceError::Registers {
+                offset,
+                len: words.len(),
+                size,
+            })?;
+        slot.copy_from_slice(words);
+        Ok(())
+    }
+
+    /// The ray tracer's register file.
+    pub fn regs(&self) -> &[u32] {
+        &self.regs
+    }
+
+    /// Writes texture memory (little-endian 32-bit texels), shared by both blocks.
+    pub fn write_texels(&mut self, offset: u32, bytes: &[u8]) -> Result<(), DeviceError> {
+        if let Some(r) = &mut self.raster {
+            r.write_texture(offset, bytes).map_err(DeviceError::Setup)?;
+        }
+        let start = offset as usize;
+        let n = bytes.len() / 4;
+        if let Some(slot) = self.texels.get_mut(start..start + n) {
+            for (t, b) in slot.iter_mut().zip(bytes.chunks_exact(4)) {
+                *t = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+            }
+        }
+        Ok(())
+    }
+
+    /// Starts a frame. The raster block's "frame" is the commands already queued: it
+    /// finishes when they have run.
+    pub fn start(&mut self, start: &StartFrame) -> Result<(), DeviceError> {
+        match start.block {
+            Block::Raster => {
+                self.drain()?;
+                let (cycles, work) = self
+                    .raster
+                    .as_ref()
+                    .map_or((0, 0), |r| (r.stats().total_cycles(), r.stats().fragments));
+                self.frames += 1;
+                self.done.push_back(FrameDone {
+                    frame_id: start.frame_id,
+                    cycles,
+                    work,
+                });
+                Ok(())
+            }
+            Block::RayTrace => Err(DeviceError::NoBlock(Block::RayTrace)),
+        }
+    }
+
+    /// A finished frame, if any.
+    pub fn poll_done(&mut self) -> Option<FrameDone> {
+        self.done.pop_front()
+    }
+
+    /// Bytes a read-back of `req` produces, or `None` if the buffer does not exist.
+    pub fn read_len(&self, req: &ReadRequest) -> Option<u32> {
+        let raster = self.raster.as_ref()?;
+        let fb = raster.framebuffer();
+        let r = req.rect;
+        let inside = u32::from(r.x) + u32::from(r.w) <= fb.width()
+            && u32::from(r.y) + u32::from(r.h) <= fb.height();
+        let format_ok = matches!(
+            (req.plane, req.format),
+            (Plane::Color, PixelFormat::Rgb888)
+                | (Plane::Color, PixelFormat::Rgb332)
+                | (Plane::Depth, PixelFormat::DepthF32)
+        );
+        (inside && format_ok).then(|| r.area() * req.format.bytes_per_pixel() as u32)
+    }
+
+    /// Copies read-back bytes `offset..offset + out.len()` of `req` into `out`.
+    /// Bytes outside the request (a caller bug) are left as zero.
+    pub fn read(&self, req: &ReadRequest, offset: u32, out: &mut [u8]) {
+        out.fill(0);
+        let Some(raster) = self.raster.as_ref() else {
+            return;
+        };
+        let fb = raster.framebuffer();
+        let bpp = req.format.bytes_per_pixel();
+        let r = req.rect;
+        let width = fb.width() as usize;
+        for (k, byte) in out.iter_mut().enumerate() {
+            let at = offset as usize + k;
+            let (pixel, part) = (at / bpp, at % bpp);
+            let (px, py) = (pixel % usize::from(r.w), pixel / usize::from(r.w));
+            if py >= usize::from(r.h) {
+                return;
+            }
+            let index = (usize::from(r.y) + py) * width + usize::from(r.x) + px;
+            *byte = match (req.plane, req.format) {
+                (Plane::Color, PixelFormat::Rgb888) => fb.rgb()[index * 3 + part],
+                (Plane::Color, PixelFormat::Rgb332) => {
+                    let c = &fb.rgb()[index * 3..index * 3 + 3];
+                    let q = quantize_rgb332(Rgb::new(c[0], c[1], c[2]));
+                    rgb332_encode(q).unwrap_or(0)
+                }
+                (Plane::Depth, PixelFormat::DepthF32) => {
+                    let z = fb.depth()[index] as f32 / crate::raster::fb::Z_FAR as f32;
+                    z.to_le_bytes()[part]
+                }
+                _ => 0,
+            };
+        }
+    }
+
+    /// Fragments written, FPGA cycles and frames done, for the controller's stats.
+    pub fn counters(&self) -> protocol::frame::DeviceCounters {
+        let (fragments, cycles) = self
+            .raster
+            .as_ref()
+            .map_or((0, 0), |r| (r.stats().fragments, r.stats().total_cycles()));
+        protocol::frame::DeviceCounters {
+            fragments,
+            cycles,
+            frames: self.frames,
+            ..Default::default()
+        }
+    }
+
+    /// Power-on state (the layout stays: it is the bitstream's).
+    pub fn reset(&mut self) {
+        *self = Self::new(self.layout);
+    }
+}
+
+fn texels_bytes(texels: &[u32]) -> Vec<u8> {
+    texels.iter().flat_map(|t| t.to_le_bytes()).collect()
+}
