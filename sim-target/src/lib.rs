@@ -1,1 +1,4 @@
 //! The FPGA, emulated: a bit-exact golden model of the raster and ray-trace blocks.
+
+pub mod num;
+pub mod rt;
