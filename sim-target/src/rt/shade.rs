@@ -71,9 +71,10 @@ pub fn oren_nayar<S: Scalar>(n: V3<S>, wi: V3<S>, wo: V3<S>, p: &DiffuseParams<S
     let lo = to.dot(to);
     let mut cos_phi = zero;
     if li > zero && lo > zero {
-        cos_phi = ti.dot(to) * num::rsqrt(li * lo, p.sqrt);
+        // normalise each projection on its own: li·lo underflows in fixed point
+        cos_phi = ti.dot(to) * num::rsqrt(li, p.sqrt) * num::rsqrt(lo, p.sqrt);
     }
-    let cos_phi = cos_phi.max(zero);
+    let cos_phi = cos_phi.clamp(zero, one);
     // α = max θ ⇒ cos α = min cos; β = min θ ⇒ cos β = max cos
     let cos_a = ci.min(co);
     let cos_b = ci.max(co);
