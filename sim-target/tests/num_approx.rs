@@ -7,7 +7,11 @@ fn sweep(lo: f64, hi: f64, n: usize) -> impl Iterator<Item = f64> {
     (0..=n).map(move |i| lo + (hi - lo) * i as f64 / n as f64)
 }
 
-fn max_err<S: Scalar>(xs: impl Iterator<Item = f64>, f: impl Fn(S) -> S, g: impl Fn(f64) -> f64) -> f64 {
+fn max_err<S: Scalar>(
+    xs: impl Iterator<Item = f64>,
+    f: impl Fn(S) -> S,
+    g: impl Fn(f64) -> f64,
+) -> f64 {
     xs.map(|x| (f(S::from_f64(x)).to_f64() - g(S::from_f64(x).to_f64())).abs())
         .fold(0.0, f64::max)
 }
@@ -15,8 +19,16 @@ fn max_err<S: Scalar>(xs: impl Iterator<Item = f64>, f: impl Fn(S) -> S, g: impl
 #[test]
 fn atan_seed_error_matches_seed_figure() {
     // whole real line: [−1, 1] densely and the reciprocal branch up to ±1e4
-    let e1 = max_err::<f64>(sweep(-1.0, 1.0, 200_000), |z| num::atan(z, AtanKind::Seed), f64::atan);
-    let e2 = max_err::<f64>(sweep(-1e4, 1e4, 200_000), |z| num::atan(z, AtanKind::Seed), f64::atan);
+    let e1 = max_err::<f64>(
+        sweep(-1.0, 1.0, 200_000),
+        |z| num::atan(z, AtanKind::Seed),
+        f64::atan,
+    );
+    let e2 = max_err::<f64>(
+        sweep(-1e4, 1e4, 200_000),
+        |z| num::atan(z, AtanKind::Seed),
+        f64::atan,
+    );
     let e = e1.max(e2);
     eprintln!("atan seed: {e:.6}");
     // seed: 0.00496 rad
@@ -25,8 +37,16 @@ fn atan_seed_error_matches_seed_figure() {
 
 #[test]
 fn atan_minimax_error() {
-    let e = max_err::<f64>(sweep(-1.0, 1.0, 200_000), |z| num::atan(z, AtanKind::Minimax11), f64::atan)
-        .max(max_err::<f64>(sweep(-1e4, 1e4, 200_000), |z| num::atan(z, AtanKind::Minimax11), f64::atan));
+    let e = max_err::<f64>(
+        sweep(-1.0, 1.0, 200_000),
+        |z| num::atan(z, AtanKind::Minimax11),
+        f64::atan,
+    )
+    .max(max_err::<f64>(
+        sweep(-1e4, 1e4, 200_000),
+        |z| num::atan(z, AtanKind::Minimax11),
+        f64::atan,
+    ));
     eprintln!("atan minimax11: {e:.3e}");
     assert!(e < 2.5e-6, "{e}");
 }
@@ -45,9 +65,21 @@ fn atan2_all_quadrants() {
 
 #[test]
 fn acos_errors() {
-    let lut = max_err::<f64>(sweep(-1.0, 1.0, 400_000), |x| num::acos(x, AcosKind::SeedLut33), f64::acos);
-    let s4 = max_err::<f64>(sweep(-1.0, 1.0, 400_000), |x| num::acos(x, AcosKind::Sqrt4), f64::acos);
-    let s8 = max_err::<f64>(sweep(-1.0, 1.0, 400_000), |x| num::acos(x, AcosKind::Sqrt8), f64::acos);
+    let lut = max_err::<f64>(
+        sweep(-1.0, 1.0, 400_000),
+        |x| num::acos(x, AcosKind::SeedLut33),
+        f64::acos,
+    );
+    let s4 = max_err::<f64>(
+        sweep(-1.0, 1.0, 400_000),
+        |x| num::acos(x, AcosKind::Sqrt4),
+        f64::acos,
+    );
+    let s8 = max_err::<f64>(
+        sweep(-1.0, 1.0, 400_000),
+        |x| num::acos(x, AcosKind::Sqrt8),
+        f64::acos,
+    );
     eprintln!("acos lut33 {lut:.5} sqrt4 {s4:.3e} sqrt8 {s8:.3e}");
     // seed: 0.0624 rad near ±1 (the table cannot follow the √(1−x) cusp)
     assert!(lut > 0.060 && lut < 0.0630, "{lut}");
@@ -98,7 +130,10 @@ fn powi_by_repeated_squaring() {
         for x in [0.0f64, 0.5, 0.9, 0.999, 1.0] {
             let got = num::powi(x, e);
             let want = x.powi(e as i32);
-            assert!((got - want).abs() <= 1e-12 * want.max(1.0), "{x}^{e}: {got} vs {want}");
+            assert!(
+                (got - want).abs() <= 1e-12 * want.max(1.0),
+                "{x}^{e}: {got} vs {want}"
+            );
         }
     }
     // exponents above MAX_POWER_LOOP_ITER's reach are clipped to 1023
@@ -114,7 +149,10 @@ fn fixed_point_saturates_instead_of_wrapping() {
     assert_eq!((Q16_16::one() / Q16_16::zero()), Q16_16::max_value());
     assert_eq!(Q16_16::from_f64(f64::NAN), Q16_16::zero());
     assert_eq!(Q16_16::from_f64(1e9), Q16_16::max_value());
-    assert_eq!(Q16_16::from_f64(0.5).sqrt().to_f64(), Q16_16::from_f64(0.5f64.sqrt()).to_f64());
+    assert_eq!(
+        Q16_16::from_f64(0.5).sqrt().to_f64(),
+        Q16_16::from_f64(0.5f64.sqrt()).to_f64()
+    );
     assert_eq!(Q32_32::from_f64(-2.5).floor().to_f64(), -3.0);
     assert_eq!(Q16_16::from_f64(-1.25).fract().to_f64(), 0.75);
 }
@@ -122,8 +160,16 @@ fn fixed_point_saturates_instead_of_wrapping() {
 #[test]
 fn approximations_in_q16_16_stay_close() {
     // the same polynomial in Q16.16 adds at most a few LSB of rounding
-    let e = max_err::<Q16_16>(sweep(-1.0, 1.0, 20_000), |z| num::atan(z, AtanKind::Seed), f64::atan);
+    let e = max_err::<Q16_16>(
+        sweep(-1.0, 1.0, 20_000),
+        |z| num::atan(z, AtanKind::Seed),
+        f64::atan,
+    );
     assert!(e < 0.00496 + 2e-4, "{e}");
-    let e = max_err::<Q16_16>(sweep(-1.0, 1.0, 20_000), |x| num::acos(x, AcosKind::Sqrt8), f64::acos);
+    let e = max_err::<Q16_16>(
+        sweep(-1.0, 1.0, 20_000),
+        |x| num::acos(x, AcosKind::Sqrt8),
+        f64::acos,
+    );
     assert!(e < 5e-4, "{e}");
 }

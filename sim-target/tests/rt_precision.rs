@@ -55,11 +55,17 @@ fn seed_q16_16_pre_s_discontinuity_near_1_75_is_reproduced() {
     let (jump, at) = worst_excess_jump(&p, &exact());
     eprintln!("seed Q16.16: excess jump {jump:.4} at t = {at:.3}");
     assert!(jump > 0.01, "no visible discontinuity: {jump}");
-    assert!((1.70..=1.80).contains(&at), "discontinuity at {at}, not near 1.75");
+    assert!(
+        (1.70..=1.80).contains(&at),
+        "discontinuity at {at}, not near 1.75"
+    );
     // the same approximation in f64 shows the same step: the cause is the seam of the
     // PRE_S estimate at Δ = 1 (a power-of-4 bin edge), not the 16 fraction bits
     let (jump64, at64) = worst_excess_jump(&profile::<f64>(seed), &exact());
-    assert!(jump64 > 0.01 && (1.70..=1.80).contains(&at64), "{jump64} at {at64}");
+    assert!(
+        jump64 > 0.01 && (1.70..=1.80).contains(&at64),
+        "{jump64} at {at64}"
+    );
 }
 
 #[test]

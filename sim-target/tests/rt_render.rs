@@ -52,12 +52,20 @@ fn reference_small_psnr_per_format() {
 #[test]
 fn no_nan_or_inf_in_any_pixel_or_aov() {
     let scene = reference();
-    for numeric in [Numeric::F64, Numeric::F32, Numeric::Q16_16, Numeric::Q8_24, Numeric::Q24_8] {
+    for numeric in [
+        Numeric::F64,
+        Numeric::F32,
+        Numeric::Q16_16,
+        Numeric::Q8_24,
+        Numeric::Q24_8,
+    ] {
         let f = render(&scene, numeric, 96, 54);
         assert_eq!(f.rgb8.len(), 96 * 54 * 3);
         let depth = f.depth.as_ref().expect("depth");
         let normal = f.normal.as_ref().expect("normal");
-        assert!(depth.iter().all(|d| !d.is_nan() && (d.is_finite() || *d == f32::INFINITY)));
+        assert!(depth
+            .iter()
+            .all(|d| !d.is_nan() && (d.is_finite() || *d == f32::INFINITY)));
         assert!(normal.iter().all(|v| v.is_finite()));
     }
 }
@@ -108,7 +116,10 @@ fn depth_aov_of_unit_sphere_is_analytic_in_f64() {
                 hits += 1;
                 let t = b - disc.sqrt();
                 // the AOV is f32: compare within its rounding (the f64 kernel is 1e-9-exact)
-                assert!((got - t).abs() <= 1e-9 + t * f32::EPSILON as f64, "({i},{j}) {got} vs {t}");
+                assert!(
+                    (got - t).abs() <= 1e-9 + t * f32::EPSILON as f64,
+                    "({i},{j}) {got} vs {t}"
+                );
             }
         }
     }
@@ -141,8 +152,14 @@ fn stats_count_rays_and_board_time() {
     let f = render(&scene, Numeric::F32, 48, 27);
     assert_eq!(f.stats.primary_rays, 48 * 27);
     assert!(f.stats.shadow_rays > 0 && f.stats.reflected_rays > 0);
-    let full = rt::render(&scene, &RenderOptions { size: Some((1, 1)), ..Default::default() })
-        .expect("renders");
+    let full = rt::render(
+        &scene,
+        &RenderOptions {
+            size: Some((1, 1)),
+            ..Default::default()
+        },
+    )
+    .expect("renders");
     let _ = full;
     // the seed's frame: 1920×1080 at II = 8 is 16 765 083 cycles = 55.3 ms at 303 MHz
     let cycles = 1920u64 * 1080 * rt::BOARD_II + rt::BOARD_FRAME_OVERHEAD;

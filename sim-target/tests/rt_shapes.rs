@@ -35,10 +35,16 @@ fn sphere_front_inside_tangent_behind() {
     close(hit(Shape::Sphere, v(0.0, 0.0, 5.0), v(0.0, 0.0, -1.0)), 4.0);
     // from inside: the exit
     close(hit(Shape::Sphere, v(0.0, 0.0, 0.0), v(0.0, 0.0, -1.0)), 1.0);
-    close(hit(Shape::Sphere, v(0.0, 0.5, 0.0), v(1.0, 0.0, 0.0)), 0.75f64.sqrt());
+    close(
+        hit(Shape::Sphere, v(0.0, 0.5, 0.0), v(1.0, 0.0, 0.0)),
+        0.75f64.sqrt(),
+    );
     // tangent: y = 1 grazes at one point
     close(hit(Shape::Sphere, v(-5.0, 1.0, 0.0), v(1.0, 0.0, 0.0)), 5.0);
-    assert_eq!(hit(Shape::Sphere, v(-5.0, 1.0001, 0.0), v(1.0, 0.0, 0.0)), None);
+    assert_eq!(
+        hit(Shape::Sphere, v(-5.0, 1.0001, 0.0), v(1.0, 0.0, 0.0)),
+        None
+    );
     // behind the origin
     assert_eq!(hit(Shape::Sphere, v(0.0, 0.0, 5.0), v(0.0, 0.0, 1.0)), None);
     // unnormalised direction: t scales
@@ -55,7 +61,10 @@ fn stable_quadratic_keeps_small_root() {
         ..M
     };
     let (tb, _) = shapes::solve_quadratic(1.0f64, -1e8, 1.0, &textbook).expect("roots");
-    assert!((tb - 1e-8).abs() > 1e-10, "textbook unexpectedly exact: {tb}");
+    assert!(
+        (tb - 1e-8).abs() > 1e-10,
+        "textbook unexpectedly exact: {tb}"
+    );
 }
 
 #[test]
@@ -66,21 +75,39 @@ fn planes_disk_square() {
     close(hit(Shape::Disk, v(0.6, 1.0, 0.6), v(0.0, -1.0, 0.0)), 1.0);
     assert_eq!(hit(Shape::Disk, v(0.8, 1.0, 0.8), v(0.0, -1.0, 0.0)), None);
     close(hit(Shape::Square, v(0.8, 1.0, 0.8), v(0.0, -1.0, 0.0)), 1.0);
-    assert_eq!(hit(Shape::Square, v(1.01, 1.0, 0.0), v(0.0, -1.0, 0.0)), None);
+    assert_eq!(
+        hit(Shape::Square, v(1.01, 1.0, 0.0), v(0.0, -1.0, 0.0)),
+        None
+    );
 }
 
 #[test]
 fn cylinder_height_limits_and_inside() {
-    close(hit(Shape::Cylinder, v(-5.0, 0.5, 0.0), v(1.0, 0.0, 0.0)), 4.0);
+    close(
+        hit(Shape::Cylinder, v(-5.0, 0.5, 0.0), v(1.0, 0.0, 0.0)),
+        4.0,
+    );
     // above the top: miss (open, height limited)
-    assert_eq!(hit(Shape::Cylinder, v(-5.0, 1.5, 0.0), v(1.0, 0.0, 0.0)), None);
+    assert_eq!(
+        hit(Shape::Cylinder, v(-5.0, 1.5, 0.0), v(1.0, 0.0, 0.0)),
+        None
+    );
     // slanted: first root above the top, second (far wall) inside → the far wall
     // o = (−2, 1.5, 0), d = (1, −0.25, 0): x = −1 at t = 1 (y = 1.25), x = 1 at t = 3 (y = 0.75)
-    close(hit(Shape::Cylinder, v(-2.0, 1.5, 0.0), v(1.0, -0.25, 0.0)), 3.0);
+    close(
+        hit(Shape::Cylinder, v(-2.0, 1.5, 0.0), v(1.0, -0.25, 0.0)),
+        3.0,
+    );
     // from inside
-    close(hit(Shape::Cylinder, v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0)), 1.0);
+    close(
+        hit(Shape::Cylinder, v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0)),
+        1.0,
+    );
     // along the axis: never crosses the tube
-    assert_eq!(hit(Shape::Cylinder, v(0.0, -5.0, 0.0), v(0.0, 1.0, 0.0)), None);
+    assert_eq!(
+        hit(Shape::Cylinder, v(0.0, -5.0, 0.0), v(0.0, 1.0, 0.0)),
+        None
+    );
 }
 
 #[test]
@@ -120,7 +147,10 @@ fn fresnel_limits() {
     // total internal reflection: from glass into air (η = 1/1.5) beyond the critical angle
     let crit = (1.0f64 / 1.5).asin();
     let cos_beyond = (crit + 0.05).cos();
-    assert_eq!(shade::fresnel(cos_beyond, 1.0 / 1.5, 0.0, SqrtKind::Exact), 1.0);
+    assert_eq!(
+        shade::fresnel(cos_beyond, 1.0 / 1.5, 0.0, SqrtKind::Exact),
+        1.0
+    );
     assert!(shade::fresnel((crit - 0.05).cos(), 1.0 / 1.5, 0.0, SqrtKind::Exact) < 1.0);
 }
 
@@ -152,8 +182,14 @@ fn diffuse_and_specular_hand_values() {
     assert!((shade::torrance_sparrow(n, wi, wo, &sp) - want).abs() < 1e-12);
     // spot factor: inside the inner cone 1, outside the outer 0, linear between
     let dir = v(0.0, 0.0, -1.0);
-    assert_eq!(shade::spot_factor(dir, v(0.0, 0.0, 1.0), 0.7, 1.0 / 0.2), 1.0);
-    assert_eq!(shade::spot_factor(dir, v(0.0, 0.8, 0.6), 0.7, 1.0 / 0.2), 0.0);
+    assert_eq!(
+        shade::spot_factor(dir, v(0.0, 0.0, 1.0), 0.7, 1.0 / 0.2),
+        1.0
+    );
+    assert_eq!(
+        shade::spot_factor(dir, v(0.0, 0.8, 0.6), 0.7, 1.0 / 0.2),
+        0.0
+    );
     assert!((shade::spot_factor(dir, v(0.0, 0.6, 0.8), 0.7, 1.0 / 0.2) - 0.5).abs() < 1e-12);
 }
 
@@ -165,10 +201,15 @@ fn texture_generators() {
     assert_eq!(texture::texel(ch, 0, 0, 64), 0xFF_FFFF);
     assert_eq!(texture::texel(ch, 8, 0, 64), 0);
     assert_eq!(texture::texel(ch, 8, 8, 64), 0xFF_FFFF);
-    let d: Vec<u32> = (0..4).map(|x| texture::texel(TextureKind::RgbDots, x, 0, 64)).collect();
+    let d: Vec<u32> = (0..4)
+        .map(|x| texture::texel(TextureKind::RgbDots, x, 0, 64))
+        .collect();
     assert_eq!(d, vec![0xFF0000, 0x00FF00, 0x0000FF, 0xFF0000]);
     // marble/wood: deterministic for a seed, different across seeds, not constant
-    for k in [TextureKind::Marble { seed: 1 }, TextureKind::Wood { seed: 1 }] {
+    for k in [
+        TextureKind::Marble { seed: 1 },
+        TextureKind::Wood { seed: 1 },
+    ] {
         let a: Vec<u32> = (0..64).map(|x| texture::texel(k, x, 17, 64)).collect();
         let b: Vec<u32> = (0..64).map(|x| texture::texel(k, x, 17, 64)).collect();
         assert_eq!(a, b);

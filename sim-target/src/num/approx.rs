@@ -181,6 +181,7 @@ pub fn acos<S: Scalar>(x: S, kind: AcosKind) -> S {
     }
 }
 
+#[allow(clippy::approx_constant)] // table entries, not the constants
 const ACOS_TABLE: [f64; 33] = [
     1.5707963267948966,
     1.5395412382954015,

@@ -221,9 +221,15 @@ fn validate(scene: &Scene) -> Result<(), RtError> {
     }
     for (i, o) in scene.objects.iter().enumerate() {
         if o.material >= scene.materials.len() {
-            return bad(format!("object {i}: material index {} out of range", o.material));
+            return bad(format!(
+                "object {i}: material index {} out of range",
+                o.material
+            ));
         }
-        if o.scale.iter().any(|s| !(*s > 0.0) || !s.is_finite()) {
+        if o.scale
+            .iter()
+            .any(|s| s.is_nan() || *s <= 0.0 || !s.is_finite())
+        {
             return bad(format!("object {i}: non-positive scale"));
         }
     }
@@ -247,7 +253,11 @@ pub fn plan(scene: &Scene) -> Plan {
             shapes.push(o.shape);
         }
     }
-    let textures = scene.materials.iter().filter(|m| m.texture.is_some()).count();
+    let textures = scene
+        .materials
+        .iter()
+        .filter(|m| m.texture.is_some())
+        .count();
     let reflects = scene
         .materials
         .iter()
@@ -527,6 +537,9 @@ impl<S: Scalar> Prepared<S> {
     }
 }
 
+/// rgb8, depth, normal, ray counts of a frame or a row.
+type Rendered<A = Option<Vec<f32>>> = (Vec<u8>, A, A, Counts);
+
 struct Cam {
     eye: [f64; 3],
     u: [f64; 3],
@@ -557,7 +570,7 @@ fn render_generic<S: Scalar>(
     height: u32,
     spp: u32,
     plan: &Plan,
-) -> (Vec<u8>, Option<Vec<f32>>, Option<Vec<f32>>, Counts) {
+) -> Rendered {
     let prep = prepare::<S>(scene, plan, opts.math);
     let cam = camera(&scene.camera, width, height);
     let eye = V3::<S>::from_f64(cam.eye);
@@ -570,7 +583,7 @@ fn render_generic<S: Scalar>(
     let inv_spp = S::from_f64(1.0 / spp as f64);
     let (wf, hf) = (width as f64, height as f64);
     let aovs = opts.aovs;
-    let rows: Vec<(Vec<u8>, Vec<f32>, Vec<f32>, Counts)> = (0..height)
+    let rows: Vec<Rendered<Vec<f32>>> = (0..height)
         .into_par_iter()
         .map(|j| {
             let mut cnt = Counts::default();
@@ -644,7 +657,9 @@ pub fn render(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
     validate(scene)?;
     let (width, height) = opts.size.unwrap_or((scene.width, scene.height));
     if width == 0 || height == 0 {
-        return Err(RtError::InvalidScene(format!("frame size {width}x{height}")));
+        return Err(RtError::InvalidScene(format!(
+            "frame size {width}x{height}"
+        )));
     }
     let spp = opts.spp.unwrap_or(scene.spp).max(1);
     let plan = plan(scene);
@@ -653,9 +668,7 @@ pub fn render(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
     let (rgb8, depth, normal, c) = match opts.numeric {
         Numeric::F64 => render_generic::<f64>(args.0, args.1, args.2, args.3, args.4, args.5),
         Numeric::F32 => render_generic::<f32>(args.0, args.1, args.2, args.3, args.4, args.5),
-        Numeric::F16 => {
-            render_generic::<half::f16>(args.0, args.1, args.2, args.3, args.4, args.5)
-        }
+        Numeric::F16 => render_generic::<half::f16>(args.0, args.1, args.2, args.3, args.4, args.5),
         Numeric::Q16_16 => render_generic::<Q16_16>(args.0, args.1, args.2, args.3, args.4, args.5),
         Numeric::Q8_24 => render_generic::<Q8_24>(args.0, args.1, args.2, args.3, args.4, args.5),
         Numeric::Q24_8 => render_generic::<Q24_8>(args.0, args.1, args.2, args.3, args.4, args.5),
@@ -667,8 +680,7 @@ pub fn render(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
         shadow_rays: c.shadow,
         reflected_rays: c.reflected,
         seconds,
-        board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II
-            + BOARD_FRAME_OVERHEAD,
+        board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
     };
     Ok(Frame {
         width,

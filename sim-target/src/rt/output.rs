@@ -25,7 +25,11 @@ pub fn pack_kcu116(rgb8: &[u8], width: u32) -> Vec<u16> {
     rgb8.chunks_exact(3)
         .enumerate()
         .map(|(i, p)| {
-            let other = if (i % w) % 2 == 0 { p[2] } else { p[0] };
+            let other = if (i % w).is_multiple_of(2) {
+                p[2]
+            } else {
+                p[0]
+            };
             (p[1] as u16) << 8 | other as u16
         })
         .collect()
@@ -52,13 +56,9 @@ pub fn unpack_kcu116(words: &[u16], width: u32) -> Vec<u8> {
                     s += (row[x + 1] & 0xff) as u32;
                     n += 1;
                 }
-                if n == 0 {
-                    own
-                } else {
-                    ((s + n / 2) / n) as u8
-                }
+                (s + n / 2).checked_div(n).map_or(own, |v| v as u8)
             };
-            if x % 2 == 0 {
+            if x.is_multiple_of(2) {
                 out.extend([neigh(), g, own]);
             } else {
                 out.extend([own, g, neigh()]);

@@ -259,7 +259,11 @@ struct ObjectToml {
 
 fn line_of(text: &str, pos: usize) -> usize {
     let pos = pos.min(text.len());
-    text.as_bytes()[..pos].iter().filter(|b| **b == b'\n').count() + 1
+    text.as_bytes()[..pos]
+        .iter()
+        .filter(|b| **b == b'\n')
+        .count()
+        + 1
 }
 
 fn key_from_message(msg: &str, text: &str, span: Option<core::ops::Range<usize>>) -> String {
@@ -320,17 +324,29 @@ pub fn parse_with_limits(
     });
     let [width, height] = *r.size.get_ref();
     if width == 0 || height == 0 {
-        return Err(err(r.size.span().start, "size", "frame size must be positive".into()));
+        return Err(err(
+            r.size.span().start,
+            "size",
+            "frame size must be positive".into(),
+        ));
     }
     if r.depth == 0 {
         return Err(err(0, "depth", "depth must be at least 1".into()));
     }
     if *r.spp.get_ref() == 0 {
-        return Err(err(r.spp.span().start, "spp", "spp must be at least 1".into()));
+        return Err(err(
+            r.spp.span().start,
+            "spp",
+            "spp must be at least 1".into(),
+        ));
     }
     let fov = *f.camera.fov_y.get_ref();
     if !(fov > 0.0 && fov < 180.0) {
-        return Err(err(f.camera.fov_y.span().start, "fov_y", "must be in (0, 180) degrees".into()));
+        return Err(err(
+            f.camera.fov_y.span().start,
+            "fov_y",
+            "must be in (0, 180) degrees".into(),
+        ));
     }
 
     // lights: the ambient light is light 0
@@ -359,7 +375,11 @@ pub fn parse_with_limits(
             (Some(direction), Some(cos_outer), cos_inner) => {
                 let cos_inner = cos_inner.unwrap_or(cos_outer);
                 if cos_inner < cos_outer {
-                    return Err(err(pos, "cos_inner", "cos_inner must be ≥ cos_outer".into()));
+                    return Err(err(
+                        pos,
+                        "cos_inner",
+                        "cos_inner must be ≥ cos_outer".into(),
+                    ));
                 }
                 Some(Spot {
                     direction,
@@ -508,7 +528,10 @@ pub fn parse_with_limits(
             ));
         };
         let scale = *o.scale.get_ref();
-        if scale.iter().any(|s| s.is_nan() || *s <= 0.0 || s.is_infinite()) {
+        if scale
+            .iter()
+            .any(|s| s.is_nan() || *s <= 0.0 || s.is_infinite())
+        {
             return Err(err(
                 o.scale.span().start,
                 "scale",

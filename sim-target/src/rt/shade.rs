@@ -139,9 +139,7 @@ pub fn torrance_sparrow<S: Scalar>(n: V3<S>, wi: V3<S>, wo: V3<S>, p: &SpecParam
     }
     let d = p.norm * num::powi(nh, p.e);
     let two = S::from_f64(2.0);
-    let g = one
-        .min(two * nh * co / oh)
-        .min(two * nh * ci / oh);
+    let g = one.min(two * nh * co / oh).min(two * nh * ci / oh);
     let f = fresnel(oh, p.eta, p.k, p.sqrt);
     d * g * f / (S::from_f64(4.0) * co * ci)
 }

@@ -73,7 +73,11 @@ pub fn texel(kind: TextureKind, x: usize, y: usize, side: usize) -> u32 {
         }
         TextureKind::Checkerboard { cell } => {
             let cell = (cell.max(1)) as usize;
-            grey(if (x / cell + y / cell) % 2 == 0 { 255 } else { 0 })
+            grey(if (x / cell + y / cell).is_multiple_of(2) {
+                255
+            } else {
+                0
+            })
         }
         TextureKind::RgbDots => match (y * side + x) % 3 {
             0 => 0xFF_0000,
