@@ -50,6 +50,34 @@ fn bench(c: &mut Criterion) {
         );
     }
     g.finish();
+
+    // the full 1080p reference frame, for the s/frame figures (few samples: slow)
+    let mut g = c.benchmark_group("rt_reference_1080p");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(100))
+        .measurement_time(Duration::from_secs(10));
+    for numeric in [Numeric::F32, Numeric::Q16_16] {
+        let full = |n| RenderOptions {
+            numeric: n,
+            ..Default::default()
+        };
+        let Ok(frame) = rt::render(&scene, &full(numeric)) else {
+            continue;
+        };
+        eprintln!(
+            "1080p {numeric:?}: {} rays/frame, {:.3} s single shot, board estimate {:.1} ms",
+            frame.stats.rays(),
+            frame.stats.seconds,
+            frame.stats.board_seconds() * 1e3
+        );
+        g.throughput(Throughput::Elements(frame.stats.rays()));
+        g.bench_with_input(
+            BenchmarkId::from_parameter(format!("{numeric:?}")),
+            &numeric,
+            |b, n| b.iter(|| rt::render(&scene, &full(*n))),
+        );
+    }
+    g.finish();
 }
 
 criterion_group!(benches, bench);

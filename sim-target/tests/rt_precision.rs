@@ -97,3 +97,34 @@ fn seamless_estimate_or_exact_sqrt_removes_it() {
         assert!(max_err < 5e-3, "{math:?}: {max_err}");
     }
 }
+
+use sim_target::rt::{self, scene_file, Numeric, RenderOptions};
+
+/// Pixels whose colour differs from the f64 render by more than 24 levels in a channel.
+fn bad_pixels(scene: &rt::Scene, numeric: Numeric) -> usize {
+    let opts = |numeric| RenderOptions {
+        numeric,
+        size: Some((160, 90)),
+        ..Default::default()
+    };
+    let a = rt::render(scene, &opts(Numeric::F64)).expect("f64");
+    let b = rt::render(scene, &opts(numeric)).expect("other");
+    a.rgb8
+        .chunks(3)
+        .zip(b.rgb8.chunks(3))
+        .filter(|(p, q)| p.iter().zip(q.iter()).any(|(x, y)| x.abs_diff(*y) > 24))
+        .count()
+}
+
+#[test]
+fn f16_artefacts_are_not_cured_by_core_bias_but_by_a_bias_above_the_format_step() {
+    let text = include_str!("../../examples/rt/shapes.toml");
+    let mut scene = scene_file::parse(text, "shapes.toml").expect("parses");
+    let seed_bias = bad_pixels(&scene, Numeric::F16);
+    // f16 has 10 fraction bits: at t ≈ 10 its step is 2⁻⁷ ≈ 0.008, eight times CORE_BIAS
+    scene.bias = 0.05;
+    let big_bias = bad_pixels(&scene, Numeric::F16);
+    eprintln!("f16 bad pixels: bias 0.001 → {seed_bias}, bias 0.05 → {big_bias}");
+    assert!(seed_bias > 100, "{seed_bias}");
+    assert!(big_bias * 4 < seed_bias, "{big_bias} vs {seed_bias}");
+}
