@@ -51,6 +51,24 @@ fn bench(c: &mut Criterion) {
     }
     g.finish();
 
+    // the plan's function-pointer dispatch against an inlined match on the shape
+    let mut g = c.benchmark_group("rt_dispatch_480x270_f32");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    for dispatch in [rt::Dispatch::FnPointer, rt::Dispatch::Match] {
+        let o = RenderOptions {
+            dispatch,
+            ..opts(Numeric::F32)
+        };
+        g.bench_with_input(
+            BenchmarkId::from_parameter(format!("{dispatch:?}")),
+            &o,
+            |b, o| b.iter(|| rt::render(&scene, o)),
+        );
+    }
+    g.finish();
+
     // the full 1080p reference frame, for the s/frame figures (few samples: slow)
     let mut g = c.benchmark_group("rt_reference_1080p");
     g.sample_size(10)

@@ -169,3 +169,59 @@ fn stats_count_rays_and_board_time() {
     assert_eq!(f.plan.shapes.len(), 7);
     assert_eq!(f.plan.textures, 5);
 }
+
+#[test]
+fn dispatch_variants_and_progress_agree() {
+    let scene = reference();
+    let a = render(&scene, Numeric::F32, 64, 36);
+    let b = rt::render(
+        &scene,
+        &RenderOptions {
+            numeric: Numeric::F32,
+            size: Some((64, 36)),
+            aovs: true,
+            dispatch: rt::Dispatch::Match,
+            ..Default::default()
+        },
+    )
+    .expect("renders");
+    assert_eq!(a.rgb8, b.rgb8);
+    let rows = std::sync::atomic::AtomicU32::new(0);
+    let last = std::sync::atomic::AtomicU32::new(0);
+    let opts = RenderOptions {
+        size: Some((16, 9)),
+        ..Default::default()
+    };
+    rt::render_with_progress(&scene, &opts, &|done, total| {
+        rows.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        last.fetch_max(done, std::sync::atomic::Ordering::Relaxed);
+        assert_eq!(total, 9);
+    })
+    .expect("renders");
+    assert_eq!(rows.into_inner(), 9);
+    assert_eq!(last.into_inner(), 9);
+    for (s, n) in [
+        ("q16.16", Numeric::Q16_16),
+        ("F32", Numeric::F32),
+        ("q32_32", Numeric::Q32_32),
+    ] {
+        assert_eq!(rt::parse_numeric(s), Some(n));
+    }
+    assert_eq!(rt::parse_numeric("q7"), None);
+}
+
+#[test]
+fn invalid_scenes_are_errors_not_panics() {
+    let mut scene = reference();
+    scene.objects[0].material = 99;
+    assert!(rt::render(&scene, &RenderOptions::default()).is_err());
+    let mut scene = reference();
+    scene.camera.up = [0.0, 0.0, 0.0];
+    assert!(rt::render(&scene, &RenderOptions::default()).is_err());
+    let scene = reference();
+    let opts = RenderOptions {
+        size: Some((0, 10)),
+        ..Default::default()
+    };
+    assert!(rt::render(&scene, &opts).is_err());
+}

@@ -5,7 +5,7 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 use fixed::types::{I16F16, I24F8, I32F32, I8F24};
 
 macro_rules! fixed_scalar {
-    ($(#[$m:meta])* $name:ident, $inner:ty, $label:literal) => {
+    ($(#[$m:meta])* $name:ident, $inner:ty, $bits:ty, $frac:literal, $label:literal) => {
         $(#[$m])*
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
         pub struct $name(pub $inner);
@@ -57,15 +57,14 @@ macro_rules! fixed_scalar {
             const NAME: &'static str = $label;
             #[inline(always)]
             fn from_f64(x: f64) -> Self {
-                if x.is_nan() {
-                    Self(<$inner>::ZERO)
-                } else {
-                    Self(<$inner>::saturating_from_num(x))
-                }
+                // Round half away from zero; `as` saturates at the integer range and maps
+                // NaN to 0, which is exactly the saturating conversion wanted — and,
+                // unlike `saturating_from_num`, folds to a constant for literals.
+                Self(<$inner>::from_bits((x * (1u64 << $frac) as f64).round() as $bits))
             }
             #[inline(always)]
             fn to_f64(self) -> f64 {
-                self.0.to_num::<f64>()
+                self.0.to_bits() as f64 / (1u64 << $frac) as f64
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
@@ -94,23 +93,31 @@ fixed_scalar!(
     /// Signed Q16.16: the seed's `ap_fixed<32,16>` (range ±32768, step 2⁻¹⁶).
     Q16_16,
     I16F16,
+    i32,
+    16,
     "q16.16"
 );
 fixed_scalar!(
     /// Signed Q8.24: fine fraction for unit vectors, but only ±128 of range.
     Q8_24,
     I8F24,
+    i32,
+    24,
     "q8.24"
 );
 fixed_scalar!(
     /// Signed Q24.8: large scenes, coarse fraction (step 1/256).
     Q24_8,
     I24F8,
+    i32,
+    8,
     "q24.8"
 );
 fixed_scalar!(
     /// Signed Q32.32 in 64 bits: what a wider datapath buys.
     Q32_32,
     I32F32,
+    i64,
+    32,
     "q32.32"
 );

@@ -72,6 +72,19 @@ pub struct RenderOptions {
     pub aovs: bool,
     /// Override of the frame size (the camera keeps its field of view).
     pub size: Option<(u32, u32)>,
+    /// How the kernel picks each object's intersector.
+    pub dispatch: Dispatch,
+}
+
+/// Intersector dispatch, selectable so that the two can be measured against each other
+/// (`benches/rt.rs`, docs/rt.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dispatch {
+    /// A function pointer per object, chosen by the plan.
+    #[default]
+    FnPointer,
+    /// A `match` on the object's shape at every test (inlined).
+    Match,
 }
 
 impl Default for RenderOptions {
@@ -82,6 +95,7 @@ impl Default for RenderOptions {
             math: Math::default(),
             aovs: false,
             size: None,
+            dispatch: Dispatch::FnPointer,
         }
     }
 }
@@ -209,6 +223,7 @@ struct Prepared<S> {
     maxd: S,
     depth: u32,
     m: Math,
+    by_match: bool,
 }
 
 fn validate(scene: &Scene) -> Result<(), RtError> {
@@ -273,7 +288,7 @@ pub fn plan(scene: &Scene) -> Plan {
     }
 }
 
-fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math) -> Prepared<S> {
+fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -> Prepared<S> {
     let objs = scene
         .objects
         .iter()
@@ -389,6 +404,7 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math) -> Prepared<S> {
         maxd: S::from_f64(scene.max_distance),
         depth: plan.depth,
         m,
+        by_match: dispatch == Dispatch::Match,
     }
 }
 
@@ -405,6 +421,15 @@ struct Hit<S> {
 }
 
 impl<S: Scalar> Prepared<S> {
+    #[inline(always)]
+    fn hit_object(&self, ob: &PObj<S>, o: V3<S>, d: V3<S>, tmax: S) -> Option<S> {
+        if self.by_match {
+            shapes::intersect(ob.shape, o, d, self.bias, tmax, &self.m)
+        } else {
+            (ob.intersect)(o, d, self.bias, tmax, &self.m)
+        }
+    }
+
     #[inline]
     fn closest(&self, o: V3<S>, d: V3<S>) -> Option<(S, usize)> {
         let mut best = self.maxd;
@@ -412,7 +437,7 @@ impl<S: Scalar> Prepared<S> {
         for (i, ob) in self.objs.iter().enumerate() {
             let lo = ob.minv.mul_v(o - ob.translate);
             let ld = ob.minv.mul_v(d);
-            if let Some(t) = (ob.intersect)(lo, ld, self.bias, best, &self.m) {
+            if let Some(t) = self.hit_object(ob, lo, ld, best) {
                 best = t;
                 idx = Some(i);
             }
@@ -425,7 +450,7 @@ impl<S: Scalar> Prepared<S> {
         self.objs.iter().any(|ob| {
             let lo = ob.minv.mul_v(o - ob.translate);
             let ld = ob.minv.mul_v(d);
-            (ob.intersect)(lo, ld, self.bias, tmax, &self.m).is_some()
+            self.hit_object(ob, lo, ld, tmax).is_some()
         })
     }
 
@@ -570,8 +595,10 @@ fn render_generic<S: Scalar>(
     height: u32,
     spp: u32,
     plan: &Plan,
+    progress: &(dyn Fn(u32, u32) + Sync),
 ) -> Rendered {
-    let prep = prepare::<S>(scene, plan, opts.math);
+    let rows_done = std::sync::atomic::AtomicU32::new(0);
+    let prep = prepare::<S>(scene, plan, opts.math, opts.dispatch);
     let cam = camera(&scene.camera, width, height);
     let eye = V3::<S>::from_f64(cam.eye);
     let (cu, cv, cw) = (
@@ -629,6 +656,8 @@ fn render_generic<S: Scalar>(
                 };
                 rgb.extend([q(c.x), q(c.y), q(c.z)]);
             }
+            let done = rows_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            progress(done, height);
             (rgb, depth, normal, cnt)
         })
         .collect();
@@ -654,6 +683,16 @@ fn render_generic<S: Scalar>(
 
 /// Render a scene in the chosen number format.
 pub fn render(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
+    render_with_progress(scene, opts, &|_, _| {})
+}
+
+/// [`render`], calling `progress(rows_done, rows_total)` after each row (from the worker
+/// threads, in completion order) so that a CLI can draw a progress bar.
+pub fn render_with_progress(
+    scene: &Scene,
+    opts: &RenderOptions,
+    progress: &(dyn Fn(u32, u32) + Sync),
+) -> Result<Frame, RtError> {
     validate(scene)?;
     let (width, height) = opts.size.unwrap_or((scene.width, scene.height));
     if width == 0 || height == 0 {
@@ -664,15 +703,29 @@ pub fn render(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
     let spp = opts.spp.unwrap_or(scene.spp).max(1);
     let plan = plan(scene);
     let start = Instant::now();
-    let args = (scene, opts, width, height, spp, &plan);
+    let args = (scene, opts, width, height, spp, &plan, progress);
     let (rgb8, depth, normal, c) = match opts.numeric {
-        Numeric::F64 => render_generic::<f64>(args.0, args.1, args.2, args.3, args.4, args.5),
-        Numeric::F32 => render_generic::<f32>(args.0, args.1, args.2, args.3, args.4, args.5),
-        Numeric::F16 => render_generic::<half::f16>(args.0, args.1, args.2, args.3, args.4, args.5),
-        Numeric::Q16_16 => render_generic::<Q16_16>(args.0, args.1, args.2, args.3, args.4, args.5),
-        Numeric::Q8_24 => render_generic::<Q8_24>(args.0, args.1, args.2, args.3, args.4, args.5),
-        Numeric::Q24_8 => render_generic::<Q24_8>(args.0, args.1, args.2, args.3, args.4, args.5),
-        Numeric::Q32_32 => render_generic::<Q32_32>(args.0, args.1, args.2, args.3, args.4, args.5),
+        Numeric::F64 => {
+            render_generic::<f64>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::F32 => {
+            render_generic::<f32>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::F16 => {
+            render_generic::<half::f16>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::Q16_16 => {
+            render_generic::<Q16_16>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::Q8_24 => {
+            render_generic::<Q8_24>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::Q24_8 => {
+            render_generic::<Q24_8>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::Q32_32 => {
+            render_generic::<Q32_32>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
     };
     let seconds = start.elapsed().as_secs_f64();
     let stats = Stats {
@@ -690,5 +743,21 @@ pub fn render(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
         normal,
         stats,
         plan,
+    })
+}
+
+/// Parse a format name as the CLI spells it (`f64`, `f32`, `f16`, `q16.16`, `q8.24`,
+/// `q24.8`, `q32.32`; case-insensitive, `_` accepted for `.`).
+pub fn parse_numeric(name: &str) -> Option<Numeric> {
+    let n = name.to_ascii_lowercase().replace('_', ".");
+    Some(match n.as_str() {
+        "f64" => Numeric::F64,
+        "f32" => Numeric::F32,
+        "f16" => Numeric::F16,
+        "q16.16" => Numeric::Q16_16,
+        "q8.24" => Numeric::Q8_24,
+        "q24.8" => Numeric::Q24_8,
+        "q32.32" => Numeric::Q32_32,
+        _ => return None,
     })
 }

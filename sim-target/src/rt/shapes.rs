@@ -214,3 +214,25 @@ pub fn intersect_fn<S: Scalar>(shape: Shape) -> IntersectFn<S> {
         Shape::Cube => cube::<S>,
     }
 }
+
+/// The same dispatch by a `match` on the shape (inlinable), for measuring the plan's
+/// function-pointer dispatch against it.
+#[inline(always)]
+pub fn intersect<S: Scalar>(
+    shape: Shape,
+    o: V3<S>,
+    d: V3<S>,
+    tmin: S,
+    tmax: S,
+    m: &Math,
+) -> Option<S> {
+    match shape {
+        Shape::Sphere => sphere(o, d, tmin, tmax, m),
+        Shape::Plane => plane(o, d, tmin, tmax, m),
+        Shape::Disk => disk(o, d, tmin, tmax, m),
+        Shape::Square => square(o, d, tmin, tmax, m),
+        Shape::Cylinder => cylinder(o, d, tmin, tmax, m),
+        Shape::Cone => cone(o, d, tmin, tmax, m),
+        Shape::Cube => cube(o, d, tmin, tmax, m),
+    }
+}
