@@ -1,0 +1,342 @@
+//! The seed's approximations and better ones, all computed in the target format `S`.
+//! Worst-case errors over the whole domain are measured by `tests/num_approx.rs` and
+//! published in `docs/rt.md`.
+
+use super::Scalar;
+use core::f64::consts::{FRAC_PI_2, PI};
+
+/// Which arctangent polynomial to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AtanKind {
+    /// Seed: 0.9724z − 0.1919z³ (max error 0.00496 rad per the seed).
+    Seed,
+    /// Degree-11 odd minimax polynomial (max error about 2·10⁻⁶ rad).
+    #[default]
+    Minimax11,
+}
+
+/// Which arccosine to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AcosKind {
+    /// Seed: 33-entry table over [0, 1] and linear interpolation.
+    SeedLut33,
+    /// √(1−x)·(cubic), Abramowitz–Stegun 4.4.45.
+    Sqrt4,
+    /// √(1−x)·(degree 7), Abramowitz–Stegun 4.4.46.
+    #[default]
+    Sqrt8,
+}
+
+/// How the kernel obtains √x (and through it 1/√x).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SqrtKind {
+    /// The format's own square root (`Scalar::sqrt`).
+    #[default]
+    Exact,
+    /// The seed instruction processor's PRE_S estimate followed by `iters` Newton–Raphson
+    /// steps for 1/√x; √x = x·(1/√x).
+    PreS {
+        /// Newton–Raphson iterations (the seed uses 2).
+        iters: u8,
+    },
+    /// A seamless initial estimate (continuous across the normalisation bins) plus `iters`
+    /// Newton–Raphson steps: the fix for the seed's depth-map discontinuity.
+    Seamless {
+        /// Newton–Raphson iterations.
+        iters: u8,
+    },
+}
+
+#[inline(always)]
+fn c<S: Scalar>(x: f64) -> S {
+    S::from_f64(x)
+}
+
+#[inline(always)]
+fn horner<S: Scalar>(x: S, coeffs: &[f64]) -> S {
+    let mut acc = S::zero();
+    for &k in coeffs.iter().rev() {
+        acc = acc * x + c(k);
+    }
+    acc
+}
+
+/// arctan on [−1, 1] by the chosen polynomial.
+#[inline]
+fn atan_unit<S: Scalar>(z: S, kind: AtanKind) -> S {
+    match kind {
+        AtanKind::Seed => {
+            let z2 = z * z;
+            z * (c::<S>(0.9724) - c::<S>(0.1919) * z2)
+        }
+        AtanKind::Minimax11 => {
+            let z2 = z * z;
+            z * horner(
+                z2,
+                &[
+                    0.999_977_26,
+                    -0.332_623_47,
+                    0.193_543_46,
+                    -0.116_432_87,
+                    0.052_653_32,
+                    -0.011_721_20,
+                ],
+            )
+        }
+    }
+}
+
+/// arctan z over the whole real line: |z| > 1 uses atan z = ±π/2 − atan(1/z), as the seed.
+pub fn atan<S: Scalar>(z: S, kind: AtanKind) -> S {
+    if z.abs() <= S::one() {
+        atan_unit(z, kind)
+    } else {
+        let half_pi = c::<S>(FRAC_PI_2);
+        let r = atan_unit(S::one() / z, kind);
+        if z > S::zero() {
+            half_pi - r
+        } else {
+            -half_pi - r
+        }
+    }
+}
+
+/// atan2(y, x) in (−π, π], built on the polynomial for |ratio| ≤ 1 so that no huge
+/// quotient is formed (which would saturate in fixed point).
+pub fn atan2<S: Scalar>(y: S, x: S, kind: AtanKind) -> S {
+    let zero = S::zero();
+    let pi = c::<S>(PI);
+    let half_pi = c::<S>(FRAC_PI_2);
+    if x == zero && y == zero {
+        return zero;
+    }
+    if x.abs() >= y.abs() {
+        let a = atan_unit(y / x, kind);
+        if x > zero {
+            a
+        } else if y >= zero {
+            a + pi
+        } else {
+            a - pi
+        }
+    } else {
+        let a = atan_unit(x / y, kind);
+        if y > zero {
+            half_pi - a
+        } else {
+            -half_pi - a
+        }
+    }
+}
+
+/// The seed's 33-entry arccosine table over [0, 1] (entry i = acos(i/32)).
+pub fn acos_table() -> [f64; 33] {
+    let mut t = [0.0; 33];
+    for (i, v) in t.iter_mut().enumerate() {
+        *v = (i as f64 / 32.0).acos();
+    }
+    t
+}
+
+/// arccos x for x ∈ [−1, 1] (clamped outside), acos(−x) = π − acos(x).
+pub fn acos<S: Scalar>(x: S, kind: AcosKind) -> S {
+    let one = S::one();
+    let x = x.clamp(-one, one);
+    let neg = x < S::zero();
+    let a = x.abs();
+    let r = match kind {
+        AcosKind::SeedLut33 => {
+            let pos = a * c::<S>(32.0);
+            let i = pos.floor().to_f64().clamp(0.0, 31.0) as usize;
+            let f = pos - c::<S>(i as f64);
+            let t = ACOS_TABLE;
+            let y0 = c::<S>(t[i]);
+            let y1 = c::<S>(t[i + 1]);
+            y0 + (y1 - y0) * f
+        }
+        AcosKind::Sqrt4 => {
+            (one - a).sqrt() * horner(a, &[1.570_728_8, -0.212_114_4, 0.074_261_0, -0.018_729_3])
+        }
+        AcosKind::Sqrt8 => {
+            (one - a).sqrt()
+                * horner(
+                    a,
+                    &[
+                        1.570_796_305_0,
+                        -0.214_598_801_6,
+                        0.088_978_987_4,
+                        -0.050_174_304_6,
+                        0.030_891_881_0,
+                        -0.017_088_125_6,
+                        0.006_670_090_1,
+                        -0.001_262_491_1,
+                    ],
+                )
+        }
+    };
+    if neg {
+        c::<S>(PI) - r
+    } else {
+        r
+    }
+}
+
+#[allow(clippy::approx_constant)] // table entries, not the constants
+const ACOS_TABLE: [f64; 33] = [
+    1.5707963267948966,
+    1.5395412382954015,
+    1.5082555649984053,
+    1.47690845168738,
+    1.4454684956268313,
+    1.4139034557744354,
+    1.3821799406194926,
+    1.3502630658740633,
+    1.318116071652818,
+    1.2856998865421505,
+    1.252972622867016,
+    1.2198889832038156,
+    1.1863995522992576,
+    1.1524499403514286,
+    1.1179797320499711,
+    1.0829211792546036,
+    1.0471975511965979,
+    1.0107210205683146,
+    0.9733899101495465,
+    0.9350850413935945,
+    0.895664793857865,
+    0.8549582665697854,
+    0.8127555613686607,
+    0.7687935489912782,
+    0.7227342478134157,
+    0.6741305066673152,
+    0.6223684885550207,
+    0.5665643306210781,
+    0.5053605102841573,
+    0.4364690287349193,
+    0.3554212016902235,
+    0.2506556623361308,
+    0.0,
+];
+
+/// Power of two 2^e as an exact f64.
+#[inline]
+fn pow2(e: i32) -> f64 {
+    f64::from_bits(((1023 + e.clamp(-1022, 1023)) as u64) << 52)
+}
+
+/// Binary exponent of a positive value: x ∈ [2^e, 2^(e+1)). Models a leading-zero counter.
+#[inline]
+fn exponent<S: Scalar>(x: S) -> i32 {
+    let v = x.to_f64();
+    ((v.to_bits() >> 52) & 0x7ff) as i32 - 1023
+}
+
+/// The seed's PRE_S: normalise x = m·4^k with m ∈ [1, 4) by a leading-zero count and
+/// start from 1/√x ≈ 2^(−k)·(1/√2), i.e. the geometric middle of the bin. The seed does
+/// not publish fun1/fun2; this is the simplest normalise-and-shift reading of them, and
+/// the one that reproduces its discontinuity (see docs/rt.md).
+pub fn pre_s<S: Scalar>(x: S) -> S {
+    let e = exponent(x);
+    let k = e.div_euclid(2);
+    c(pow2(-k) * core::f64::consts::FRAC_1_SQRT_2)
+}
+
+/// A seamless estimate: same bins, but the chord 1 − (m − 1)/6 of 1/√m over [1, 4] that
+/// takes the bin ends to exactly 1 and ½, so the estimate is continuous in x.
+pub fn pre_s_seamless<S: Scalar>(x: S) -> S {
+    let e = exponent(x);
+    let k = e.div_euclid(2);
+    let scale = pow2(-2 * k);
+    let m = x * c(scale);
+    let p = c::<S>(7.0 / 6.0) - m * c(1.0 / 6.0);
+    p * c(pow2(-k))
+}
+
+/// 1/√x by Newton–Raphson y ← y(3 − x y²)/2 from `y0`.
+#[inline]
+pub fn rsqrt_nr<S: Scalar>(x: S, y0: S, iters: u8) -> S {
+    let half = c::<S>(0.5);
+    let three = c::<S>(3.0);
+    let mut y = y0;
+    for _ in 0..iters {
+        y = y * (three - x * y * y) * half;
+    }
+    y
+}
+
+/// √x by the chosen method (0 for x ≤ 0).
+#[inline]
+pub fn sqrt<S: Scalar>(x: S, kind: SqrtKind) -> S {
+    if x <= S::zero() {
+        return S::zero();
+    }
+    match kind {
+        SqrtKind::Exact => x.sqrt(),
+        SqrtKind::PreS { iters } => x * rsqrt_nr(x, pre_s(x), iters),
+        SqrtKind::Seamless { iters } => x * rsqrt_nr(x, pre_s_seamless(x), iters),
+    }
+}
+
+/// 1/√x by the chosen method (the format's maximum for x ≤ 0).
+#[inline]
+pub fn rsqrt<S: Scalar>(x: S, kind: SqrtKind) -> S {
+    if x <= S::zero() {
+        return S::max_value();
+    }
+    match kind {
+        SqrtKind::Exact => S::one() / x.sqrt(),
+        SqrtKind::PreS { iters } => rsqrt_nr(x, pre_s(x), iters),
+        SqrtKind::Seamless { iters } => rsqrt_nr(x, pre_s_seamless(x), iters),
+    }
+}
+
+/// The seed's PRE_D reading: normalise b = m·2^e, m ∈ [½, 1), start from the classic
+/// 48/17 − 32/17·m estimate of 1/m (relative error ≤ 1/17).
+pub fn pre_d<S: Scalar>(b: S) -> S {
+    let e = exponent(b.abs()) + 1;
+    let m = b.abs() * c(pow2(-e));
+    let y = (c::<S>(48.0 / 17.0) - m * c(32.0 / 17.0)) * c(pow2(-e));
+    if b < S::zero() {
+        -y
+    } else {
+        y
+    }
+}
+
+/// a/b by Newton–Raphson on 1/b, y ← y(2 − b y), `iters` steps from PRE_D. b = 0 gives
+/// the format's signed maximum.
+pub fn div_nr<S: Scalar>(a: S, b: S, iters: u8) -> S {
+    if b == S::zero() {
+        return if a >= S::zero() {
+            S::max_value()
+        } else {
+            -S::max_value()
+        };
+    }
+    let two = c::<S>(2.0);
+    let mut y = pre_d(b);
+    for _ in 0..iters {
+        y = y * (two - b * y);
+    }
+    a * y
+}
+
+/// Largest exponent `powi` handles: MAX_POWER_LOOP_ITER = 10 squarings.
+pub const MAX_POW_EXPONENT: u32 = 1023;
+
+/// x^e by repeated squaring, as the seed's MAX_POWER_LOOP_ITER loop: e is clipped to
+/// [`MAX_POW_EXPONENT`] (ten bits, ten iterations).
+#[inline]
+pub fn powi<S: Scalar>(x: S, e: u32) -> S {
+    let mut e = e.min(MAX_POW_EXPONENT);
+    let mut base = x;
+    let mut acc = S::one();
+    while e > 0 {
+        if e & 1 == 1 {
+            acc = acc * base;
+        }
+        base = base * base;
+        e >>= 1;
+    }
+    acc
+}

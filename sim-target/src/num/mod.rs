@@ -1,0 +1,186 @@
+//! Number formats and the seed's approximations, so that one ray-trace kernel can be run in
+//! any of them and the cost of each format/approximation measured against the f64 reference.
+//!
+//! Fixed-point formats are newtypes over `fixed` with **saturating** arithmetic: the hardware
+//! the seed targets (`ap_fixed` with `AP_SAT`) clips instead of wrapping, and a wrapped
+//! coordinate would teleport a hit point across the scene while a clipped one only misplaces
+//! it at the format's limit. Division by zero saturates to the signed maximum (or minimum for
+//! a negative dividend), the behaviour of a divider core that flags but does not trap.
+
+mod approx;
+mod formats;
+
+pub use approx::*;
+pub use formats::*;
+
+use core::fmt::Debug;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A real-number format the ray-trace kernel computes in.
+///
+/// Everything the kernel needs beyond `+ − × ÷` is here so that the kernel never leaves the
+/// format (no silent detour through f64 except where a method documents it as modelling a
+/// hardware core, e.g. `sqrt`).
+pub trait Scalar:
+    Copy
+    + Clone
+    + Send
+    + Sync
+    + PartialOrd
+    + PartialEq
+    + Debug
+    + Default
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// Short name used in tables and benches.
+    const NAME: &'static str;
+    /// Nearest representable value (saturating for fixed point; NaN maps to 0 there).
+    fn from_f64(x: f64) -> Self;
+    /// Exact widening to f64 (every supported format fits in f64 exactly).
+    fn to_f64(self) -> f64;
+    /// Square root of the best quality the format offers (a correctly rounded core for
+    /// fixed point, modelled through f64); negative input gives 0 so that a slightly
+    /// negative discriminant from rounding cannot produce NaN.
+    fn sqrt(self) -> Self;
+    /// Largest finite value: the kernel's "infinity" for formats without one.
+    fn max_value() -> Self;
+    /// Largest integer not above `self`.
+    fn floor(self) -> Self {
+        Self::from_f64(self.to_f64().floor())
+    }
+    /// Additive identity.
+    #[inline(always)]
+    fn zero() -> Self {
+        Self::default()
+    }
+    /// Multiplicative identity.
+    #[inline(always)]
+    fn one() -> Self {
+        Self::from_f64(1.0)
+    }
+    /// 1/x with the format's own divider.
+    #[inline(always)]
+    fn recip(self) -> Self {
+        Self::one() / self
+    }
+    /// |x| (saturating for the most negative fixed value).
+    #[inline(always)]
+    fn abs(self) -> Self {
+        if self < Self::zero() {
+            -self
+        } else {
+            self
+        }
+    }
+    /// Smaller of two values (`other` if incomparable, so NaN does not stick).
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        if self < other {
+            self
+        } else {
+            other
+        }
+    }
+    /// Larger of two values.
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        if self > other {
+            self
+        } else {
+            other
+        }
+    }
+    /// Clamp into `[lo, hi]`.
+    #[inline(always)]
+    fn clamp(self, lo: Self, hi: Self) -> Self {
+        self.max(lo).min(hi)
+    }
+    /// False for NaN/∞ (always true for fixed point).
+    fn is_finite(self) -> bool {
+        self.to_f64().is_finite()
+    }
+    /// Fractional part in `[0, 1)`.
+    fn fract(self) -> Self {
+        self - self.floor()
+    }
+}
+
+impl Scalar for f64 {
+    const NAME: &'static str = "f64";
+    #[inline(always)]
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        if self > 0.0 {
+            f64::sqrt(self)
+        } else {
+            0.0
+        }
+    }
+    fn max_value() -> Self {
+        f64::MAX
+    }
+    #[inline(always)]
+    fn floor(self) -> Self {
+        f64::floor(self)
+    }
+}
+
+impl Scalar for f32 {
+    const NAME: &'static str = "f32";
+    #[inline(always)]
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        if self > 0.0 {
+            f32::sqrt(self)
+        } else {
+            0.0
+        }
+    }
+    fn max_value() -> Self {
+        f32::MAX
+    }
+    #[inline(always)]
+    fn floor(self) -> Self {
+        f32::floor(self)
+    }
+}
+
+impl Scalar for half::f16 {
+    const NAME: &'static str = "f16";
+    fn from_f64(x: f64) -> Self {
+        half::f16::from_f64(x)
+    }
+    fn to_f64(self) -> f64 {
+        half::f16::to_f64(self)
+    }
+    fn sqrt(self) -> Self {
+        let x = self.to_f32();
+        if x > 0.0 {
+            half::f16::from_f32(x.sqrt())
+        } else {
+            half::f16::ZERO
+        }
+    }
+    fn max_value() -> Self {
+        half::f16::MAX
+    }
+}

@@ -1,0 +1,763 @@
+//! The ray-trace block (ViRAY, seed 002) as a golden model generic over number formats.
+//!
+//! Entry point: [`render`]. The scene ([`Scene`], or a TOML file through
+//! [`scene_file::parse`]) is compiled once into a [`Plan`] and a format-specific
+//! `Prepared` scene whose objects, materials and lights carry function pointers for exactly
+//! the shapes and terms they use, so the per-pixel loop never tests a feature flag that the
+//! scene could not need. Rows are rendered in parallel with rayon.
+
+pub mod output;
+pub mod scene;
+pub mod scene_file;
+pub mod shade;
+pub mod shapes;
+pub mod texture;
+pub mod vec;
+
+pub use output::{pack_kcu116, pack_rgb888, psnr, unpack_kcu116, unpack_rgb888, write_pfm};
+pub use protocol::frame::Numeric;
+pub use scene::*;
+pub use shapes::Quadratic;
+
+use crate::num::{AcosKind, AtanKind, Scalar, SqrtKind, Q16_16, Q24_8, Q32_32, Q8_24};
+use rayon::prelude::*;
+use shade::{DiffuseFn, DiffuseParams, SpecParams, SpecularFn};
+use shapes::IntersectFn;
+use std::time::Instant;
+use texture::TexSlot;
+use vec::{f, M3, V3};
+
+/// Which approximation the kernel uses for each non-trivial function.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Math {
+    /// √ and 1/√ (normalisation, discriminant, distances).
+    pub sqrt: SqrtKind,
+    /// Root formula of the quadratics.
+    pub quadratic: Quadratic,
+    /// arctangent (cylindrical/spherical mapping).
+    pub atan: AtanKind,
+    /// arccosine (spherical mapping).
+    pub acos: AcosKind,
+}
+
+impl Math {
+    /// The seed's choices: PRE_S + 2 Newton–Raphson steps, textbook quadratic, seed
+    /// atan polynomial and 33-entry acos table.
+    pub const SEED: Math = Math {
+        sqrt: SqrtKind::PreS { iters: 2 },
+        quadratic: Quadratic::Textbook,
+        atan: AtanKind::Seed,
+        acos: AcosKind::SeedLut33,
+    };
+}
+
+/// Board clock of the performance reference (Hz).
+pub const BOARD_CLOCK_HZ: f64 = 303.0e6;
+/// DESIRED_INNER_LOOP_II: cycles per pixel (per sample).
+pub const BOARD_II: u64 = 8;
+/// Fixed cycles per frame beyond W·H·II, calibrated on the seed's 16 765 083 cycles at
+/// 1920×1080 (pipeline fill and control).
+pub const BOARD_FRAME_OVERHEAD: u64 = 16_765_083 - 1920 * 1080 * 8;
+
+/// Rendering choices beyond the scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderOptions {
+    /// Number format.
+    pub numeric: Numeric,
+    /// Override of the scene's samples per pixel.
+    pub spp: Option<u32>,
+    /// Approximations.
+    pub math: Math,
+    /// Also produce the depth and normal AOVs.
+    pub aovs: bool,
+    /// Override of the frame size (the camera keeps its field of view).
+    pub size: Option<(u32, u32)>,
+    /// How the kernel picks each object's intersector.
+    pub dispatch: Dispatch,
+}
+
+/// Intersector dispatch, selectable so that the two can be measured against each other
+/// (`benches/rt.rs`, docs/rt.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dispatch {
+    /// A function pointer per object, chosen by the plan.
+    #[default]
+    FnPointer,
+    /// A `match` on the object's shape at every test (inlined).
+    Match,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            numeric: Numeric::F32,
+            spp: None,
+            math: Math::default(),
+            aovs: false,
+            size: None,
+            dispatch: Dispatch::FnPointer,
+        }
+    }
+}
+
+/// What a render did and what it would cost on the board.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Stats {
+    /// Primary rays (pixels × spp).
+    pub primary_rays: u64,
+    /// Shadow rays.
+    pub shadow_rays: u64,
+    /// Reflected rays.
+    pub reflected_rays: u64,
+    /// Wall-clock seconds of the sim-target render.
+    pub seconds: f64,
+    /// Board-time estimate in cycles: pixels·spp·II + overhead.
+    pub board_cycles: u64,
+}
+
+impl Stats {
+    /// All rays, counted as SPEC-RT counts them.
+    pub fn rays(&self) -> u64 {
+        self.primary_rays + self.shadow_rays + self.reflected_rays
+    }
+    /// Millions of rays per second of wall time.
+    pub fn mrays_per_s(&self) -> f64 {
+        if self.seconds > 0.0 {
+            self.rays() as f64 / self.seconds / 1e6
+        } else {
+            0.0
+        }
+    }
+    /// Board-time estimate in seconds at [`BOARD_CLOCK_HZ`].
+    pub fn board_seconds(&self) -> f64 {
+        self.board_cycles as f64 / BOARD_CLOCK_HZ
+    }
+}
+
+/// A rendered frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+    /// RGB888, row-major, ⌊255·clamp(c)⌋ per channel.
+    pub rgb8: Vec<u8>,
+    /// Distance to the first hit of the centre primary ray (+∞ for a miss).
+    pub depth: Option<Vec<f32>>,
+    /// World-space unit normal after the shading flip, 3 floats per pixel (0 for a miss).
+    pub normal: Option<Vec<f32>>,
+    /// Statistics.
+    pub stats: Stats,
+    /// The plan the scene compiled to.
+    pub plan: Plan,
+}
+
+/// Errors of [`render`].
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum RtError {
+    /// The scene cannot be rendered as given.
+    #[error("invalid scene: {0}")]
+    InvalidScene(String),
+}
+
+/// What a scene needs, decided once before rendering.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Plan {
+    /// Distinct shapes present.
+    pub shapes: Vec<Shape>,
+    /// Point/spot lights (so shadow rays exist).
+    pub lights: usize,
+    /// Any spot light.
+    pub spot: bool,
+    /// Number of textures in memory.
+    pub textures: usize,
+    /// Texture side in texels.
+    pub texture_side: usize,
+    /// Any material with a specular term.
+    pub specular: bool,
+    /// Depth actually traced (1 if no material reflects).
+    pub depth: u32,
+}
+
+struct PObj<S> {
+    shape: Shape,
+    intersect: IntersectFn<S>,
+    minv: M3<S>,
+    nmat: M3<S>,
+    translate: V3<S>,
+    material: usize,
+}
+
+struct PLight<S> {
+    pos: V3<S>,
+    color: V3<S>,
+    spot: Option<(V3<S>, S, S)>,
+}
+
+enum PRefl<S> {
+    None,
+    Constant(S),
+    Fresnel(S, S),
+}
+
+struct PMat<S> {
+    ambient: Option<(S, V3<S>)>,
+    kd: S,
+    cd: V3<S>,
+    diffuse: DiffuseFn<S>,
+    dparams: DiffuseParams<S>,
+    spec: Option<(V3<S>, SpecularFn<S>, SpecParams<S>)>,
+    refl: PRefl<S>,
+    tex: Option<(TexSlot<S>, V3<S>)>,
+}
+
+struct Prepared<S> {
+    objs: Vec<PObj<S>>,
+    lights: Vec<PLight<S>>,
+    mats: Vec<PMat<S>>,
+    ambient: V3<S>,
+    background: V3<S>,
+    texmem: Vec<u32>,
+    bias: S,
+    maxd: S,
+    depth: u32,
+    m: Math,
+    by_match: bool,
+}
+
+fn validate(scene: &Scene) -> Result<(), RtError> {
+    let bad = |s: String| Err(RtError::InvalidScene(s));
+    if scene.width == 0 || scene.height == 0 {
+        return bad(format!("frame size {}x{}", scene.width, scene.height));
+    }
+    if scene.depth == 0 {
+        return bad("depth must be at least 1".into());
+    }
+    for (i, o) in scene.objects.iter().enumerate() {
+        if o.material >= scene.materials.len() {
+            return bad(format!(
+                "object {i}: material index {} out of range",
+                o.material
+            ));
+        }
+        if o.scale
+            .iter()
+            .any(|s| s.is_nan() || *s <= 0.0 || !s.is_finite())
+        {
+            return bad(format!("object {i}: non-positive scale"));
+        }
+    }
+    let c = &scene.camera;
+    let w = f::normalize(f::sub(c.position, c.look_at));
+    let u = f::cross(c.up, w);
+    if u.iter().all(|v| v.abs() < 1e-12) {
+        return bad("camera up is parallel to the view direction".into());
+    }
+    if !(c.fov_y > 0.0 && c.fov_y < 180.0) {
+        return bad(format!("fov_y {} not in (0, 180)", c.fov_y));
+    }
+    Ok(())
+}
+
+/// Compile the plan of a scene.
+pub fn plan(scene: &Scene) -> Plan {
+    let mut shapes: Vec<Shape> = Vec::new();
+    for o in &scene.objects {
+        if !shapes.contains(&o.shape) {
+            shapes.push(o.shape);
+        }
+    }
+    let textures = scene
+        .materials
+        .iter()
+        .filter(|m| m.texture.is_some())
+        .count();
+    let reflects = scene
+        .materials
+        .iter()
+        .any(|m| !matches!(m.reflection, Reflection::None));
+    Plan {
+        shapes,
+        lights: scene.lights.len(),
+        spot: scene.lights.iter().any(|l| l.spot.is_some()),
+        textures,
+        texture_side: texture::side_for(textures),
+        specular: scene.materials.iter().any(|m| m.specular.is_some()),
+        depth: if reflects { scene.depth } else { 1 },
+    }
+}
+
+fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -> Prepared<S> {
+    let objs = scene
+        .objects
+        .iter()
+        .map(|o| {
+            // M = T·R·S, M⁻¹ = S⁻¹·Rᵀ (on the linear part)
+            let r = f::rotation(o.rotate);
+            let sinv = f::diag(o.scale.map(|s| 1.0 / s));
+            let minv = f::mul(sinv, f::transpose(r));
+            PObj {
+                shape: o.shape,
+                intersect: shapes::intersect_fn::<S>(o.shape),
+                minv: M3::from_f64(minv),
+                nmat: M3::from_f64(f::transpose(minv)),
+                translate: V3::from_f64(o.translate),
+                material: o.material,
+            }
+        })
+        .collect();
+    let lights = scene
+        .lights
+        .iter()
+        .map(|l| PLight {
+            pos: V3::from_f64(l.position),
+            color: V3::from_f64(l.color),
+            spot: l.spot.as_ref().map(|s| {
+                let w = s.cos_inner - s.cos_outer;
+                let inv = if w > 1e-9 { 1.0 / w } else { 1e6 };
+                (
+                    V3::from_f64(f::normalize(s.direction)),
+                    S::from_f64(s.cos_outer),
+                    S::from_f64(inv),
+                )
+            }),
+        })
+        .collect();
+    let side = plan.texture_side;
+    let mut texmem = vec![0u32; texture::TEXTURE_WORDS];
+    let mut next_slot = 0usize;
+    let mats = scene
+        .materials
+        .iter()
+        .map(|mat| {
+            let (diffuse, sigma2): (DiffuseFn<S>, f64) = match mat.diffuse_model {
+                DiffuseModel::Lambert => (shade::lambert::<S>, 0.0),
+                DiffuseModel::OrenNayar { sigma2 } => (shade::oren_nayar::<S>, sigma2),
+            };
+            let spec = mat.specular.as_ref().map(|s| {
+                let kc = V3::from_f64(s.color).scale(S::from_f64(s.k));
+                match s.model {
+                    SpecularModel::BlinnPhong => (
+                        kc,
+                        shade::blinn_phong::<S> as SpecularFn<S>,
+                        SpecParams::new(s.exponent, 1.0, 0.0, m.sqrt),
+                    ),
+                    SpecularModel::TorranceSparrow { eta, k } => (
+                        kc,
+                        shade::torrance_sparrow::<S> as SpecularFn<S>,
+                        SpecParams::new(s.exponent, eta, k, m.sqrt),
+                    ),
+                }
+            });
+            let refl = match mat.reflection {
+                Reflection::None => PRefl::None,
+                Reflection::Constant(r) => PRefl::Constant(S::from_f64(r)),
+                Reflection::Fresnel { eta, k } => PRefl::Fresnel(S::from_f64(eta), S::from_f64(k)),
+            };
+            let tex = mat.texture.as_ref().map(|t| {
+                let base = next_slot * side * side;
+                next_slot += 1;
+                for y in 0..side {
+                    for x in 0..side {
+                        if let Some(w) = texmem.get_mut(base + y * side + x) {
+                            *w = texture::texel(t.kind, x, y, side);
+                        }
+                    }
+                }
+                (
+                    TexSlot {
+                        base,
+                        side,
+                        mapping: t.mapping,
+                        filter: t.filter,
+                        scale: (S::from_f64(t.scale[0]), S::from_f64(t.scale[1])),
+                        offset: (S::from_f64(t.offset[0]), S::from_f64(t.offset[1])),
+                        grey: texture::is_grey(t.kind),
+                    },
+                    V3::from_f64(t.color2),
+                )
+            });
+            PMat {
+                ambient: mat
+                    .ambient
+                    .as_ref()
+                    .map(|a| (S::from_f64(a.k), V3::from_f64(a.color))),
+                kd: S::from_f64(mat.diffuse.k),
+                cd: V3::from_f64(mat.diffuse.color),
+                diffuse,
+                dparams: DiffuseParams::oren_nayar(sigma2, m.sqrt),
+                spec,
+                refl,
+                tex,
+            }
+        })
+        .collect();
+    Prepared {
+        objs,
+        lights,
+        mats,
+        ambient: V3::from_f64(scene.ambient),
+        background: V3::from_f64(scene.background),
+        texmem,
+        bias: S::from_f64(scene.bias),
+        maxd: S::from_f64(scene.max_distance),
+        depth: plan.depth,
+        m,
+        by_match: dispatch == Dispatch::Match,
+    }
+}
+
+#[derive(Default, Clone, Copy)]
+struct Counts {
+    primary: u64,
+    shadow: u64,
+    reflected: u64,
+}
+
+struct Hit<S> {
+    t: S,
+    n: V3<S>,
+}
+
+impl<S: Scalar> Prepared<S> {
+    #[inline(always)]
+    fn hit_object(&self, ob: &PObj<S>, o: V3<S>, d: V3<S>, tmax: S) -> Option<S> {
+        if self.by_match {
+            shapes::intersect(ob.shape, o, d, self.bias, tmax, &self.m)
+        } else {
+            (ob.intersect)(o, d, self.bias, tmax, &self.m)
+        }
+    }
+
+    #[inline]
+    fn closest(&self, o: V3<S>, d: V3<S>) -> Option<(S, usize)> {
+        let mut best = self.maxd;
+        let mut idx = None;
+        for (i, ob) in self.objs.iter().enumerate() {
+            let lo = ob.minv.mul_v(o - ob.translate);
+            let ld = ob.minv.mul_v(d);
+            if let Some(t) = self.hit_object(ob, lo, ld, best) {
+                best = t;
+                idx = Some(i);
+            }
+        }
+        idx.map(|i| (best, i))
+    }
+
+    #[inline]
+    fn occluded(&self, o: V3<S>, d: V3<S>, tmax: S) -> bool {
+        self.objs.iter().any(|ob| {
+            let lo = ob.minv.mul_v(o - ob.translate);
+            let ld = ob.minv.mul_v(d);
+            self.hit_object(ob, lo, ld, tmax).is_some()
+        })
+    }
+
+    /// Radiance along a primary ray (d unit); returns colour and first-hit data.
+    fn trace(&self, o: V3<S>, d: V3<S>, cnt: &mut Counts) -> (V3<S>, Option<Hit<S>>) {
+        let zero = S::zero();
+        let one = S::one();
+        let sq = self.m.sqrt;
+        let mut color = V3::zero();
+        let mut weight = one;
+        let mut first = None;
+        let (mut o, mut d) = (o, d);
+        for level in 0..self.depth {
+            if level == 0 {
+                cnt.primary += 1;
+            } else {
+                cnt.reflected += 1;
+            }
+            let Some((t, i)) = self.closest(o, d) else {
+                color = color + self.background.scale(weight);
+                break;
+            };
+            let ob = &self.objs[i];
+            let lo = ob.minv.mul_v(o - ob.translate);
+            let ld = ob.minv.mul_v(d);
+            let lp = lo + ld.scale(t);
+            let p = o + d.scale(t);
+            let mut n = ob.nmat.mul_v(shapes::normal(ob.shape, lp)).normalize(sq);
+            if n.dot(d) >= zero {
+                n = -n; // INTERNAL_SHADING: both sides shade
+            }
+            if level == 0 {
+                first = Some(Hit { t, n });
+            }
+            let mat = &self.mats[ob.material];
+            let wo = -d;
+            // texture replaces the diffuse (and ambient) colour
+            let (cd, ca) = match &mat.tex {
+                None => (mat.cd, mat.ambient.as_ref().map(|a| a.1)),
+                Some((slot, c2)) => {
+                    let (u, v) = texture::map_uv(slot.mapping, lp, &self.m);
+                    let tx = texture::sample(&self.texmem, slot, u, v);
+                    let c = if slot.grey {
+                        let mix = tx.x;
+                        mat.cd.scale(mix) + c2.scale(one - mix)
+                    } else {
+                        tx
+                    };
+                    (c, mat.ambient.as_ref().map(|_| c))
+                }
+            };
+            let mut lk = V3::zero();
+            if let (Some((ka, _)), Some(ca)) = (&mat.ambient, ca) {
+                lk = ca.hadamard(self.ambient).scale(*ka);
+            }
+            let kdcd = cd.scale(mat.kd);
+            // Secondary rays start one CORE_BIAS off the surface along the shading normal:
+            // the hit point carries the error of t·d (≈ 2⁻¹⁶·t per axis in Q16.16, 1.6·10⁻⁴
+            // at t = 10), which tmin = CORE_BIAS alone does not cover (shadow acne).
+            let p_off = p + n.scale(self.bias);
+            for l in &self.lights {
+                let to_l = l.pos - p;
+                let dist2 = to_l.dot(to_l);
+                if dist2 <= zero {
+                    continue;
+                }
+                let inv_dist = crate::num::rsqrt(dist2, sq);
+                let wi = to_l.scale(inv_dist);
+                let ndl = n.dot(wi);
+                if ndl <= zero {
+                    continue;
+                }
+                let scf = match &l.spot {
+                    None => one,
+                    Some((dir, cos_o, inv_w)) => shade::spot_factor(*dir, wi, *cos_o, *inv_w),
+                };
+                if scf <= zero {
+                    continue;
+                }
+                cnt.shadow += 1;
+                let dist = dist2 * inv_dist;
+                if self.occluded(p_off, wi, dist) {
+                    continue;
+                }
+                let g = ndl / dist2 * scf;
+                let fd = (mat.diffuse)(n, wi, wo, &mat.dparams);
+                let mut brdf = kdcd.scale(fd);
+                if let Some((kscs, fs, sp)) = &mat.spec {
+                    brdf = brdf + kscs.scale(fs(n, wi, wo, sp));
+                }
+                lk = lk + brdf.hadamard(l.color).scale(g);
+            }
+            color = color + lk.scale(weight);
+            let r = match mat.refl {
+                PRefl::None => break,
+                PRefl::Constant(r) => r,
+                PRefl::Fresnel(eta, k) => shade::fresnel(n.dot(wo), eta, k, sq),
+            };
+            if r <= zero {
+                break;
+            }
+            weight = weight * r;
+            // mirror reflection of d about n
+            let two = S::from_f64(2.0);
+            d = (d - n.scale(two * d.dot(n))).normalize(sq);
+            o = p_off;
+        }
+        (color, first)
+    }
+}
+
+/// rgb8, depth, normal, ray counts of a frame or a row.
+type Rendered<A = Option<Vec<f32>>> = (Vec<u8>, A, A, Counts);
+
+struct Cam {
+    eye: [f64; 3],
+    u: [f64; 3],
+    v: [f64; 3],
+    w: [f64; 3],
+    s: f64,
+    a: f64,
+}
+
+fn camera(c: &Camera, width: u32, height: u32) -> Cam {
+    let w = f::normalize(f::sub(c.position, c.look_at));
+    let u = f::normalize(f::cross(c.up, w));
+    let v = f::cross(w, u);
+    Cam {
+        eye: c.position,
+        u,
+        v,
+        w,
+        s: (c.fov_y.to_radians() / 2.0).tan(),
+        a: width as f64 / height as f64,
+    }
+}
+
+fn render_generic<S: Scalar>(
+    scene: &Scene,
+    opts: &RenderOptions,
+    width: u32,
+    height: u32,
+    spp: u32,
+    plan: &Plan,
+    progress: &(dyn Fn(u32, u32) + Sync),
+) -> Rendered {
+    let rows_done = std::sync::atomic::AtomicU32::new(0);
+    let prep = prepare::<S>(scene, plan, opts.math, opts.dispatch);
+    let cam = camera(&scene.camera, width, height);
+    let eye = V3::<S>::from_f64(cam.eye);
+    let (cu, cv, cw) = (
+        V3::<S>::from_f64(cam.u),
+        V3::<S>::from_f64(cam.v),
+        V3::<S>::from_f64(cam.w),
+    );
+    let grid = (spp as f64).sqrt().ceil() as u32;
+    let inv_spp = S::from_f64(1.0 / spp as f64);
+    let (wf, hf) = (width as f64, height as f64);
+    let aovs = opts.aovs;
+    let rows: Vec<Rendered<Vec<f32>>> = (0..height)
+        .into_par_iter()
+        .map(|j| {
+            let mut cnt = Counts::default();
+            let mut rgb = Vec::with_capacity(width as usize * 3);
+            let mut depth = Vec::new();
+            let mut normal = Vec::new();
+            for i in 0..width {
+                let mut acc = V3::<S>::zero();
+                for s in 0..spp {
+                    let (ox, oy) = if spp == 1 {
+                        (0.5, 0.5)
+                    } else {
+                        (
+                            ((s % grid) as f64 + 0.5) / grid as f64,
+                            ((s / grid) as f64 + 0.5) / grid as f64,
+                        )
+                    };
+                    let x = (2.0 * (i as f64 + ox) / wf - 1.0) * cam.s * cam.a;
+                    let y = (1.0 - 2.0 * (j as f64 + oy) / hf) * cam.s;
+                    let d = (cu.scale(S::from_f64(x)) + cv.scale(S::from_f64(y)) - cw)
+                        .normalize(opts.math.sqrt);
+                    let (c, hit) = prep.trace(eye, d, &mut cnt);
+                    acc = acc + c;
+                    if aovs && s == 0 {
+                        match hit {
+                            Some(h) => {
+                                depth.push(h.t.to_f64() as f32);
+                                normal.extend(h.n.to_f64().map(|v| v as f32));
+                            }
+                            None => {
+                                depth.push(f32::INFINITY);
+                                normal.extend([0.0f32; 3]);
+                            }
+                        }
+                    }
+                }
+                let c = if spp == 1 { acc } else { acc.scale(inv_spp) };
+                let q = |v: S| {
+                    (v.clamp(S::zero(), S::one()) * S::from_f64(255.0))
+                        .floor()
+                        .to_f64()
+                        .clamp(0.0, 255.0) as u8
+                };
+                rgb.extend([q(c.x), q(c.y), q(c.z)]);
+            }
+            let done = rows_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            progress(done, height);
+            (rgb, depth, normal, cnt)
+        })
+        .collect();
+    let mut rgb8 = Vec::with_capacity(width as usize * height as usize * 3);
+    let mut depth = Vec::new();
+    let mut normal = Vec::new();
+    let mut total = Counts::default();
+    for (r, d, n, c) in rows {
+        rgb8.extend(r);
+        depth.extend(d);
+        normal.extend(n);
+        total.primary += c.primary;
+        total.shadow += c.shadow;
+        total.reflected += c.reflected;
+    }
+    let (depth, normal) = if aovs {
+        (Some(depth), Some(normal))
+    } else {
+        (None, None)
+    };
+    (rgb8, depth, normal, total)
+}
+
+/// Render a scene in the chosen number format.
+pub fn render(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
+    render_with_progress(scene, opts, &|_, _| {})
+}
+
+/// [`render`], calling `progress(rows_done, rows_total)` after each row (from the worker
+/// threads, in completion order) so that a CLI can draw a progress bar.
+pub fn render_with_progress(
+    scene: &Scene,
+    opts: &RenderOptions,
+    progress: &(dyn Fn(u32, u32) + Sync),
+) -> Result<Frame, RtError> {
+    validate(scene)?;
+    let (width, height) = opts.size.unwrap_or((scene.width, scene.height));
+    if width == 0 || height == 0 {
+        return Err(RtError::InvalidScene(format!(
+            "frame size {width}x{height}"
+        )));
+    }
+    let spp = opts.spp.unwrap_or(scene.spp).max(1);
+    let plan = plan(scene);
+    let start = Instant::now();
+    let args = (scene, opts, width, height, spp, &plan, progress);
+    let (rgb8, depth, normal, c) = match opts.numeric {
+        Numeric::F64 => {
+            render_generic::<f64>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::F32 => {
+            render_generic::<f32>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::F16 => {
+            render_generic::<half::f16>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::Q16_16 => {
+            render_generic::<Q16_16>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::Q8_24 => {
+            render_generic::<Q8_24>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::Q24_8 => {
+            render_generic::<Q24_8>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+        Numeric::Q32_32 => {
+            render_generic::<Q32_32>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
+        }
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    let stats = Stats {
+        primary_rays: c.primary,
+        shadow_rays: c.shadow,
+        reflected_rays: c.reflected,
+        seconds,
+        board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
+    };
+    Ok(Frame {
+        width,
+        height,
+        rgb8,
+        depth,
+        normal,
+        stats,
+        plan,
+    })
+}
+
+/// Parse a format name as the CLI spells it (`f64`, `f32`, `f16`, `q16.16`, `q8.24`,
+/// `q24.8`, `q32.32`; case-insensitive, `_` accepted for `.`).
+pub fn parse_numeric(name: &str) -> Option<Numeric> {
+    let n = name.to_ascii_lowercase().replace('_', ".");
+    Some(match n.as_str() {
+        "f64" => Numeric::F64,
+        "f32" => Numeric::F32,
+        "f16" => Numeric::F16,
+        "q16.16" => Numeric::Q16_16,
+        "q8.24" => Numeric::Q8_24,
+        "q24.8" => Numeric::Q24_8,
+        "q32.32" => Numeric::Q32_32,
+        _ => return None,
+    })
+}

@@ -1,0 +1,577 @@
+//! The scene file (TOML) of SPEC-RT: the contract shared by the CLI, the tests and other
+//! tools. Unknown keys are errors (`deny_unknown_fields`) so that a typo never silently
+//! renders a different scene; every error names the file, the line and the key.
+
+use super::scene::*;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use toml::Spanned;
+
+/// Capabilities a scene is checked against (the seed's OBJ_NUM and LIGHTS_NUM).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Maximum objects.
+    pub max_objects: usize,
+    /// Maximum lights, the ambient light included.
+    pub max_lights: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            max_objects: 8,
+            max_lights: 2,
+        }
+    }
+}
+
+/// A scene-file error, located.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}:{line}: `{key}`: {message}")]
+pub struct SceneFileError {
+    /// File name as given to [`parse`].
+    pub file: String,
+    /// 1-based line.
+    pub line: usize,
+    /// Offending key (or the nearest one).
+    pub key: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileToml {
+    render: Option<RenderToml>,
+    camera: CameraToml,
+    ambient: Option<AmbientToml>,
+    #[serde(default)]
+    light: Vec<Spanned<LightToml>>,
+    #[serde(default)]
+    material: BTreeMap<String, Spanned<MaterialToml>>,
+    #[serde(default)]
+    object: Vec<Spanned<ObjectToml>>,
+}
+
+fn d_size() -> Spanned<[u32; 2]> {
+    Spanned::new(0..0, [640, 480])
+}
+fn d_depth() -> u32 {
+    2
+}
+fn d_bias() -> f64 {
+    0.001
+}
+fn d_maxd() -> f64 {
+    1e6
+}
+fn d_spp() -> Spanned<u32> {
+    Spanned::new(0..0, 1)
+}
+fn d_one() -> f64 {
+    1.0
+}
+fn d_white() -> [f64; 3] {
+    [1.0; 3]
+}
+fn d_scale3() -> Spanned<[f64; 3]> {
+    Spanned::new(0..0, [1.0; 3])
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RenderToml {
+    #[serde(default = "d_size")]
+    size: Spanned<[u32; 2]>,
+    #[serde(default = "d_depth")]
+    depth: u32,
+    #[serde(default = "d_bias")]
+    bias: f64,
+    #[serde(default = "d_maxd")]
+    max_distance: f64,
+    #[serde(default)]
+    background: [f64; 3],
+    #[serde(default = "d_spp")]
+    spp: Spanned<u32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraToml {
+    position: [f64; 3],
+    look_at: [f64; 3],
+    up: [f64; 3],
+    fov_y: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AmbientToml {
+    color: [f64; 3],
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightToml {
+    position: [f64; 3],
+    color: [f64; 3],
+    direction: Option<[f64; 3]>,
+    cos_outer: Option<f64>,
+    cos_inner: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TermToml {
+    #[serde(default = "d_one")]
+    k: f64,
+    #[serde(default = "d_white")]
+    color: [f64; 3],
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum DiffuseModelToml {
+    Lambert,
+    OrenNayar,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DiffuseToml {
+    #[serde(default = "d_one")]
+    k: f64,
+    #[serde(default = "d_white")]
+    color: [f64; 3],
+    model: Option<DiffuseModelToml>,
+    sigma2: Option<f64>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum SpecModelToml {
+    BlinnPhong,
+    TorranceSparrow,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SpecularToml {
+    #[serde(default = "d_one")]
+    k: f64,
+    #[serde(default = "d_white")]
+    color: [f64; 3],
+    model: Option<SpecModelToml>,
+    exponent: Option<Spanned<u32>>,
+    eta: Option<f64>,
+    extinction: Option<f64>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum ReflModeToml {
+    None,
+    Constant,
+    Fresnel,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ReflectionToml {
+    mode: ReflModeToml,
+    r: Option<f64>,
+    eta: Option<f64>,
+    k: Option<f64>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum TexKindToml {
+    Xor,
+    Checkerboard,
+    RgbDots,
+    Marble,
+    Wood,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum MappingToml {
+    Planar,
+    Cylindrical,
+    Spherical,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum FilterToml {
+    Nearest,
+    Bilinear,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TextureToml {
+    kind: TexKindToml,
+    mapping: Option<MappingToml>,
+    scale: Option<[f64; 2]>,
+    offset: Option<[f64; 2]>,
+    color2: Option<[f64; 3]>,
+    filter: Option<FilterToml>,
+    cell: Option<u32>,
+    seed: Option<u32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialToml {
+    ambient: Option<TermToml>,
+    diffuse: DiffuseToml,
+    specular: Option<SpecularToml>,
+    reflection: Option<ReflectionToml>,
+    texture: Option<TextureToml>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum ShapeToml {
+    Sphere,
+    Plane,
+    Disk,
+    Square,
+    Cylinder,
+    Cone,
+    Cube,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ObjectToml {
+    shape: ShapeToml,
+    #[serde(default)]
+    translate: [f64; 3],
+    #[serde(default = "d_scale3")]
+    scale: Spanned<[f64; 3]>,
+    #[serde(default)]
+    rotate: [f64; 3],
+    material: Spanned<String>,
+}
+
+fn line_of(text: &str, pos: usize) -> usize {
+    let pos = pos.min(text.len());
+    text.as_bytes()[..pos]
+        .iter()
+        .filter(|b| **b == b'\n')
+        .count()
+        + 1
+}
+
+fn key_from_message(msg: &str, text: &str, span: Option<core::ops::Range<usize>>) -> String {
+    if let Some(start) = msg.find('`') {
+        if let Some(len) = msg[start + 1..].find('`') {
+            return msg[start + 1..start + 1 + len].to_string();
+        }
+    }
+    if let Some(r) = span {
+        if let Some(s) = text.get(r) {
+            let k: String = s
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == '-')
+                .collect();
+            if !k.is_empty() {
+                return k;
+            }
+        }
+    }
+    String::from("?")
+}
+
+/// Parse a scene file with the seed's default limits.
+pub fn parse(text: &str, file_name: &str) -> Result<Scene, SceneFileError> {
+    parse_with_limits(text, file_name, Limits::default())
+}
+
+/// Parse a scene file against a target's limits.
+pub fn parse_with_limits(
+    text: &str,
+    file_name: &str,
+    limits: Limits,
+) -> Result<Scene, SceneFileError> {
+    let err = |pos: usize, key: &str, message: String| SceneFileError {
+        file: file_name.to_string(),
+        line: line_of(text, pos),
+        key: key.to_string(),
+        message,
+    };
+    let f: FileToml = toml::from_str(text).map_err(|e| {
+        let span = e.span();
+        let msg = e.message().trim().to_string();
+        SceneFileError {
+            file: file_name.to_string(),
+            line: span.clone().map(|r| line_of(text, r.start)).unwrap_or(1),
+            key: key_from_message(&msg, text, span),
+            message: msg,
+        }
+    })?;
+
+    let r = f.render.unwrap_or(RenderToml {
+        size: d_size(),
+        depth: d_depth(),
+        bias: d_bias(),
+        max_distance: d_maxd(),
+        background: [0.0; 3],
+        spp: d_spp(),
+    });
+    let [width, height] = *r.size.get_ref();
+    if width == 0 || height == 0 {
+        return Err(err(
+            r.size.span().start,
+            "size",
+            "frame size must be positive".into(),
+        ));
+    }
+    if r.depth == 0 {
+        return Err(err(0, "depth", "depth must be at least 1".into()));
+    }
+    if *r.spp.get_ref() == 0 {
+        return Err(err(
+            r.spp.span().start,
+            "spp",
+            "spp must be at least 1".into(),
+        ));
+    }
+    let fov = *f.camera.fov_y.get_ref();
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(err(
+            f.camera.fov_y.span().start,
+            "fov_y",
+            "must be in (0, 180) degrees".into(),
+        ));
+    }
+
+    // lights: the ambient light is light 0
+    let total_lights = 1 + f.light.len();
+    if total_lights > limits.max_lights {
+        let pos = f
+            .light
+            .get(limits.max_lights.saturating_sub(1))
+            .map(|l| l.span().start)
+            .unwrap_or(0);
+        return Err(err(
+            pos,
+            "light",
+            format!(
+                "{total_lights} lights (ambient included), the target has {}",
+                limits.max_lights
+            ),
+        ));
+    }
+    let mut lights = Vec::new();
+    for l in &f.light {
+        let pos = l.span().start;
+        let l = l.get_ref();
+        let spot = match (l.direction, l.cos_outer, l.cos_inner) {
+            (None, None, None) => None,
+            (Some(direction), Some(cos_outer), cos_inner) => {
+                let cos_inner = cos_inner.unwrap_or(cos_outer);
+                if cos_inner < cos_outer {
+                    return Err(err(
+                        pos,
+                        "cos_inner",
+                        "cos_inner must be ≥ cos_outer".into(),
+                    ));
+                }
+                Some(Spot {
+                    direction,
+                    cos_outer,
+                    cos_inner,
+                })
+            }
+            _ => {
+                return Err(err(
+                    pos,
+                    "direction",
+                    "a spot light needs both direction and cos_outer".into(),
+                ))
+            }
+        };
+        lights.push(Light {
+            position: l.position,
+            color: l.color,
+            spot,
+        });
+    }
+
+    let mut names = Vec::new();
+    let mut materials = Vec::new();
+    for (name, m) in &f.material {
+        let pos = m.span().start;
+        let m = m.get_ref();
+        let diffuse_model = match m.diffuse.model.unwrap_or(DiffuseModelToml::Lambert) {
+            DiffuseModelToml::Lambert => DiffuseModel::Lambert,
+            DiffuseModelToml::OrenNayar => {
+                let sigma2 = m.diffuse.sigma2.unwrap_or(0.25);
+                if sigma2 < 0.0 {
+                    return Err(err(pos, "sigma2", "must be ≥ 0".into()));
+                }
+                DiffuseModel::OrenNayar { sigma2 }
+            }
+        };
+        let specular = match &m.specular {
+            None => None,
+            Some(s) => {
+                let exponent = s.exponent.as_ref().map(|e| (*e.get_ref(), e.span().start));
+                let (exponent, epos) = exponent.unwrap_or((32, pos));
+                if exponent > crate::num::MAX_POW_EXPONENT {
+                    return Err(err(epos, "exponent", "must be ≤ 1023".into()));
+                }
+                let model = match s.model.unwrap_or(SpecModelToml::BlinnPhong) {
+                    SpecModelToml::BlinnPhong => SpecularModel::BlinnPhong,
+                    SpecModelToml::TorranceSparrow => SpecularModel::TorranceSparrow {
+                        eta: s.eta.unwrap_or(1.5),
+                        k: s.extinction.unwrap_or(0.0),
+                    },
+                };
+                Some(Specular {
+                    k: s.k,
+                    color: s.color,
+                    model,
+                    exponent,
+                })
+            }
+        };
+        let reflection = match &m.reflection {
+            None => Reflection::None,
+            Some(r) => match r.mode {
+                ReflModeToml::None => Reflection::None,
+                ReflModeToml::Constant => Reflection::Constant(
+                    r.r.unwrap_or_else(|| specular.as_ref().map(|s| s.k).unwrap_or(0.0)),
+                ),
+                ReflModeToml::Fresnel => {
+                    let eta = r.eta.unwrap_or(1.5);
+                    if eta <= 0.0 {
+                        return Err(err(pos, "eta", "must be positive".into()));
+                    }
+                    Reflection::Fresnel {
+                        eta,
+                        k: r.k.unwrap_or(0.0),
+                    }
+                }
+            },
+        };
+        let texture = m.texture.as_ref().map(|t| Texture {
+            kind: match t.kind {
+                TexKindToml::Xor => TextureKind::Xor,
+                TexKindToml::Checkerboard => TextureKind::Checkerboard {
+                    cell: t.cell.unwrap_or(8),
+                },
+                TexKindToml::RgbDots => TextureKind::RgbDots,
+                TexKindToml::Marble => TextureKind::Marble {
+                    seed: t.seed.unwrap_or(1),
+                },
+                TexKindToml::Wood => TextureKind::Wood {
+                    seed: t.seed.unwrap_or(2),
+                },
+            },
+            mapping: match t.mapping.unwrap_or(MappingToml::Planar) {
+                MappingToml::Planar => Mapping::Planar,
+                MappingToml::Cylindrical => Mapping::Cylindrical,
+                MappingToml::Spherical => Mapping::Spherical,
+            },
+            scale: t.scale.unwrap_or([1.0, 1.0]),
+            offset: t.offset.unwrap_or([0.0, 0.0]),
+            color2: t.color2.unwrap_or([0.0; 3]),
+            filter: match t.filter.unwrap_or(FilterToml::Nearest) {
+                FilterToml::Nearest => Filter::Nearest,
+                FilterToml::Bilinear => Filter::Bilinear,
+            },
+        });
+        names.push(name.clone());
+        materials.push(Material {
+            name: name.clone(),
+            ambient: m.ambient.as_ref().map(|a| Term {
+                k: a.k,
+                color: a.color,
+            }),
+            diffuse: Term {
+                k: m.diffuse.k,
+                color: m.diffuse.color,
+            },
+            diffuse_model,
+            specular,
+            reflection,
+            texture,
+        });
+    }
+
+    if f.object.len() > limits.max_objects {
+        let pos = f.object[limits.max_objects].span().start;
+        return Err(err(
+            pos,
+            "object",
+            format!(
+                "{} objects, the target has {}",
+                f.object.len(),
+                limits.max_objects
+            ),
+        ));
+    }
+    let mut objects = Vec::new();
+    for o in &f.object {
+        let o = o.get_ref();
+        let mname = o.material.get_ref();
+        let Some(material) = names.iter().position(|n| n == mname) else {
+            return Err(err(
+                o.material.span().start,
+                "material",
+                format!("no material named `{mname}`"),
+            ));
+        };
+        let scale = *o.scale.get_ref();
+        if scale
+            .iter()
+            .any(|s| s.is_nan() || *s <= 0.0 || s.is_infinite())
+        {
+            return Err(err(
+                o.scale.span().start,
+                "scale",
+                "scales (radii) must be positive and finite".into(),
+            ));
+        }
+        objects.push(Object {
+            shape: match o.shape {
+                ShapeToml::Sphere => Shape::Sphere,
+                ShapeToml::Plane => Shape::Plane,
+                ShapeToml::Disk => Shape::Disk,
+                ShapeToml::Square => Shape::Square,
+                ShapeToml::Cylinder => Shape::Cylinder,
+                ShapeToml::Cone => Shape::Cone,
+                ShapeToml::Cube => Shape::Cube,
+            },
+            translate: o.translate,
+            scale,
+            rotate: o.rotate,
+            material,
+        });
+    }
+
+    Ok(Scene {
+        width,
+        height,
+        depth: r.depth,
+        bias: r.bias,
+        max_distance: r.max_distance,
+        background: r.background,
+        spp: *r.spp.get_ref(),
+        camera: Camera {
+            position: f.camera.position,
+            look_at: f.camera.look_at,
+            up: f.camera.up,
+            fov_y: fov,
+        },
+        ambient: f.ambient.map(|a| a.color).unwrap_or([0.0; 3]),
+        lights,
+        materials,
+        objects,
+    })
+}

@@ -1,0 +1,189 @@
+//! Procedural textures in the block's 256×256-word texture memory, (u, v) mappings and
+//! filtering. Generation runs once per scene in f64 (the seed fills the memory from the
+//! MicroBlaze); only mapping and sampling run in the target format.
+
+use super::scene::{Filter, Mapping, TextureKind};
+use super::vec::V3;
+use super::Math;
+use crate::num::{self, Scalar};
+use core::f64::consts::PI;
+
+/// TEXT_PAGE_SIZE: words of texture memory shared by all textures.
+pub const TEXTURE_WORDS: usize = 256 * 256;
+
+/// Side of each texture when `n` textures share the memory: the largest power of two with
+/// n·side² ≤ 65 536 (256 for one texture, 128 for up to four, 64 for up to sixteen).
+pub fn side_for(n: usize) -> usize {
+    let mut side = 256;
+    while side > 1 && n.max(1) * side * side > TEXTURE_WORDS {
+        side /= 2;
+    }
+    side
+}
+
+/// Whether a texture's texels are a grey mix factor (true) or a colour (false).
+pub fn is_grey(kind: TextureKind) -> bool {
+    !matches!(kind, TextureKind::RgbDots)
+}
+
+fn hash(seed: u32, x: i64, y: i64) -> f64 {
+    let mut h = (x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (y as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+        ^ (seed as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+    h ^= h >> 33;
+    (h >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Smooth value noise in [0, 1] on a unit lattice.
+pub fn value_noise(seed: u32, x: f64, y: f64) -> f64 {
+    let (xf, yf) = (x.floor(), y.floor());
+    let (fx, fy) = (x - xf, y - yf);
+    let (xi, yi) = (xf as i64, yf as i64);
+    let s = |t: f64| t * t * (3.0 - 2.0 * t);
+    let (sx, sy) = (s(fx), s(fy));
+    let a = hash(seed, xi, yi);
+    let b = hash(seed, xi + 1, yi);
+    let c = hash(seed, xi, yi + 1);
+    let d = hash(seed, xi + 1, yi + 1);
+    let top = a + (b - a) * sx;
+    let bot = c + (d - c) * sx;
+    top + (bot - top) * sy
+}
+
+/// Turbulence: Σ noise(2^o·p)/2^o over five octaves, in [0, ~2).
+pub fn turbulence(seed: u32, x: f64, y: f64) -> f64 {
+    let mut sum = 0.0;
+    let mut f = 1.0;
+    for _ in 0..5 {
+        sum += value_noise(seed, x * f, y * f) / f;
+        f *= 2.0;
+    }
+    sum
+}
+
+/// One texel (0x00RRGGBB; grey textures repeat the mix byte in all three).
+pub fn texel(kind: TextureKind, x: usize, y: usize, side: usize) -> u32 {
+    let grey = |g: u32| (g << 16) | (g << 8) | g;
+    match kind {
+        TextureKind::Xor => {
+            let g = ((x * 256 / side) ^ (y * 256 / side)) as u32 & 255;
+            grey(g)
+        }
+        TextureKind::Checkerboard { cell } => {
+            let cell = (cell.max(1)) as usize;
+            grey(if (x / cell + y / cell).is_multiple_of(2) {
+                255
+            } else {
+                0
+            })
+        }
+        TextureKind::RgbDots => match (y * side + x) % 3 {
+            0 => 0xFF_0000,
+            1 => 0x00_FF00,
+            _ => 0x00_00FF,
+        },
+        TextureKind::Marble { seed } => {
+            let (u, v) = (x as f64 / side as f64, y as f64 / side as f64);
+            let t = turbulence(seed, u * 8.0, v * 8.0);
+            let m = 0.5 * (1.0 + (2.0 * PI * 4.0 * u + 5.0 * t).sin());
+            grey((m * 255.0).floor().clamp(0.0, 255.0) as u32)
+        }
+        TextureKind::Wood { seed } => {
+            let (u, v) = (x as f64 / side as f64 - 0.5, y as f64 / side as f64 - 0.5);
+            let r = (u * u + v * v).sqrt();
+            let t = turbulence(seed, u * 6.0 + 10.0, v * 6.0 + 10.0);
+            let w = (12.0 * r + 0.3 * t).fract();
+            grey((w * 255.0).floor().clamp(0.0, 255.0) as u32)
+        }
+    }
+}
+
+/// (u, v) ∈ [0, 1)² of an object-space point by a mapping.
+pub fn map_uv<S: Scalar>(mapping: Mapping, p: V3<S>, m: &Math) -> (S, S) {
+    let half = S::from_f64(0.5);
+    let one = S::one();
+    let around = || {
+        let a = num::atan2(p.x, p.z, m.atan) * S::from_f64(1.0 / (2.0 * PI));
+        if a < S::zero() {
+            a + one
+        } else {
+            a
+        }
+    };
+    match mapping {
+        Mapping::Planar => ((p.x + one) * half, (p.z + one) * half),
+        Mapping::Cylindrical => (around(), (p.y + one) * half),
+        Mapping::Spherical => (
+            around(),
+            one - num::acos(p.y, m.acos) * S::from_f64(1.0 / PI),
+        ),
+    }
+}
+
+/// A texture's slot in memory, in the target format.
+#[derive(Debug, Clone)]
+pub struct TexSlot<S> {
+    /// First word.
+    pub base: usize,
+    /// Side in texels.
+    pub side: usize,
+    /// Mapping.
+    pub mapping: Mapping,
+    /// Filter.
+    pub filter: Filter,
+    /// (u, v) scale.
+    pub scale: (S, S),
+    /// (u, v) offset.
+    pub offset: (S, S),
+    /// Grey mix texture?
+    pub grey: bool,
+}
+
+fn unpack<S: Scalar>(w: u32) -> V3<S> {
+    let k = 1.0 / 255.0;
+    V3::new(
+        S::from_f64(((w >> 16) & 255) as f64 * k),
+        S::from_f64(((w >> 8) & 255) as f64 * k),
+        S::from_f64((w & 255) as f64 * k),
+    )
+}
+
+/// Sample a slot at (u, v) after its transform, repeat wrap. Returns the texel value as a
+/// colour (for grey textures every channel is the mix factor).
+pub fn sample<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> V3<S> {
+    let u = (u * slot.scale.0 + slot.offset.0).fract();
+    let v = (v * slot.scale.1 + slot.offset.1).fract();
+    let side = slot.side as i64;
+    let sidef = S::from_f64(slot.side as f64);
+    let fetch = |x: i64, y: i64| -> V3<S> {
+        let x = x.rem_euclid(side) as usize;
+        let y = y.rem_euclid(side) as usize;
+        unpack(mem.get(slot.base + y * slot.side + x).copied().unwrap_or(0))
+    };
+    match slot.filter {
+        Filter::Nearest => {
+            let x = (u * sidef).floor().to_f64() as i64;
+            let y = (v * sidef).floor().to_f64() as i64;
+            fetch(x, y)
+        }
+        Filter::Bilinear => {
+            let half = S::from_f64(0.5);
+            let fx = u * sidef - half;
+            let fy = v * sidef - half;
+            let x0 = fx.floor();
+            let y0 = fy.floor();
+            let (ax, ay) = (fx - x0, fy - y0);
+            let (xi, yi) = (x0.to_f64() as i64, y0.to_f64() as i64);
+            let one = S::one();
+            let c00 = fetch(xi, yi);
+            let c10 = fetch(xi + 1, yi);
+            let c01 = fetch(xi, yi + 1);
+            let c11 = fetch(xi + 1, yi + 1);
+            let top = c00.scale(one - ax) + c10.scale(ax);
+            let bot = c01.scale(one - ax) + c11.scale(ax);
+            top.scale(one - ay) + bot.scale(ay)
+        }
+    }
+}

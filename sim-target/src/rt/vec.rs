@@ -1,0 +1,178 @@
+//! 3-vectors and 3×3 matrices in any [`Scalar`].
+
+use crate::num::{self, Scalar, SqrtKind};
+use core::ops::{Add, Mul, Neg, Sub};
+
+/// A 3-vector.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct V3<S> {
+    /// x.
+    pub x: S,
+    /// y.
+    pub y: S,
+    /// z.
+    pub z: S,
+}
+
+impl<S: Scalar> V3<S> {
+    /// From components.
+    #[inline(always)]
+    pub fn new(x: S, y: S, z: S) -> Self {
+        Self { x, y, z }
+    }
+    /// From f64 components (converted once, at scene preparation).
+    pub fn from_f64(a: [f64; 3]) -> Self {
+        Self::new(S::from_f64(a[0]), S::from_f64(a[1]), S::from_f64(a[2]))
+    }
+    /// To f64.
+    pub fn to_f64(self) -> [f64; 3] {
+        [self.x.to_f64(), self.y.to_f64(), self.z.to_f64()]
+    }
+    /// Zero vector.
+    #[inline(always)]
+    pub fn zero() -> Self {
+        Self::new(S::zero(), S::zero(), S::zero())
+    }
+    /// Dot product.
+    #[inline(always)]
+    pub fn dot(self, o: Self) -> S {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+    /// Cross product.
+    #[inline(always)]
+    pub fn cross(self, o: Self) -> Self {
+        Self::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
+    }
+    /// Per-component product.
+    #[inline(always)]
+    pub fn hadamard(self, o: Self) -> Self {
+        Self::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+    /// Scale by a scalar.
+    #[inline(always)]
+    pub fn scale(self, s: S) -> Self {
+        Self::new(self.x * s, self.y * s, self.z * s)
+    }
+    /// Unit vector by 1/√(v·v) with the chosen square root (zero stays zero).
+    #[inline(always)]
+    pub fn normalize(self, sq: SqrtKind) -> Self {
+        let l2 = self.dot(self);
+        if l2 <= S::zero() {
+            return self;
+        }
+        self.scale(num::rsqrt(l2, sq))
+    }
+    /// Length.
+    #[inline(always)]
+    pub fn length(self, sq: SqrtKind) -> S {
+        num::sqrt(self.dot(self), sq)
+    }
+}
+
+impl<S: Scalar> Add for V3<S> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Self::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+impl<S: Scalar> Sub for V3<S> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Self::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+impl<S: Scalar> Neg for V3<S> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self::new(-self.x, -self.y, -self.z)
+    }
+}
+impl<S: Scalar> Mul<S> for V3<S> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, s: S) -> Self {
+        self.scale(s)
+    }
+}
+
+/// Row-major 3×3 matrix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct M3<S>(pub [[S; 3]; 3]);
+
+impl<S: Scalar> M3<S> {
+    /// From f64 rows.
+    pub fn from_f64(m: [[f64; 3]; 3]) -> Self {
+        Self(m.map(|r| r.map(S::from_f64)))
+    }
+    /// M·v.
+    #[inline(always)]
+    pub fn mul_v(&self, v: V3<S>) -> V3<S> {
+        let m = &self.0;
+        V3::new(
+            m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
+            m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+            m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z,
+        )
+    }
+}
+
+/// f64 helpers used when preparing a scene.
+pub(crate) mod f {
+    pub fn mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+        let mut r = [[0.0; 3]; 3];
+        for (i, row) in r.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+            }
+        }
+        r
+    }
+    pub fn transpose(a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+        let mut r = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                r[i][j] = a[j][i];
+            }
+        }
+        r
+    }
+    /// R = Rz·Ry·Rx (degrees).
+    pub fn rotation(deg: [f64; 3]) -> [[f64; 3]; 3] {
+        let [ax, ay, az] = deg.map(f64::to_radians);
+        let (sx, cx) = ax.sin_cos();
+        let (sy, cy) = ay.sin_cos();
+        let (sz, cz) = az.sin_cos();
+        let rx = [[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]];
+        let ry = [[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]];
+        let rz = [[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]];
+        mul(rz, mul(ry, rx))
+    }
+    pub fn diag(d: [f64; 3]) -> [[f64; 3]; 3] {
+        [[d[0], 0.0, 0.0], [0.0, d[1], 0.0], [0.0, 0.0, d[2]]]
+    }
+    pub fn normalize(v: [f64; 3]) -> [f64; 3] {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if l > 0.0 {
+            [v[0] / l, v[1] / l, v[2] / l]
+        } else {
+            v
+        }
+    }
+    pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    }
+    pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+    }
+}

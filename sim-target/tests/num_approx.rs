@@ -1,0 +1,175 @@
+//! Worst-case error of every approximation over its whole domain, asserted against the
+//! figures published in docs/rt.md (so a change in a coefficient fails here).
+
+use sim_target::num::{self, AcosKind, AtanKind, Scalar, SqrtKind, Q16_16, Q32_32};
+
+fn sweep(lo: f64, hi: f64, n: usize) -> impl Iterator<Item = f64> {
+    (0..=n).map(move |i| lo + (hi - lo) * i as f64 / n as f64)
+}
+
+fn max_err<S: Scalar>(
+    xs: impl Iterator<Item = f64>,
+    f: impl Fn(S) -> S,
+    g: impl Fn(f64) -> f64,
+) -> f64 {
+    xs.map(|x| (f(S::from_f64(x)).to_f64() - g(S::from_f64(x).to_f64())).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn atan_seed_error_matches_seed_figure() {
+    // whole real line: [−1, 1] densely and the reciprocal branch up to ±1e4
+    let e1 = max_err::<f64>(
+        sweep(-1.0, 1.0, 200_000),
+        |z| num::atan(z, AtanKind::Seed),
+        f64::atan,
+    );
+    let e2 = max_err::<f64>(
+        sweep(-1e4, 1e4, 200_000),
+        |z| num::atan(z, AtanKind::Seed),
+        f64::atan,
+    );
+    let e = e1.max(e2);
+    eprintln!("atan seed: {e:.6}");
+    // seed: 0.00496 rad
+    assert!(e < 0.00500 && e > 0.00490, "{e}");
+}
+
+#[test]
+fn atan_minimax_error() {
+    let e = max_err::<f64>(
+        sweep(-1.0, 1.0, 200_000),
+        |z| num::atan(z, AtanKind::Minimax11),
+        f64::atan,
+    )
+    .max(max_err::<f64>(
+        sweep(-1e4, 1e4, 200_000),
+        |z| num::atan(z, AtanKind::Minimax11),
+        f64::atan,
+    ));
+    eprintln!("atan minimax11: {e:.3e}");
+    assert!(e < 2.5e-6, "{e}");
+}
+
+#[test]
+fn atan2_all_quadrants() {
+    let mut worst: f64 = 0.0;
+    for i in 0..3600 {
+        let a = (i as f64 / 3600.0) * 2.0 * std::f64::consts::PI - std::f64::consts::PI + 1e-4;
+        let (y, x) = (a.sin() * 3.0, a.cos() * 3.0);
+        let got = num::atan2(y, x, AtanKind::Minimax11);
+        worst = worst.max((got - y.atan2(x)).abs());
+    }
+    assert!(worst < 2.5e-6, "{worst}");
+}
+
+#[test]
+fn acos_errors() {
+    let lut = max_err::<f64>(
+        sweep(-1.0, 1.0, 400_000),
+        |x| num::acos(x, AcosKind::SeedLut33),
+        f64::acos,
+    );
+    let s4 = max_err::<f64>(
+        sweep(-1.0, 1.0, 400_000),
+        |x| num::acos(x, AcosKind::Sqrt4),
+        f64::acos,
+    );
+    let s8 = max_err::<f64>(
+        sweep(-1.0, 1.0, 400_000),
+        |x| num::acos(x, AcosKind::Sqrt8),
+        f64::acos,
+    );
+    eprintln!("acos lut33 {lut:.5} sqrt4 {s4:.3e} sqrt8 {s8:.3e}");
+    // seed: 0.0624 rad near ±1 (the table cannot follow the √(1−x) cusp)
+    assert!(lut > 0.060 && lut < 0.0630, "{lut}");
+    assert!(s4 < 7.0e-5, "{s4}");
+    assert!(s8 < 3.0e-7, "{s8}");
+}
+
+fn rel_err_sqrt(kind: SqrtKind) -> f64 {
+    // x over 12 decades, dense enough to land on every bin edge
+    (0..=240_000)
+        .map(|i| 10f64.powf(-6.0 + 12.0 * i as f64 / 240_000.0))
+        .map(|x| ((num::sqrt(x, kind) - x.sqrt()) / x.sqrt()).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn sqrt_newton_raphson_errors() {
+    let pre2 = rel_err_sqrt(SqrtKind::PreS { iters: 2 });
+    let pre3 = rel_err_sqrt(SqrtKind::PreS { iters: 3 });
+    let seam2 = rel_err_sqrt(SqrtKind::Seamless { iters: 2 });
+    let seam3 = rel_err_sqrt(SqrtKind::Seamless { iters: 3 });
+    eprintln!("sqrt rel err: PRE_S+2 {pre2:.3e}, PRE_S+3 {pre3:.3e}, seamless+2 {seam2:.3e}, seamless+3 {seam3:.3e}");
+    assert!(pre2 > 0.11 && pre2 < 0.12, "{pre2}");
+    assert!(pre3 < 2.0e-2, "{pre3}");
+    assert!(seam2 < 4.8e-3, "{seam2}");
+    assert!(seam3 < 3.4e-5, "{seam3}");
+}
+
+#[test]
+fn division_newton_raphson_error() {
+    let mut worst: f64 = 0.0;
+    for i in 0..=100_000 {
+        let b = 10f64.powf(-4.0 + 8.0 * i as f64 / 100_000.0);
+        for b in [b, -b] {
+            let q = num::div_nr(1.0, b, 2);
+            worst = worst.max(((q - 1.0 / b) * b).abs());
+        }
+    }
+    eprintln!("div NR2 rel err {worst:.3e}");
+    // (1/17)^4 after two steps
+    assert!(worst < 1.3e-5, "{worst}");
+    assert_eq!(num::div_nr(1.0f64, 0.0, 2), f64::MAX);
+}
+
+#[test]
+fn powi_by_repeated_squaring() {
+    for e in [0u32, 1, 2, 7, 32, 200, 1023] {
+        for x in [0.0f64, 0.5, 0.9, 0.999, 1.0] {
+            let got = num::powi(x, e);
+            let want = x.powi(e as i32);
+            assert!(
+                (got - want).abs() <= 1e-12 * want.max(1.0),
+                "{x}^{e}: {got} vs {want}"
+            );
+        }
+    }
+    // exponents above MAX_POWER_LOOP_ITER's reach are clipped to 1023
+    assert_eq!(num::powi(0.999f64, 5000), num::powi(0.999f64, 1023));
+}
+
+#[test]
+fn fixed_point_saturates_instead_of_wrapping() {
+    let big = Q16_16::from_f64(30000.0);
+    assert_eq!((big + big).to_f64(), Q16_16::max_value().to_f64());
+    assert_eq!((big * big).to_f64(), Q16_16::max_value().to_f64());
+    assert_eq!((-big * big).to_f64(), -32768.0);
+    assert_eq!((Q16_16::one() / Q16_16::zero()), Q16_16::max_value());
+    assert_eq!(Q16_16::from_f64(f64::NAN), Q16_16::zero());
+    assert_eq!(Q16_16::from_f64(1e9), Q16_16::max_value());
+    assert_eq!(
+        Q16_16::from_f64(0.5).sqrt().to_f64(),
+        Q16_16::from_f64(0.5f64.sqrt()).to_f64()
+    );
+    assert_eq!(Q32_32::from_f64(-2.5).floor().to_f64(), -3.0);
+    assert_eq!(Q16_16::from_f64(-1.25).fract().to_f64(), 0.75);
+}
+
+#[test]
+fn approximations_in_q16_16_stay_close() {
+    // the same polynomial in Q16.16 adds at most a few LSB of rounding
+    let e = max_err::<Q16_16>(
+        sweep(-1.0, 1.0, 20_000),
+        |z| num::atan(z, AtanKind::Seed),
+        f64::atan,
+    );
+    assert!(e < 0.00496 + 2e-4, "{e}");
+    let e = max_err::<Q16_16>(
+        sweep(-1.0, 1.0, 20_000),
+        |x| num::acos(x, AcosKind::Sqrt8),
+        f64::acos,
+    );
+    assert!(e < 5e-4, "{e}");
+}
