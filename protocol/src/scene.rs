@@ -40,14 +40,15 @@
 //! | 26–28, 29–31, 32–34 | basis u, v, w (ViRAY's form, derived by the host) | Q16.16 × 9 |
 //! | 35 | near_plane (image plane distance along −w) | Q16.16 |
 //! | 36 + 12·i | light i: [`light`] offsets | |
-//! | 36 + 12·LIGHTS + 42·j | object j: [`obj`] offsets | |
+//! | 36 + 12·LIGHTS + 45·j | object j: [`obj`] offsets | |
 //!
 //! Light block (12 words): kind (0 ambient, 1 point, 2 spot), position ×3, colour ×3,
-//! direction ×3, cos_outer, cos_inner. Object block (42 words): shape, translate ×3,
+//! direction ×3, cos_outer, cos_inner. Object block (45 words): shape, translate ×3,
 //! scale ×3, rotate ×3 (degrees), ambient k + colour ×3, diffuse k + colour ×3 + model +
 //! σ², specular k + colour ×3 + model + exponent (u32 ≤ 1023), reflection mode + η + κ,
 //! texture kind, mapping, scale ×2, offset ×2, colour2 ×3, filter, seed, base texel,
-//! size (`width_log2 | height_log2 << 8`). With the defaults the map is 396 words.
+//! size (`width_log2 | height_log2 << 8`), Torrance–Sparrow η + κ, constant reflectance r.
+//! With the defaults the map is 420 words.
 
 use heapless::Vec;
 
@@ -191,14 +192,22 @@ pub mod obj {
     pub const TEX_COLOR2: usize = 35;
     /// [`super::TexFilter`] code.
     pub const TEX_FILTER: usize = 38;
-    /// Seed of procedural noise.
+    /// Seed of procedural noise, or the square size in texels of a checkerboard.
     pub const TEX_SEED: usize = 39;
     /// First texel in texture memory.
     pub const TEX_BASE: usize = 40;
     /// `width_log2 | height_log2 << 8`.
     pub const TEX_SIZE: usize = 41;
+    /// Torrance–Sparrow's own η (its F term); a material may pair it with a different
+    /// reflection η, so it cannot share [`ETA`].
+    pub const SPEC_ETA: usize = 42;
+    /// Torrance–Sparrow's extinction κ.
+    pub const SPEC_KAPPA: usize = 43;
+    /// Reflectance r of [`super::ReflectionMode::Constant`] (the scene file gives r
+    /// separately from k_s).
+    pub const REFLECTANCE: usize = 44;
     /// Words per object.
-    pub const WORDS: usize = 42;
+    pub const WORDS: usize = 45;
 }
 
 /// Where a value sits, for error messages.
@@ -606,6 +615,12 @@ pub struct Material {
     pub eta: f64,
     /// κ.
     pub kappa: f64,
+    /// Torrance–Sparrow η.
+    pub spec_eta: f64,
+    /// Torrance–Sparrow κ.
+    pub spec_kappa: f64,
+    /// Constant reflectance r.
+    pub reflectance: f64,
     /// Texture.
     pub texture: Texture,
 }
@@ -1047,6 +1062,9 @@ fn encode_object(o: &Object) -> Result<[u32; obj::WORDS], SceneError> {
     w[obj::REFLECTION_MODE] = m.reflection.code();
     put_q(&mut w, obj::ETA, "material.reflection.eta", m.eta)?;
     put_q(&mut w, obj::KAPPA, "material.reflection.k", m.kappa)?;
+    put_q(&mut w, obj::SPEC_ETA, "material.specular.eta", m.spec_eta)?;
+    put_q(&mut w, obj::SPEC_KAPPA, "material.specular.extinction", m.spec_kappa)?;
+    put_q(&mut w, obj::REFLECTANCE, "material.reflection.r", m.reflectance)?;
     w[obj::TEX_KIND] = t.kind.code();
     w[obj::TEX_MAPPING] = t.mapping.code();
     put_v(&mut w, obj::TEX_SCALE, "material.texture.scale", t.scale)?;
@@ -1112,6 +1130,9 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
             )?,
             eta: get_q(w, obj::ETA),
             kappa: get_q(w, obj::KAPPA),
+            spec_eta: get_q(w, obj::SPEC_ETA),
+            spec_kappa: get_q(w, obj::SPEC_KAPPA),
+            reflectance: get_q(w, obj::REFLECTANCE),
             texture: Texture {
                 kind: code(
                     "material.texture.kind",

@@ -93,6 +93,9 @@ fn floor() -> Object {
             reflection: ReflectionMode::Fresnel,
             eta: 1.33,
             kappa: 0.0,
+            spec_eta: 0.0,
+            spec_kappa: 0.0,
+            reflectance: 0.0,
             texture: Texture {
                 kind: TextureKind::Checkerboard,
                 mapping: Mapping::Planar,
@@ -116,10 +119,10 @@ fn golden_offsets() {
     assert_eq!(light::OFFSET, 36);
     assert_eq!(Regs::light_offset(1), 48);
     assert_eq!(Regs::OBJECTS_OFFSET, 60);
-    assert_eq!(Regs::object_offset(7), 60 + 7 * 42);
-    // 16 header + 20 camera + 2 × 12 lights + 8 × 42 objects.
-    assert_eq!(Regs::WORDS, 396);
-    assert_eq!(SceneRegs::<4, 3>::WORDS, 16 + 20 + 36 + 168);
+    assert_eq!(Regs::object_offset(7), 60 + 7 * 45);
+    // 16 header + 20 camera + 2 × 12 lights + 8 × 45 objects.
+    assert_eq!(Regs::WORDS, 420);
+    assert_eq!(SceneRegs::<4, 3>::WORDS, 16 + 20 + 36 + 180);
     assert_eq!(SceneRegs::<4, 3>::OBJECTS_OFFSET, 72);
     assert_eq!(Regs::VERSION_WORD, 0x0208_0001);
 }
@@ -128,7 +131,7 @@ fn golden_offsets() {
 fn golden_words() {
     let s = example();
     let w: Vec<u32> = s.words().collect();
-    assert_eq!(w.len(), 396);
+    assert_eq!(w.len(), 420);
     assert_eq!(w[hdr::MAGIC], MAGIC);
     assert_eq!(w[hdr::MAGIC].to_be_bytes(), *b"FPRT");
     assert_eq!(w[hdr::VERSION], 0x0208_0001);
@@ -205,7 +208,7 @@ impl WithColor2 for Texture {
 fn words_round_trip_and_checks() {
     let s = example();
     let mut buf = vec![0u32; Regs::WORDS];
-    assert_eq!(s.to_words(&mut buf), Ok(396));
+    assert_eq!(s.to_words(&mut buf), Ok(420));
     assert_eq!(Regs::from_words(&buf).unwrap(), s);
     let mut bad = buf.clone();
     bad[0] = 0;
@@ -213,14 +216,14 @@ fn words_round_trip_and_checks() {
     assert!(matches!(
         Regs::from_words(&buf[..395]),
         Err(SceneError::Length {
-            expected: 396,
+            expected: 420,
             got: 395
         })
     ));
     // A 4-object map is refused by the 8-object decoder even at the right length.
     let small = SceneRegs::<4, 2>::new();
     let mut sw: Vec<u32> = small.words().collect();
-    sw.resize(396, 0);
+    sw.resize(420, 0);
     assert!(matches!(
         Regs::from_words(&sw),
         Err(SceneError::Version { .. })
@@ -358,25 +361,25 @@ fn apply_checks_bounds() {
     let mut s = example();
     let before = s.clone();
     let w = RegWrite {
-        offset: 395,
+        offset: 419,
         words: heapless::Vec::from_slice(&[1, 2]).unwrap(),
     };
     assert_eq!(
         apply(&mut s, &w),
         Err(SceneError::Bounds {
-            offset: 395,
+            offset: 419,
             len: 2,
-            size: 396
+            size: 420
         })
     );
     assert_eq!(s, before);
     let w = RegWrite {
-        offset: 395,
+        offset: 419,
         words: heapless::Vec::from_slice(&[1]).unwrap(),
     };
     apply(&mut s, &w).unwrap();
-    assert_eq!(s.word(395), Some(1));
-    assert_eq!(s.word(396), None);
+    assert_eq!(s.word(419), Some(1));
+    assert_eq!(s.word(420), None);
 }
 
 fn image(words: Vec<u32>) -> Regs {
@@ -394,8 +397,8 @@ proptest! {
     /// and bridges no gap wider than the merge gap.
     #[test]
     fn diff_then_apply_reproduces(
-        base in proptest::collection::vec(any::<u32>(), 396),
-        edits in proptest::collection::vec((2usize..396, any::<u32>()), 0..60),
+        base in proptest::collection::vec(any::<u32>(), 420),
+        edits in proptest::collection::vec((2usize..420, any::<u32>()), 0..60),
         gap in 0usize..4,
     ) {
         let old = image(base);
