@@ -37,6 +37,48 @@ enum Command {
         #[arg(long)]
         stats: bool,
     },
+    /// Ray-trace a scene file (SPEC-RT's TOML) and write the frame as PNG.
+    Render {
+        /// The scene file.
+        scene: PathBuf,
+        /// Output PNG.
+        #[arg(short, long, default_value = "frame.png")]
+        output: PathBuf,
+        /// Frame size WxH (overrides the scene; the field of view is kept).
+        #[arg(long, value_parser = parse_size)]
+        size: Option<(u32, u32)>,
+        /// Number format: f64, f32, f16, q16.16, q8.24, q24.8, q32.32.
+        #[arg(long, default_value = "f32")]
+        numeric: String,
+        /// Samples per pixel (overrides the scene).
+        #[arg(long)]
+        spp: Option<u32>,
+        /// AOVs to write, e.g. depth=d.pfm,normal=n.pfm.
+        #[arg(long)]
+        aov: Option<String>,
+        /// Read-back packing: rgb888 or kcu116 (ViRAY's 16-bit mode, reconstructed).
+        #[arg(long, default_value = "rgb888")]
+        packing: String,
+        /// Print rays, time, board-time estimate and link counters.
+        #[arg(long)]
+        stats: bool,
+    },
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?} is not WxH"))?;
+    let w: u32 = w
+        .parse()
+        .map_err(|_| format!("width {w:?} is not a number"))?;
+    let h: u32 = h
+        .parse()
+        .map_err(|_| format!("height {h:?} is not a number"))?;
+    if w == 0 || h == 0 || w > 4096 || h > 4096 {
+        return Err(format!("{w}x{h} is outside 1..=4096 per side"));
+    }
+    Ok((w, h))
 }
 
 fn main() -> Result<()> {
@@ -48,7 +90,138 @@ fn main() -> Result<()> {
             traversal,
             stats,
         } => raster(&file, &output, traversal.as_deref(), stats),
+        Command::Render {
+            scene,
+            output,
+            size,
+            numeric,
+            spp,
+            aov,
+            packing,
+            stats,
+        } => render(&RenderArgs {
+            scene,
+            output,
+            size,
+            numeric,
+            spp,
+            aov,
+            packing,
+            stats,
+        }),
     }
+}
+
+struct RenderArgs {
+    scene: PathBuf,
+    output: PathBuf,
+    size: Option<(u32, u32)>,
+    numeric: String,
+    spp: Option<u32>,
+    aov: Option<String>,
+    packing: String,
+    stats: bool,
+}
+
+fn render(a: &RenderArgs) -> Result<()> {
+    use host_cli::render::{Aovs, Packing, Renderer};
+    let name = a.scene.display().to_string();
+    let text = std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read {name}"))?;
+    let mut scene = sim_target::rt::scene_file::parse(&text, &name)?;
+    if let Some((w, h)) = a.size {
+        scene.width = w;
+        scene.height = h;
+    }
+    if let Some(spp) = a.spp {
+        anyhow::ensure!((1..=256).contains(&spp), "--spp {spp} is outside 1..=256");
+        scene.spp = spp;
+    }
+    let numeric = sim_target::rt::parse_numeric(&a.numeric).ok_or_else(|| {
+        anyhow::anyhow!(
+            "--numeric {:?}: expected f64, f32, f16, q16.16, q8.24, q24.8 or q32.32",
+            a.numeric
+        )
+    })?;
+    let packing = match a.packing.as_str() {
+        "rgb888" => Packing::Rgb888,
+        "kcu116" => Packing::Kcu116,
+        other => anyhow::bail!("--packing {other:?}: expected rgb888 or kcu116"),
+    };
+    let mut aovs = Aovs::default();
+    let mut aov_paths: Vec<(String, PathBuf)> = Vec::new();
+    if let Some(spec) = &a.aov {
+        for item in spec.split(',') {
+            let (kind, path) = item
+                .split_once('=')
+                .ok_or_else(|| anyhow::anyhow!("--aov {item:?}: expected NAME=FILE.pfm"))?;
+            match kind {
+                "depth" => aovs.depth = true,
+                "normal" => aovs.normal = true,
+                other => anyhow::bail!("--aov {other:?}: expected depth or normal"),
+            }
+            aov_paths.push((kind.to_string(), PathBuf::from(path)));
+        }
+    }
+    let regs = sim_target::scene_regs::to_regs(&scene).with_context(|| format!("{name}"))?;
+    let mut session = Session::new(builtin::sim_target());
+    // The built-in target renders synchronously inside the link's poll: allow for a
+    // full-HD frame in the slowest format.
+    session.timeout = std::time::Duration::from_secs(3600);
+    session
+        .handshake()
+        .context("handshake with the built-in target")?;
+    let started = std::time::Instant::now();
+    let (out, words) = Renderer::new().frame(&mut session, &regs, numeric, packing, aovs)?;
+    let elapsed = started.elapsed();
+    out.image
+        .save(&a.output)
+        .with_context(|| format!("cannot write {}", a.output.display()))?;
+    for (kind, path) in &aov_paths {
+        let (data, channels) = match kind.as_str() {
+            "depth" => (out.depth.as_deref(), 1),
+            _ => (out.normal.as_deref(), 3),
+        };
+        let data = data.ok_or_else(|| anyhow::anyhow!("the target sent no {kind} AOV"))?;
+        let file = std::fs::File::create(path)
+            .with_context(|| format!("cannot create {}", path.display()))?;
+        sim_target::rt::write_pfm(
+            std::io::BufWriter::new(file),
+            out.image.width(),
+            out.image.height(),
+            channels,
+            data,
+        )
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    if a.stats {
+        let secs = elapsed.as_secs_f64();
+        println!(
+            "frame         {}x{} {numeric:?}",
+            out.image.width(),
+            out.image.height()
+        );
+        println!("registers     {words} words sent");
+        println!(
+            "rays          {} ({:.2} Mrays/s host)",
+            out.rays,
+            out.rays as f64 / secs / 1e6
+        );
+        println!(
+            "board time    {:.1} ms ({} cycles at {:.0} MHz, II = {})",
+            out.cycles as f64 / sim_target::rt::BOARD_CLOCK_HZ * 1e3,
+            out.cycles,
+            sim_target::rt::BOARD_CLOCK_HZ / 1e6,
+            sim_target::rt::BOARD_II
+        );
+        let l = out.stats.link;
+        println!(
+            "link (target) sent {} resent {} delivered {} crc errors {} duplicates {}",
+            l.sent, l.resent, l.delivered, l.crc_errors, l.duplicates
+        );
+        println!("host time     {:.1} ms", secs * 1e3);
+    }
+    eprintln!("wrote {}", a.output.display());
+    Ok(())
 }
 
 fn raster(file: &Path, output: &Path, traversal: Option<&str>, stats: bool) -> Result<()> {

@@ -1063,8 +1063,18 @@ fn encode_object(o: &Object) -> Result<[u32; obj::WORDS], SceneError> {
     put_q(&mut w, obj::ETA, "material.reflection.eta", m.eta)?;
     put_q(&mut w, obj::KAPPA, "material.reflection.k", m.kappa)?;
     put_q(&mut w, obj::SPEC_ETA, "material.specular.eta", m.spec_eta)?;
-    put_q(&mut w, obj::SPEC_KAPPA, "material.specular.extinction", m.spec_kappa)?;
-    put_q(&mut w, obj::REFLECTANCE, "material.reflection.r", m.reflectance)?;
+    put_q(
+        &mut w,
+        obj::SPEC_KAPPA,
+        "material.specular.extinction",
+        m.spec_kappa,
+    )?;
+    put_q(
+        &mut w,
+        obj::REFLECTANCE,
+        "material.reflection.r",
+        m.reflectance,
+    )?;
     w[obj::TEX_KIND] = t.kind.code();
     w[obj::TEX_MAPPING] = t.mapping.code();
     put_v(&mut w, obj::TEX_SCALE, "material.texture.scale", t.scale)?;

@@ -9,11 +9,13 @@ use std::collections::VecDeque;
 
 use protocol::bus::{quantize_rgb332, rgb332_encode, unpack, BusError, BusLayout, MAX_RECORDS};
 use protocol::frame::{
-    Block, Caps, FrameDone, NumericSet, PixelFormat, Plane, RasterSetup, ReadRequest, Rgb,
+    Block, Caps, FrameDone, Numeric, NumericSet, PixelFormat, Plane, RasterSetup, ReadRequest, Rgb,
     StartFrame,
 };
 
 use crate::raster::{Raster, RasterError};
+use crate::rt::RenderOptions;
+use crate::scene_regs::{from_regs, Regs, SceneRegsError};
 
 /// Records in the input FIFO: seed 000's RAMB16_S36_S36, 512 × 36 bits.
 pub const FIFO_RECORDS: usize = 512;
@@ -67,9 +69,12 @@ pub enum DeviceError {
         /// Size of the register file.
         size: usize,
     },
-    /// The ray-trace block is not in this build of the model.
-    #[error("this device has no {0:?} block")]
-    NoBlock(Block),
+    /// The register file does not describe a scene the ray tracer can render.
+    #[error("ray-tracer registers: {0}")]
+    Scene(SceneRegsError),
+    /// The ray tracer refused the scene.
+    #[error("ray tracer: {0}")]
+    Render(crate::rt::RtError),
 }
 
 /// The emulated FPGA.
@@ -84,6 +89,11 @@ pub struct Device {
     texels: Vec<u32>,
     done: VecDeque<FrameDone>,
     frames: u32,
+    /// The block whose output read-back shows: the last one started or set up.
+    shown: Block,
+    rt_frame: Option<crate::rt::Frame>,
+    /// The last read-back's bytes: a read is streamed in chunks, each a call to `read`.
+    read_cache: Option<(ReadRequest, Vec<u8>)>,
 }
 
 impl Device {
@@ -96,10 +106,14 @@ impl Device {
             packets: 0,
             raster: None,
             setup: None,
-            regs: vec![0; protocol::scene::SceneRegs::<8, 2>::WORDS],
+            // Power-on register file: the ID words (magic, version) are read-only constants.
+            regs: Regs::new().words().collect(),
             texels: vec![0; crate::raster::TEXTURE_WORDS],
             done: VecDeque::new(),
             frames: 0,
+            shown: Block::Raster,
+            rt_frame: None,
+            read_cache: None,
         }
     }
 
@@ -107,11 +121,15 @@ impl Device {
     pub fn caps(&self) -> Caps {
         Caps {
             raster: true,
-            ray_trace: false,
-            numeric: NumericSet::default(),
+            ray_trace: true,
+            numeric: Numeric::ALL
+                .iter()
+                .fold(NumericSet::default(), |s, &n| s.with(n)),
             pixel_formats: PixelFormat::Rgb888.bit()
                 | PixelFormat::Rgb332.bit()
-                | PixelFormat::DepthF32.bit(),
+                | PixelFormat::Kcu116.bit()
+                | PixelFormat::DepthF32.bit()
+                | PixelFormat::NormalF32.bit(),
             max_width: crate::raster::tri::MAX_DIM as u16,
             max_height: crate::raster::tri::MAX_DIM as u16,
             max_subpixel_bits: crate::raster::tri::MAX_SUBPIXEL_BITS,
@@ -219,6 +237,8 @@ impl Device {
             .map_err(DeviceError::Setup)?;
         self.raster = Some(raster);
         self.setup = Some(*setup);
+        self.shown = Block::Raster;
+        self.read_cache = None;
         Ok(())
     }
 
@@ -276,7 +296,27 @@ impl Device {
                 });
                 Ok(())
             }
-            Block::RayTrace => Err(DeviceError::NoBlock(Block::RayTrace)),
+            Block::RayTrace => {
+                let regs =
+                    Regs::from_words(&self.regs).map_err(|e| DeviceError::Scene(e.into()))?;
+                let scene = from_regs(&regs).map_err(DeviceError::Scene)?;
+                let opts = RenderOptions {
+                    numeric: start.numeric,
+                    aovs: true,
+                    ..Default::default()
+                };
+                let frame = crate::rt::render(&scene, &opts).map_err(DeviceError::Render)?;
+                self.frames += 1;
+                self.done.push_back(FrameDone {
+                    frame_id: start.frame_id,
+                    cycles: frame.stats.board_cycles,
+                    work: frame.stats.rays(),
+                });
+                self.rt_frame = Some(frame);
+                self.shown = Block::RayTrace;
+                self.read_cache = None;
+                Ok(())
+            }
         }
     }
 
@@ -287,53 +327,110 @@ impl Device {
 
     /// Bytes a read-back of `req` produces, or `None` if the buffer does not exist.
     pub fn read_len(&self, req: &ReadRequest) -> Option<u32> {
-        let raster = self.raster.as_ref()?;
-        let fb = raster.framebuffer();
+        let (w, h) = self.shown_size()?;
         let r = req.rect;
-        let inside = u32::from(r.x) + u32::from(r.w) <= fb.width()
-            && u32::from(r.y) + u32::from(r.h) <= fb.height();
+        let inside = u32::from(r.x) + u32::from(r.w) <= w && u32::from(r.y) + u32::from(r.h) <= h;
         let format_ok = matches!(
             (req.plane, req.format),
-            (Plane::Color, PixelFormat::Rgb888)
-                | (Plane::Color, PixelFormat::Rgb332)
-                | (Plane::Depth, PixelFormat::DepthF32)
-        );
+            (
+                Plane::Color,
+                PixelFormat::Rgb888 | PixelFormat::Rgb332 | PixelFormat::Kcu116
+            ) | (Plane::Depth, PixelFormat::DepthF32)
+        ) || (req.plane, req.format, self.shown)
+            == (Plane::Normal, PixelFormat::NormalF32, Block::RayTrace);
         (inside && format_ok).then(|| r.area() * req.format.bytes_per_pixel() as u32)
     }
 
-    /// Copies read-back bytes `offset..offset + out.len()` of `req` into `out`.
-    /// Bytes outside the request (a caller bug) are left as zero.
-    pub fn read(&self, req: &ReadRequest, offset: u32, out: &mut [u8]) {
-        out.fill(0);
-        let Some(raster) = self.raster.as_ref() else {
-            return;
-        };
-        let fb = raster.framebuffer();
-        let bpp = req.format.bytes_per_pixel();
-        let r = req.rect;
-        let width = fb.width() as usize;
-        for (k, byte) in out.iter_mut().enumerate() {
-            let at = offset as usize + k;
-            let (pixel, part) = (at / bpp, at % bpp);
-            let (px, py) = (pixel % usize::from(r.w), pixel / usize::from(r.w));
-            if py >= usize::from(r.h) {
-                return;
-            }
-            let index = (usize::from(r.y) + py) * width + usize::from(r.x) + px;
-            *byte = match (req.plane, req.format) {
-                (Plane::Color, PixelFormat::Rgb888) => fb.rgb()[index * 3 + part],
-                (Plane::Color, PixelFormat::Rgb332) => {
-                    let c = &fb.rgb()[index * 3..index * 3 + 3];
-                    let q = quantize_rgb332(Rgb::new(c[0], c[1], c[2]));
-                    rgb332_encode(q).unwrap_or(0)
-                }
-                (Plane::Depth, PixelFormat::DepthF32) => {
-                    let z = fb.depth()[index] as f32 / crate::raster::fb::Z_FAR as f32;
-                    z.to_le_bytes()[part]
-                }
-                _ => 0,
-            };
+    fn shown_size(&self) -> Option<(u32, u32)> {
+        match self.shown {
+            Block::Raster => self
+                .raster
+                .as_ref()
+                .map(|r| (r.framebuffer().width(), r.framebuffer().height())),
+            Block::RayTrace => self.rt_frame.as_ref().map(|f| (f.width, f.height)),
         }
+    }
+
+    /// Copies read-back bytes `offset..offset + out.len()` of `req` into `out`; bytes
+    /// past the end of the request (a caller bug) read as zero.
+    pub fn read(&mut self, req: &ReadRequest, offset: u32, out: &mut [u8]) {
+        out.fill(0);
+        if self.read_cache.as_ref().map(|(r, _)| r) != Some(req) {
+            self.read_cache = self.plane_bytes(req).map(|b| (*req, b));
+        }
+        if let Some((_, bytes)) = &self.read_cache {
+            let start = (offset as usize).min(bytes.len());
+            let end = (start + out.len()).min(bytes.len());
+            out[..end - start].copy_from_slice(&bytes[start..end]);
+        }
+    }
+
+    /// The whole read-back of `req` in its pixel format.
+    fn plane_bytes(&self, req: &ReadRequest) -> Option<Vec<u8>> {
+        let (width, _) = self.shown_size()?;
+        let r = req.rect;
+        let (rgb, depth, normal): (&[u8], Vec<f32>, Option<&[f32]>) = match self.shown {
+            Block::Raster => {
+                let fb = self.raster.as_ref()?.framebuffer();
+                let z = fb
+                    .depth()
+                    .iter()
+                    .map(|&z| z as f32 / crate::raster::fb::Z_FAR as f32)
+                    .collect();
+                (fb.rgb(), z, None)
+            }
+            Block::RayTrace => {
+                let f = self.rt_frame.as_ref()?;
+                (
+                    &f.rgb8,
+                    f.depth.clone().unwrap_or_default(),
+                    f.normal.as_deref(),
+                )
+            }
+        };
+        let pixels = (r.y..r.y + r.h).flat_map(|y| {
+            (r.x..r.x + r.w).map(move |x| usize::from(y) * width as usize + usize::from(x))
+        });
+        let mut out = Vec::with_capacity(r.area() as usize * req.format.bytes_per_pixel());
+        match (req.plane, req.format) {
+            (Plane::Color, PixelFormat::Rgb888) => {
+                for i in pixels {
+                    out.extend_from_slice(rgb.get(i * 3..i * 3 + 3)?);
+                }
+            }
+            (Plane::Color, PixelFormat::Rgb332) => {
+                for i in pixels {
+                    let c = rgb.get(i * 3..i * 3 + 3)?;
+                    let q = quantize_rgb332(Rgb::new(c[0], c[1], c[2]));
+                    out.push(rgb332_encode(q).unwrap_or(0));
+                }
+            }
+            (Plane::Color, PixelFormat::Kcu116) => {
+                // ViRAY's 16-bit mode keeps G and, alternately by column, B or R.
+                let mut rect = Vec::with_capacity(r.area() as usize * 3);
+                for i in pixels {
+                    rect.extend_from_slice(rgb.get(i * 3..i * 3 + 3)?);
+                }
+                for word in crate::rt::pack_kcu116(&rect, u32::from(r.w)) {
+                    out.extend_from_slice(&word.to_be_bytes());
+                }
+            }
+            (Plane::Depth, PixelFormat::DepthF32) => {
+                for i in pixels {
+                    out.extend_from_slice(&depth.get(i)?.to_le_bytes());
+                }
+            }
+            (Plane::Normal, PixelFormat::NormalF32) => {
+                let n = normal?;
+                for i in pixels {
+                    for v in n.get(i * 3..i * 3 + 3)? {
+                        out.extend_from_slice(&v.to_le_bytes());
+                    }
+                }
+            }
+            _ => return None,
+        }
+        Some(out)
     }
 
     /// Fragments written, FPGA cycles and frames done, for the controller's stats.

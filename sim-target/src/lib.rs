@@ -4,3 +4,4 @@ pub mod device;
 pub mod num;
 pub mod raster;
 pub mod rt;
+pub mod scene_regs;

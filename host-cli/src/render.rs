@@ -1,0 +1,193 @@
+//! `fpgfx render`: a ray-tracer scene through a [`Session`] to an image.
+//!
+//! The scene is written into the ray tracer's register image (protocol::scene) and only
+//! the registers that differ from the target's current image are sent, exactly as
+//! ViRAY's MicroBlaze driver updates its AXI registers between frames.
+
+use protocol::frame::{
+    Block, DeviceFrame, HostFrame, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame,
+    Stats,
+};
+use protocol::scene::diff;
+use sim_target::scene_regs::Regs;
+
+use crate::session::{Session, SessionError, Transport};
+
+/// How the colour buffer is read back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Packing {
+    /// Three bytes per pixel.
+    Rgb888,
+    /// ViRAY's KCU116 16-bit mode (G plus alternately B or R), reconstructed on the host.
+    Kcu116,
+}
+
+/// What to fetch besides the colour buffer.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Aovs {
+    /// Distance to the first hit per pixel.
+    pub depth: bool,
+    /// World-space normal per pixel.
+    pub normal: bool,
+}
+
+/// A rendered frame as read back.
+#[derive(Debug)]
+pub struct RenderOutput {
+    /// Colour.
+    pub image: image::RgbImage,
+    /// Depth AOV, one f32 per pixel.
+    pub depth: Option<Vec<f32>>,
+    /// Normal AOV, three f32 per pixel.
+    pub normal: Option<Vec<f32>>,
+    /// Board-time estimate in FPGA cycles and rays traced, from the target.
+    pub cycles: u64,
+    /// Rays traced.
+    pub rays: u64,
+    /// Both ends' counters.
+    pub stats: Stats,
+}
+
+/// Keeps the register image the target holds, so each frame sends only the difference.
+pub struct Renderer {
+    current: Regs,
+    frame_id: u32,
+}
+
+impl Default for Renderer {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Renderer {
+    /// A renderer for a target at power-on (all registers at their reset values).
+    pub fn new() -> Self {
+        Self {
+            current: Regs::new(),
+            frame_id: 0,
+        }
+    }
+
+    /// Sends the changed registers of `regs`, renders in `numeric` and reads the frame
+    /// back. Returns the frame and the number of register words sent.
+    pub fn frame<T: Transport>(
+        &mut self,
+        session: &mut Session<T>,
+        regs: &Regs,
+        numeric: Numeric,
+        packing: Packing,
+        aovs: Aovs,
+    ) -> Result<(RenderOutput, usize), SessionError> {
+        if let Some(peer) = session.peer() {
+            let caps = peer.caps;
+            if !caps.ray_trace {
+                return Err(SessionError::Unexpected(format!(
+                    "the target ({}) has no ray-trace block",
+                    peer.ident
+                )));
+            }
+            if !caps.numeric.contains(numeric) {
+                return Err(SessionError::Unexpected(format!(
+                    "the target ({}) cannot compute in {numeric:?}",
+                    peer.ident
+                )));
+            }
+        }
+        let mut words = 0;
+        for w in diff(&self.current, regs) {
+            words += w.words.len();
+            let offset = w.offset;
+            session.send(
+                &HostFrame::Regs(w),
+                Box::new(move |_| format!("the register write at offset {offset}")),
+            )?;
+        }
+        self.current = regs.clone();
+        self.frame_id = self.frame_id.wrapping_add(1);
+        let id = self.frame_id;
+        session.send(
+            &HostFrame::Start(StartFrame {
+                frame_id: id,
+                block: Block::RayTrace,
+                numeric,
+                auto_restart: false,
+            }),
+            Box::new(|_| "the start of the frame".into()),
+        )?;
+        let done = loop {
+            match session.recv()? {
+                DeviceFrame::Done(d) if d.frame_id == id => break d,
+                DeviceFrame::Done(_) | DeviceFrame::Synced(_) => {}
+                other => {
+                    return Err(SessionError::Unexpected(format!(
+                        "{other:?} while waiting for frame {id}"
+                    )))
+                }
+            }
+        };
+        let render = regs.render();
+        let (w, h) = (render.width as u16, render.height as u16);
+        let rect = Rect { x: 0, y: 0, w, h };
+        let image = match packing {
+            Packing::Rgb888 => {
+                let data = session.read_back(ReadRequest {
+                    plane: Plane::Color,
+                    rect,
+                    format: PixelFormat::Rgb888,
+                })?;
+                data
+            }
+            Packing::Kcu116 => {
+                let data = session.read_back(ReadRequest {
+                    plane: Plane::Color,
+                    rect,
+                    format: PixelFormat::Kcu116,
+                })?;
+                let words: Vec<u16> = data
+                    .chunks_exact(2)
+                    .map(|b| u16::from_be_bytes([b[0], b[1]]))
+                    .collect();
+                sim_target::rt::unpack_kcu116(&words, u32::from(w))
+            }
+        };
+        let image = image::RgbImage::from_raw(u32::from(w), u32::from(h), image)
+            .ok_or_else(|| SessionError::ReadBack("colour read-back size".into()))?;
+        let floats = |bytes: Vec<u8>| -> Vec<f32> {
+            bytes
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect()
+        };
+        let depth = if aovs.depth {
+            Some(floats(session.read_back(ReadRequest {
+                plane: Plane::Depth,
+                rect,
+                format: PixelFormat::DepthF32,
+            })?))
+        } else {
+            None
+        };
+        let normal = if aovs.normal {
+            Some(floats(session.read_back(ReadRequest {
+                plane: Plane::Normal,
+                rect,
+                format: PixelFormat::NormalF32,
+            })?))
+        } else {
+            None
+        };
+        let stats = session.stats()?;
+        Ok((
+            RenderOutput {
+                image,
+                depth,
+                normal,
+                cycles: done.cycles,
+                rays: done.work,
+                stats,
+            },
+            words,
+        ))
+    }
+}

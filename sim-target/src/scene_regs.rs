@@ -1,0 +1,335 @@
+//! Between the ray tracer's scene ([`crate::rt::Scene`]) and its register image
+//! ([`protocol::scene::SceneRegs`]): the host writes a scene file into registers, the
+//! device reads the registers back into the scene it renders.
+//!
+//! The register image is what a board receives, so rendering through it (rather than
+//! from the parsed file) is what makes built-in mode a faithful model: every value is
+//! quantised to Q16.16 exactly as the MicroBlaze would write it. Materials are per object
+//! in the registers (ViRAY has no material table), so shared materials are expanded.
+
+use protocol::scene::{self as regs, SceneError, SceneRegs};
+
+use crate::rt::{
+    Camera, DiffuseModel, Filter, Light, Mapping, Material, Object, Reflection, Scene, Shape,
+    Specular, SpecularModel, Spot, Term, Texture, TextureKind,
+};
+
+/// The default register image: the seed's OBJ_NUM = 8 and LIGHTS_NUM = 2.
+pub type Regs = SceneRegs<8, 2>;
+
+/// Why a scene and a register image could not be converted.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneRegsError {
+    /// A value the register map cannot hold (range, count, code).
+    #[error("scene registers: {0}")]
+    Map(#[from] SceneError),
+    /// The camera's up vector is parallel to its view direction (no basis).
+    #[error("camera: `up` is parallel to the view direction, so the camera has no basis")]
+    Camera,
+    /// An uploaded-image texture: the model only generates procedural ones.
+    #[error("object {0}: image textures are not supported by this model")]
+    ImageTexture(usize),
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    (n > 1e-12).then(|| [a[0] / n, a[1] / n, a[2] / n])
+}
+
+fn term(t: &Option<Term>) -> regs::Term {
+    t.as_ref().map_or(regs::Term::default(), |t| regs::Term {
+        k: t.k,
+        color: t.color,
+    })
+}
+
+fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
+    let mut out = regs::Material {
+        ambient: term(&m.ambient),
+        diffuse: regs::Term {
+            k: m.diffuse.k,
+            color: m.diffuse.color,
+        },
+        ..Default::default()
+    };
+    if let DiffuseModel::OrenNayar { sigma2 } = m.diffuse_model {
+        out.diffuse_model = regs::DiffuseModel::OrenNayar;
+        out.sigma2 = sigma2;
+    }
+    if let Some(s) = &m.specular {
+        out.specular = regs::Term {
+            k: s.k,
+            color: s.color,
+        };
+        out.exponent = s.exponent;
+        if let SpecularModel::TorranceSparrow { eta, k } = s.model {
+            out.specular_model = regs::SpecularModel::TorranceSparrow;
+            out.spec_eta = eta;
+            out.spec_kappa = k;
+        }
+    }
+    match m.reflection {
+        Reflection::None => {}
+        Reflection::Constant(r) => {
+            out.reflection = regs::ReflectionMode::Constant;
+            out.reflectance = r;
+        }
+        Reflection::Fresnel { eta, k } => {
+            out.reflection = regs::ReflectionMode::Fresnel;
+            out.eta = eta;
+            out.kappa = k;
+        }
+    }
+    if let Some(t) = &m.texture {
+        let (kind, seed) = match t.kind {
+            TextureKind::Xor => (regs::TextureKind::Xor, 0),
+            TextureKind::Checkerboard { cell } => (regs::TextureKind::Checkerboard, cell),
+            TextureKind::RgbDots => (regs::TextureKind::RgbDots, 0),
+            TextureKind::Marble { seed } => (regs::TextureKind::Marble, seed),
+            TextureKind::Wood { seed } => (regs::TextureKind::Wood, seed),
+        };
+        out.texture = regs::Texture {
+            kind,
+            mapping: match t.mapping {
+                Mapping::Planar => regs::Mapping::Planar,
+                Mapping::Cylindrical => regs::Mapping::Cylindrical,
+                Mapping::Spherical => regs::Mapping::Spherical,
+            },
+            scale: t.scale,
+            offset: t.offset,
+            color2: t.color2,
+            filter: match t.filter {
+                Filter::Nearest => regs::TexFilter::Nearest,
+                Filter::Bilinear => regs::TexFilter::Bilinear,
+            },
+            seed,
+            base: 0,
+            width_log2: 8,
+            height_log2: 8,
+        };
+    }
+    Ok(out)
+}
+
+/// Writes a scene into a register image (what the host sends).
+pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
+    let mut r = Regs::new();
+    r.set_counts(scene.objects.len(), 1 + scene.lights.len())?;
+    r.set_render(&regs::Render {
+        width: scene.width,
+        height: scene.height,
+        depth: scene.depth,
+        bias: scene.bias,
+        max_distance: scene.max_distance,
+        background: scene.background,
+        spp: scene.spp,
+        flags: regs::FLAG_SHADOWS | regs::FLAG_INTERNAL_SHADING | regs::FLAG_TEXTURES,
+        seed: 0,
+    })?;
+    let c = &scene.camera;
+    let w = normalize(sub(c.position, c.look_at)).ok_or(SceneRegsError::Camera)?;
+    let u = normalize(cross(c.up, w)).ok_or(SceneRegsError::Camera)?;
+    let v = cross(w, u);
+    r.set_camera(&regs::Camera {
+        position: c.position,
+        look_at: c.look_at,
+        up: c.up,
+        fov_y: c.fov_y,
+        u,
+        v,
+        w,
+        near_plane: 1.0,
+    })?;
+    r.set_light(
+        0,
+        &regs::Light {
+            kind: regs::LightKind::Ambient,
+            color: scene.ambient,
+            ..Default::default()
+        },
+    )?;
+    for (i, l) in scene.lights.iter().enumerate() {
+        let mut light = regs::Light {
+            kind: regs::LightKind::Point,
+            position: l.position,
+            color: l.color,
+            ..Default::default()
+        };
+        if let Some(s) = &l.spot {
+            light.kind = regs::LightKind::Spot;
+            light.direction = s.direction;
+            light.cos_outer = s.cos_outer;
+            light.cos_inner = s.cos_inner;
+        }
+        r.set_light(i + 1, &light)?;
+    }
+    for (i, o) in scene.objects.iter().enumerate() {
+        let m = scene.materials.get(o.material).ok_or(SceneError::Bounds {
+            offset: Regs::object_offset(i),
+            len: 0,
+            size: Regs::WORDS,
+        })?;
+        r.set_object(
+            i,
+            &regs::Object {
+                shape: match o.shape {
+                    Shape::Sphere => regs::Shape::Sphere,
+                    Shape::Plane => regs::Shape::Plane,
+                    Shape::Disk => regs::Shape::Disk,
+                    Shape::Square => regs::Shape::Square,
+                    Shape::Cylinder => regs::Shape::Cylinder,
+                    Shape::Cone => regs::Shape::Cone,
+                    Shape::Cube => regs::Shape::Cube,
+                },
+                translate: o.translate,
+                scale: o.scale,
+                rotate: o.rotate,
+                material: material(m)?,
+            },
+        )?;
+    }
+    Ok(r)
+}
+
+fn some_term(t: regs::Term) -> Option<Term> {
+    (t.k != 0.0).then_some(Term {
+        k: t.k,
+        color: t.color,
+    })
+}
+
+/// Reads the scene a register image describes (what the device renders).
+pub fn from_regs(r: &Regs) -> Result<Scene, SceneRegsError> {
+    let render = r.render();
+    let cam = r.camera();
+    let ambient = r.light(0)?.color;
+    let mut lights = Vec::new();
+    for i in 1..r.light_count() as usize {
+        let l = r.light(i)?;
+        lights.push(Light {
+            position: l.position,
+            color: l.color,
+            spot: (l.kind == regs::LightKind::Spot).then_some(Spot {
+                direction: l.direction,
+                cos_outer: l.cos_outer,
+                cos_inner: l.cos_inner,
+            }),
+        });
+    }
+    let mut materials = Vec::new();
+    let mut objects = Vec::new();
+    for i in 0..r.object_count() as usize {
+        let o = r.object(i)?;
+        let m = o.material;
+        let texture = match m.texture.kind {
+            regs::TextureKind::None => None,
+            regs::TextureKind::Image => return Err(SceneRegsError::ImageTexture(i)),
+            kind => Some(Texture {
+                kind: match kind {
+                    regs::TextureKind::Xor => TextureKind::Xor,
+                    regs::TextureKind::Checkerboard => TextureKind::Checkerboard {
+                        cell: m.texture.seed.max(1),
+                    },
+                    regs::TextureKind::RgbDots => TextureKind::RgbDots,
+                    regs::TextureKind::Marble => TextureKind::Marble {
+                        seed: m.texture.seed,
+                    },
+                    _ => TextureKind::Wood {
+                        seed: m.texture.seed,
+                    },
+                },
+                mapping: match m.texture.mapping {
+                    regs::Mapping::Planar => Mapping::Planar,
+                    regs::Mapping::Cylindrical => Mapping::Cylindrical,
+                    regs::Mapping::Spherical => Mapping::Spherical,
+                },
+                scale: m.texture.scale,
+                offset: m.texture.offset,
+                color2: m.texture.color2,
+                filter: match m.texture.filter {
+                    regs::TexFilter::Nearest => Filter::Nearest,
+                    regs::TexFilter::Bilinear => Filter::Bilinear,
+                },
+            }),
+        };
+        materials.push(Material {
+            name: format!("object{i}"),
+            ambient: some_term(m.ambient),
+            diffuse: Term {
+                k: m.diffuse.k,
+                color: m.diffuse.color,
+            },
+            diffuse_model: match m.diffuse_model {
+                regs::DiffuseModel::Lambert => DiffuseModel::Lambert,
+                regs::DiffuseModel::OrenNayar => DiffuseModel::OrenNayar { sigma2: m.sigma2 },
+            },
+            specular: some_term(m.specular).map(|t| Specular {
+                k: t.k,
+                color: t.color,
+                model: match m.specular_model {
+                    regs::SpecularModel::BlinnPhong => SpecularModel::BlinnPhong,
+                    regs::SpecularModel::TorranceSparrow => SpecularModel::TorranceSparrow {
+                        eta: m.spec_eta,
+                        k: m.spec_kappa,
+                    },
+                },
+                exponent: m.exponent,
+            }),
+            reflection: match m.reflection {
+                regs::ReflectionMode::None => Reflection::None,
+                regs::ReflectionMode::Constant => Reflection::Constant(m.reflectance),
+                regs::ReflectionMode::Fresnel => Reflection::Fresnel {
+                    eta: m.eta,
+                    k: m.kappa,
+                },
+            },
+            texture,
+        });
+        objects.push(Object {
+            shape: match o.shape {
+                regs::Shape::Sphere => Shape::Sphere,
+                regs::Shape::Plane => Shape::Plane,
+                regs::Shape::Disk => Shape::Disk,
+                regs::Shape::Square => Shape::Square,
+                regs::Shape::Cylinder => Shape::Cylinder,
+                regs::Shape::Cone => Shape::Cone,
+                regs::Shape::Cube => Shape::Cube,
+            },
+            translate: o.translate,
+            scale: o.scale,
+            rotate: o.rotate,
+            material: i,
+        });
+    }
+    Ok(Scene {
+        width: render.width,
+        height: render.height,
+        depth: render.depth,
+        bias: render.bias,
+        max_distance: render.max_distance,
+        background: render.background,
+        spp: render.spp,
+        camera: Camera {
+            position: cam.position,
+            look_at: cam.look_at,
+            up: cam.up,
+            fov_y: cam.fov_y,
+        },
+        ambient,
+        lights,
+        materials,
+        objects,
+    })
+}
