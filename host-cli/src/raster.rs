@@ -68,17 +68,17 @@ pub fn run<T: Transport>(
         }) as crate::session::Describe
     };
     for (index, cmd) in job.cmds.iter().enumerate() {
-        let closed = batcher.push(cmd.clone()).map_err(|e| {
+        let closed = batcher.push(cmd).map_err(|e| {
             SessionError::Unexpected(format!("{file}: cmd[{index}] ({}): {e}", op_name(cmd)))
         })?;
-        if let Some(frame) = closed {
+        if let Some(batch) = closed {
             // The command just pushed opened the next batch.
-            session.send(&frame, describe(std::mem::take(&mut pending)))?;
+            session.send_encoded(batch.as_bytes(), describe(std::mem::take(&mut pending)))?;
         }
         pending.push((index, op_name(cmd)));
     }
-    if let Some(frame) = batcher.finish() {
-        session.send(&frame, describe(std::mem::take(&mut pending)))?;
+    if let Some(batch) = batcher.finish() {
+        session.send_encoded(batch.as_bytes(), describe(std::mem::take(&mut pending)))?;
     }
     session.send(
         &HostFrame::Start(StartFrame {

@@ -158,6 +158,11 @@ impl<T: Transport> Session<T> {
     pub fn send(&mut self, frame: &HostFrame, describe: Describe) -> Result<u16, SessionError> {
         let mut buf = [0u8; MAX_PAYLOAD];
         let bytes = encode(frame, &mut buf).map_err(SessionError::Encode)?;
+        self.send_encoded(bytes, describe)
+    }
+
+    /// [`Session::send`] for a message already encoded (a [`protocol::frame::RasterBatch`]).
+    pub fn send_encoded(&mut self, bytes: &[u8], describe: Describe) -> Result<u16, SessionError> {
         let start = Instant::now();
         loop {
             match self.link.send(self.now(), bytes) {

@@ -11,8 +11,8 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use protocol::frame::{
-    decode, encode, HostFrame, Line, LineAlgo, Point, RasterBatcher, RasterCmd, Rgb, Shade,
-    Triangle,
+    encode, raster_commands, Line, LineAlgo, Point, RasterBatch, RasterBatcher, RasterCmd, Rgb,
+    Shade, Triangle,
 };
 use protocol::link::{decode_frame, encode_frame, Event, Header, Kind, Link, MAX_FRAME};
 use protocol::MAX_PAYLOAD;
@@ -80,11 +80,10 @@ fn payload_bytes(cmds: &[RasterCmd]) -> usize {
 fn encode_stream(cmds: &[RasterCmd]) -> Vec<u8> {
     let mut wire = Vec::with_capacity(cmds.len() * 32);
     let mut batcher = RasterBatcher::new();
-    let mut payload = [0u8; MAX_PAYLOAD];
     let mut frame = [0u8; MAX_FRAME];
     let mut seq = 0u16;
-    let mut emit = |msg: HostFrame, wire: &mut Vec<u8>| {
-        let bytes = encode(&msg, &mut payload).expect("batches fit a frame");
+    let mut emit = |batch: RasterBatch, wire: &mut Vec<u8>| {
+        let bytes = batch.as_bytes();
         let header = Header {
             kind: Kind::Data,
             epoch: 0,
@@ -97,7 +96,7 @@ fn encode_stream(cmds: &[RasterCmd]) -> Vec<u8> {
         wire.extend_from_slice(&frame[..n]);
     };
     for cmd in cmds {
-        if let Some(msg) = batcher.push(cmd.clone()).expect("commands fit a frame") {
+        if let Some(msg) = batcher.push(cmd).expect("commands fit a frame") {
             emit(msg, &mut wire);
         }
     }
@@ -112,9 +111,9 @@ fn decode_stream(wire: &mut [u8]) -> usize {
     let mut count = 0;
     for chunk in wire.split_mut(|&b| b == 0).filter(|c| !c.is_empty()) {
         let (_, payload) = decode_frame(chunk).expect("intact frame");
-        match decode::<HostFrame>(payload).expect("valid message") {
-            HostFrame::Raster(cmds) => count += cmds.len(),
-            other => panic!("unexpected {other:?}"),
+        for cmd in raster_commands(payload).expect("a raster batch") {
+            black_box(cmd.expect("valid command"));
+            count += 1;
         }
     }
     count
@@ -125,22 +124,20 @@ fn through_links(cmds: &[RasterCmd]) -> usize {
     let mut host: Link = Link::new(Default::default());
     let mut dev: Link = Link::new(Default::default());
     let mut batcher = RasterBatcher::new();
-    let mut msgs: Vec<HostFrame> = Vec::new();
+    let mut msgs: Vec<RasterBatch> = Vec::new();
     for c in cmds {
-        if let Some(m) = batcher.push(c.clone()).expect("fits") {
+        if let Some(m) = batcher.push(c).expect("fits") {
             msgs.push(m);
         }
     }
     msgs.extend(batcher.finish());
-    let mut payload = [0u8; MAX_PAYLOAD];
     let mut frame = [0u8; MAX_FRAME];
     let mut delivered = 0;
     let mut next = 0;
     let now = 0;
     while delivered < cmds.len() {
         while next < msgs.len() {
-            let bytes = encode(&msgs[next], &mut payload).expect("fits");
-            if host.send(now, bytes).is_err() {
+            if host.send(now, msgs[next].as_bytes()).is_err() {
                 break;
             }
             next += 1;
@@ -152,8 +149,9 @@ fn through_links(cmds: &[RasterCmd]) -> usize {
                 input = &input[used..];
                 match ev {
                     Some(Event::Data(p)) => {
-                        if let Ok(HostFrame::Raster(c)) = decode::<HostFrame>(p) {
-                            delivered += c.len();
+                        for c in raster_commands(p).expect("a raster batch") {
+                            black_box(c.expect("valid command"));
+                            delivered += 1;
                         }
                     }
                     Some(_) => {}

@@ -842,15 +842,98 @@ pub enum BatchError {
     TooLarge,
 }
 
+/// One closed [`HostFrame::Raster`] message, already encoded: the batcher serialises each
+/// command once, straight into the payload, so a command stream costs one postcard pass
+/// and no copies of the (large) `HostFrame` value.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RasterBatch {
+    bytes: Vec<u8, MAX_PAYLOAD>,
+    count: usize,
+}
+
+impl RasterBatch {
+    /// The postcard encoding of the `HostFrame::Raster` message: the link payload.
+    pub fn as_bytes(&self) -> &[u8] {
+        &self.bytes
+    }
+
+    /// Commands in the batch.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// The batch as a message value (decodes the bytes; for tests and tools).
+    pub fn to_frame(&self) -> Result<HostFrame, CodecError> {
+        decode(&self.bytes)
+    }
+}
+
+/// The postcard variant index of [`HostFrame::Raster`] (its declaration order).
+const RASTER_VARIANT: u8 = 2;
+
+/// Iterates the commands of an encoded [`HostFrame::Raster`] payload without building
+/// the message: the controller and the benches walk a batch in place, one command on the
+/// stack at a time.
+pub fn raster_commands(payload: &[u8]) -> Result<RasterCommands<'_>, CodecError> {
+    match payload {
+        [RASTER_VARIANT, n, rest @ ..] if usize::from(*n) <= RASTER_BATCH => Ok(RasterCommands {
+            rest,
+            left: usize::from(*n),
+        }),
+        _ => Err(CodecError::Decode(postcard::Error::DeserializeBadEnum)),
+    }
+}
+
+/// Iterator returned by [`raster_commands`]; a malformed command ends it with an error,
+/// and bytes left after the last command are reported as [`CodecError::Trailing`].
+#[derive(Debug, Clone)]
+pub struct RasterCommands<'a> {
+    rest: &'a [u8],
+    left: usize,
+}
+
+impl Iterator for RasterCommands<'_> {
+    type Item = Result<RasterCmd, CodecError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.left == 0 {
+            if self.rest.is_empty() {
+                return None;
+            }
+            let n = self.rest.len();
+            self.rest = &[];
+            return Some(Err(CodecError::Trailing(n)));
+        }
+        self.left -= 1;
+        match postcard::take_from_bytes::<RasterCmd>(self.rest) {
+            Ok((cmd, rest)) => {
+                self.rest = rest;
+                Some(Ok(cmd))
+            }
+            Err(e) => {
+                self.left = 0;
+                self.rest = &[];
+                Some(Err(CodecError::Decode(e)))
+            }
+        }
+    }
+}
+
 /// Packs raster commands into as few [`HostFrame::Raster`] messages as possible: a batch is
 /// closed when it holds [`RASTER_BATCH`] commands or the next command would push its
 /// encoding past [`MAX_PAYLOAD`]. Fewer, fuller frames is what keeps the link overhead of
 /// a triangle stream under 10 %.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct RasterBatcher {
-    cmds: Vec<RasterCmd, RASTER_BATCH>,
-    /// Encoded size of the pending batch as a `HostFrame` (variant + length + commands).
-    size: usize,
+    buf: [u8; MAX_PAYLOAD],
+    len: usize,
+    count: usize,
+}
+
+impl Default for RasterBatcher {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl RasterBatcher {
@@ -861,43 +944,57 @@ impl RasterBatcher {
     /// An empty batcher.
     pub const fn new() -> Self {
         Self {
-            cmds: Vec::new(),
-            size: Self::HEADER,
+            buf: [0; MAX_PAYLOAD],
+            len: Self::HEADER,
+            count: 0,
+        }
+    }
+
+    fn append(&mut self, cmd: &RasterCmd) -> bool {
+        match postcard::to_slice(cmd, &mut self.buf[self.len..]) {
+            Ok(used) => {
+                self.len += used.len();
+                self.count += 1;
+                true
+            }
+            Err(_) => false,
         }
     }
 
     /// Adds a command. Returns the previous batch when the command did not fit next to it
     /// (the command then starts the new batch).
-    pub fn push(&mut self, cmd: RasterCmd) -> Result<Option<HostFrame>, BatchError> {
-        let mut scratch = [0u8; MAX_PAYLOAD];
-        let len = encode(&cmd, &mut scratch)
-            .map_err(|_| BatchError::TooLarge)?
-            .len();
-        if Self::HEADER + len > MAX_PAYLOAD {
-            return Err(BatchError::TooLarge);
+    pub fn push(&mut self, cmd: &RasterCmd) -> Result<Option<RasterBatch>, BatchError> {
+        if self.count < RASTER_BATCH && self.append(cmd) {
+            return Ok(None);
         }
-        let full = if self.cmds.is_full() || self.size + len > MAX_PAYLOAD {
-            self.finish()
+        let full = self.finish();
+        if self.append(cmd) {
+            Ok(full)
         } else {
-            None
-        };
-        // Cannot fail: the batch was emptied above if it was full.
-        let _ = self.cmds.push(cmd);
-        self.size += len;
-        Ok(full)
+            Err(BatchError::TooLarge)
+        }
     }
 
     /// Closes the pending batch, if any.
-    pub fn finish(&mut self) -> Option<HostFrame> {
-        if self.cmds.is_empty() {
+    pub fn finish(&mut self) -> Option<RasterBatch> {
+        if self.count == 0 {
             return None;
         }
-        self.size = Self::HEADER;
-        Some(HostFrame::Raster(core::mem::take(&mut self.cmds)))
+        self.buf[0] = RASTER_VARIANT;
+        // count ≤ RASTER_BATCH < 128: a one-byte varint.
+        self.buf[1] = self.count as u8;
+        let batch = RasterBatch {
+            // len ≤ MAX_PAYLOAD = the capacity.
+            bytes: Vec::from_slice(&self.buf[..self.len]).unwrap_or_default(),
+            count: self.count,
+        };
+        self.len = Self::HEADER;
+        self.count = 0;
+        Some(batch)
     }
 
     /// Commands waiting in the pending batch.
     pub fn pending(&self) -> usize {
-        self.cmds.len()
+        self.count
     }
 }
