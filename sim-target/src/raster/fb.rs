@@ -156,8 +156,15 @@ impl Framebuffer {
         let idx = y as usize * self.width as usize + x0 as usize;
         let n = (x1 - x0) as usize;
         let row = &mut self.rgb[idx * 3..(idx + n) * 3];
+        if n <= 32 {
+            for px in row.chunks_exact_mut(3) {
+                px.copy_from_slice(&[c.r, c.g, c.b]);
+            }
+            self.count(idx, n);
+            return;
+        }
         row[..3].copy_from_slice(&[c.r, c.g, c.b]);
-        // Doubling copies: a span costs log2(n) memcpys instead of n 3-byte stores.
+        // Long spans: doubling copies: a span costs log2(n) memcpys instead of n 3-byte stores.
         let mut filled = 3;
         while filled < row.len() {
             let k = filled.min(row.len() - filled);

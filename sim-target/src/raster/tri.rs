@@ -241,14 +241,18 @@ fn row_span(s: &TriSetup, j: u32) -> (u32, u32) {
 /// framebuffer one long span per row instead of one per block (the SDRAM burst model).
 struct Merger {
     y0: u32,
-    rows: Vec<(u32, u32)>,
+    rows: [(u32, u32); MERGE_ROWS],
 }
 
+/// Rows a [`Merger`] holds: the tallest block.
+const MERGE_ROWS: usize = 32;
+const _: () = assert!(TILE_SIZES[0] as usize <= MERGE_ROWS && ZIGZAG_BLOCK as usize <= MERGE_ROWS);
+
 impl Merger {
-    fn new(y0: u32, n: u32) -> Self {
+    fn new(y0: u32) -> Self {
         Self {
             y0,
-            rows: vec![(0, 0); n as usize],
+            rows: [(0, 0); MERGE_ROWS],
         }
     }
 
@@ -272,6 +276,9 @@ impl Merger {
 
     fn flush<F: FnMut(u32, u32, u32)>(&mut self, emit: &mut F) {
         for (k, p) in self.rows.iter_mut().enumerate() {
+            if p.0 == p.1 {
+                continue;
+            }
             if p.0 < p.1 {
                 emit(self.y0 + k as u32, p.0, p.1);
             }
@@ -310,7 +317,7 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
         Traversal::Tiles => {
             let t0 = TILE_SIZES[0];
             let mut ty = y0;
-            let mut m = Merger::new(y0, t0);
+            let mut m = Merger::new(y0);
             while ty < y1 {
                 m.y0 = ty;
                 let mut tx = x0;
@@ -323,7 +330,7 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
             }
         }
         Traversal::Zigzag => {
-            let mut m = Merger::new(y0, ZIGZAG_BLOCK);
+            let mut m = Merger::new(y0);
             zigzag(s, c, &mut |y, a, b| {
                 if y >= m.y0 + ZIGZAG_BLOCK {
                     m.flush(emit);
