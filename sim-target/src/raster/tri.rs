@@ -384,33 +384,43 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
             }
         }
         Traversal::Simd8 => simd8(s, c, emit),
-        Traversal::Tiles => {
-            let t0 = TILE_SIZES[0];
-            let mut ty = y0;
-            let mut m = Merger::new(y0);
-            while ty < y1 {
-                m.y0 = ty;
-                let mut tx = x0;
-                while tx < x1 {
-                    tile(s, tx, ty, 0, c, &mut |y, a, b| m.push(y, a, b, emit));
-                    tx += t0;
-                }
-                m.flush(emit);
-                ty += t0;
-            }
-        }
-        Traversal::Zigzag => {
-            let mut m = Merger::new(y0);
-            zigzag(s, c, &mut |y, a, b| {
-                if y >= m.y0 + ZIGZAG_BLOCK {
-                    m.flush(emit);
-                    m.y0 = y - (y - y0) % ZIGZAG_BLOCK;
-                }
-                m.push(y, a, b, emit)
-            });
-            m.flush(emit);
-        }
+        Traversal::Tiles => tiles(s, c, emit),
+        Traversal::Zigzag => zigzag_merged(s, c, emit),
     }
+}
+
+// Separate functions keep each traversal's state (the span merger) out of the others'
+// stack frames: inlined together, LLVM initialised it for every triangle.
+#[inline(never)]
+fn tiles<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
+    let [x0, y0, x1, y1] = s.bbox;
+    let t0 = TILE_SIZES[0];
+    let mut ty = y0;
+    let mut m = Merger::new(y0);
+    while ty < y1 {
+        m.y0 = ty;
+        let mut tx = x0;
+        while tx < x1 {
+            tile(s, tx, ty, 0, c, &mut |y, a, b| m.push(y, a, b, emit));
+            tx += t0;
+        }
+        m.flush(emit);
+        ty += t0;
+    }
+}
+
+#[inline(never)]
+fn zigzag_merged<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
+    let [_, y0, _, _] = s.bbox;
+    let mut m = Merger::new(y0);
+    zigzag(s, c, &mut |y, a, b| {
+        if y >= m.y0 + ZIGZAG_BLOCK {
+            m.flush(emit);
+            m.y0 = y - (y - y0) % ZIGZAG_BLOCK;
+        }
+        m.push(y, a, b, emit)
+    });
+    m.flush(emit);
 }
 
 fn simd8<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
