@@ -190,7 +190,7 @@ fn line_colour_interpolation_and_thickness() {
         aa: false,
         algo: LineAlgo::Dda,
     };
-    r.draw(&RasterCmd::Line(l.clone())).expect("draw");
+    r.draw(&RasterCmd::Line(l)).expect("draw");
     assert_eq!(r.framebuffer().pixel(2, 5), Some(Rgb::new(0, 0, 0)));
     assert_eq!(r.framebuffer().pixel(60, 5), Some(Rgb::new(232, 116, 58)));
     assert_eq!(r.framebuffer().pixel(31, 5), Some(Rgb::new(116, 58, 29)));
@@ -212,8 +212,8 @@ fn line_colour_interpolation_and_thickness() {
         ..l
     };
     r.draw(&RasterCmd::Line(t)).expect("draw");
-    let (x0, y0, x1, y1) = (8.0, 10.0, 50.0, 40.0);
-    let len = ((x1 - x0) as f64).hypot(y1 - y0);
+    let (x0, y0, x1, y1): (f64, f64, f64, f64) = (8.0, 10.0, 50.0, 40.0);
+    let len = (x1 - x0).hypot(y1 - y0);
     let mut n = 0;
     for j in 0..64 {
         for i in 0..64 {

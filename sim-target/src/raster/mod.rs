@@ -167,7 +167,7 @@ impl Raster {
             len: data.len(),
             words,
         };
-        if data.len() % 4 != 0 {
+        if !data.len().is_multiple_of(4) {
             return Err(err);
         }
         let start = offset as usize;
