@@ -515,3 +515,37 @@ proptest! {
         prop_assert_eq!(got, want);
     }
 }
+
+#[test]
+fn circle_outline_writes_each_pixel_once() {
+    for radius in [0u32, 1, 2, 5, 17, 40] {
+        let mut r = raster(100, 100, 4);
+        r.framebuffer_mut().track_writes(true);
+        let c = Circle {
+            center: Point {
+                x: 50 * 16,
+                y: 50 * 16,
+            },
+            radius: radius * 16,
+            color: Rgb::new(9, 8, 7),
+            fill: false,
+        };
+        r.draw(&RasterCmd::Circle(c)).expect("draw");
+        assert_eq!(r.framebuffer().overdraw(), 0, "r = {radius}");
+        assert_eq!(
+            r.framebuffer().fragments() as usize,
+            circle::outline(radius as i64).len()
+        );
+    }
+    let mut r = raster(10, 10, 0);
+    let huge = Circle {
+        center: Point { x: 5, y: 5 },
+        radius: 5 * 4096,
+        color: Rgb::new(1, 1, 1),
+        fill: true,
+    };
+    assert!(
+        r.draw(&RasterCmd::Circle(huge)).is_err(),
+        "radius beyond four viewports is refused"
+    );
+}

@@ -204,7 +204,9 @@ impl Raster {
             }
             RasterCmd::Circle(c) => {
                 check_point(&c.center, "circle.center")?;
-                if c.radius > tri::COORD_LIMIT as u32 {
+                // The filled circle keeps one half-width per row: bound the radius to four
+                // viewports so that this table stays small.
+                if c.radius > tri::COORD_LIMIT as u32 || (c.radius >> bits) > 4 * tri::MAX_DIM {
                     return Err(RasterError::Coordinate {
                         field: "circle.radius",
                         value: c.radius as i64,
