@@ -67,7 +67,10 @@ impl DrawTarget for EgFb {
 }
 
 /// Triangles in pixel units, several positions per shape so that no one alignment wins.
-fn shapes() -> Vec<(&'static str, Vec<[(i32, i32); 3]>)> {
+/// A triangle in whole pixels.
+type Tri = [(i32, i32); 3];
+
+fn shapes() -> Vec<(&'static str, Vec<Tri>)> {
     let place = |t: [(i32, i32); 3], n: i32| -> Vec<[(i32, i32); 3]> {
         (0..n)
             .map(|k| t.map(|(x, y)| (x + (k * 37) % 300, y + (k * 53) % 300)))
@@ -193,7 +196,7 @@ fn lines(c: &mut Criterion) {
         let ls: Vec<RasterCmd> = ls
             .iter()
             .map(|l| match l {
-                RasterCmd::Line(l) => RasterCmd::Line(Line { algo, ..l.clone() }),
+                RasterCmd::Line(l) => RasterCmd::Line(Line { algo, ..*l }),
                 other => other.clone(),
             })
             .collect();

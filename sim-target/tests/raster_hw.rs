@@ -39,7 +39,7 @@ fn big() -> RasterCmd {
 fn fitkit_line() -> RasterCmd {
     RasterCmd::Line(Line {
         from: Point { x: 16, y: 16 },
-        to: Point { x: 32, y: 20 },
+        to: Point { x: 32, y: 48 },
         color: Rgb::new(1, 1, 1),
         color_to: None,
         width: 0,
@@ -51,11 +51,25 @@ fn fitkit_line() -> RasterCmd {
 #[test]
 fn seed_000_record_counts() {
     assert_eq!(
-        records(&fitkit_line()),
+        records(&fitkit_line(), 4),
         2,
         "45-bit line: two 36-bit records"
     );
-    assert_eq!(records(&big()), 4);
+    assert_eq!(records(&big(), 4), 2, "63-bit triangle: two records");
+    assert_eq!(
+        records(&big(), 0),
+        4,
+        "beyond 9-bit coordinates: the wide layout"
+    );
+    let RasterCmd::Triangle(t) = big() else {
+        unreachable!()
+    };
+    let rich = RasterCmd::Triangle(Triangle {
+        shade: Shade::Gouraud([Rgb::new(0, 0, 0); 3]),
+        z: Some([0; 3]),
+        ..t
+    });
+    assert_eq!(records(&rich, 4), 7, "125 + 48 + 72 = 245 bits");
 }
 
 #[test]
@@ -67,7 +81,7 @@ fn full_fifo_stalls_the_controller() {
     let s = *r.stats();
     assert!(s.fifo_stalls > 0, "a slow block must push back");
     assert!(s.fifo_max <= hw::FIFO_DEPTH);
-    assert_eq!(s.fifo_records, 300 * 4);
+    assert_eq!(s.fifo_records, 300 * 2);
     assert!(s.end_cycle >= s.cycles.triangle);
     assert!((s.board_seconds() - s.end_cycle as f64 / 142e6).abs() < 1e-12);
     assert_eq!(s.commands, 300);

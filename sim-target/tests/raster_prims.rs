@@ -190,7 +190,7 @@ fn line_colour_interpolation_and_thickness() {
         aa: false,
         algo: LineAlgo::Dda,
     };
-    r.draw(&RasterCmd::Line(l.clone())).expect("draw");
+    r.draw(&RasterCmd::Line(l)).expect("draw");
     assert_eq!(r.framebuffer().pixel(2, 5), Some(Rgb::new(0, 0, 0)));
     assert_eq!(r.framebuffer().pixel(60, 5), Some(Rgb::new(232, 116, 58)));
     assert_eq!(r.framebuffer().pixel(31, 5), Some(Rgb::new(116, 58, 29)));
@@ -212,8 +212,8 @@ fn line_colour_interpolation_and_thickness() {
         ..l
     };
     r.draw(&RasterCmd::Line(t)).expect("draw");
-    let (x0, y0, x1, y1) = (8.0, 10.0, 50.0, 40.0);
-    let len = ((x1 - x0) as f64).hypot(y1 - y0);
+    let (x0, y0, x1, y1): (f64, f64, f64, f64) = (8.0, 10.0, 50.0, 40.0);
+    let len = (x1 - x0).hypot(y1 - y0);
     let mut n = 0;
     for j in 0..64 {
         for i in 0..64 {
@@ -514,4 +514,38 @@ proptest! {
         let got: BTreeSet<(i64, i64)> = (0..48).flat_map(|y| (0..64).map(move |x| (x, y))).filter(|&(x, y)| r.framebuffer().pixel(x as u32, y as u32) == Some(white)).collect();
         prop_assert_eq!(got, want);
     }
+}
+
+#[test]
+fn circle_outline_writes_each_pixel_once() {
+    for radius in [0u32, 1, 2, 5, 17, 40] {
+        let mut r = raster(100, 100, 4);
+        r.framebuffer_mut().track_writes(true);
+        let c = Circle {
+            center: Point {
+                x: 50 * 16,
+                y: 50 * 16,
+            },
+            radius: radius * 16,
+            color: Rgb::new(9, 8, 7),
+            fill: false,
+        };
+        r.draw(&RasterCmd::Circle(c)).expect("draw");
+        assert_eq!(r.framebuffer().overdraw(), 0, "r = {radius}");
+        assert_eq!(
+            r.framebuffer().fragments() as usize,
+            circle::outline(radius as i64).len()
+        );
+    }
+    let mut r = raster(10, 10, 0);
+    let huge = Circle {
+        center: Point { x: 5, y: 5 },
+        radius: 5 * 4096,
+        color: Rgb::new(1, 1, 1),
+        fill: true,
+    };
+    assert!(
+        r.draw(&RasterCmd::Circle(huge)).is_err(),
+        "radius beyond four viewports is refused"
+    );
 }

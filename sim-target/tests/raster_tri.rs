@@ -132,14 +132,30 @@ proptest! {
     }
 
     #[test]
+    fn guard_band_vertices_match_reference(
+        bits in 0u8..=8,
+        v in proptest::collection::vec((-tri::COORD_LIMIT..=tri::COORD_LIMIT, -tri::COORD_LIMIT..=tri::COORD_LIMIT, 0u8..4), 3),
+    ) {
+        // Each coordinate is random in the guard band, or pinned to one of its limits,
+        // or near the viewport: the huge edge values must stay exact.
+        let l = tri::COORD_LIMIT;
+        let pick = |c: i32, k: u8| match k { 0 => c, 1 => l, 2 => -l, _ => c.rem_euclid(64 << bits) };
+        let p: Vec<Point> = v.iter().map(|&(x, y, k)| Point { x: pick(x, k), y: pick(y, k.wrapping_add(x as u8) % 4) }).collect();
+        check([p[0], p[1], p[2]], bits, 64, 48)?;
+    }
+
+    #[test]
     fn degenerate_and_grid_aligned(a in pt(0..64), b in pt(0..64), k in -3i32..4) {
-        // Vertices on pixel centres and corners (ties with the fill rule everywhere),
+        // Vertices on pixel centres and corners (quarter-pixel units: even = ½ px), so
         // plus collinear triples (zero area: nothing drawn).
         let bits = 2;
-        let s = |p: Point| Point { x: p.x * 2 + 1, y: p.y * 2 + 1 };
+        let s = |p: Point| Point { x: p.x * 2, y: p.y * 2 };
         let c = Point { x: a.x + k * (b.x - a.x), y: a.y + k * (b.y - a.y) };
         check([s(a), s(b), s(c)], bits, 40, 40)?;
         check([s(a), s(b), Point { x: a.x * 4, y: b.y * 4 }], bits, 40, 40)?;
+        // Axis-aligned right triangles: horizontal and vertical edges through centres.
+        check([s(a), Point { x: s(b).x, y: s(a).y }, s(b)], bits, 40, 40)?;
+        check([s(a), Point { x: s(a).x, y: s(b).y }, s(b)], bits, 40, 40)?;
     }
 }
 

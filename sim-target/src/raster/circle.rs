@@ -82,10 +82,37 @@ pub fn draw(fb: &mut Framebuffer, c: &Circle, bits: u8) -> u64 {
         }
         n + oct.len() as u64
     } else {
-        for (dx, dy) in outline(r) {
+        // Each symmetric point once: the axes and the diagonal have only four images.
+        let mut plot = |dx: i64, dy: i64| {
             let (x, y) = (cx + dx, cy + dy);
             if (0..w).contains(&x) && (0..h).contains(&y) {
                 fb.put(x as u32, y as u32, c.color);
+            }
+        };
+        for &(x, y) in &oct {
+            if y == 0 {
+                plot(0, 0);
+            } else if x == 0 {
+                for (dx, dy) in [(0, y), (0, -y), (y, 0), (-y, 0)] {
+                    plot(dx, dy);
+                }
+            } else if x == y {
+                for (dx, dy) in [(x, x), (-x, x), (x, -x), (-x, -x)] {
+                    plot(dx, dy);
+                }
+            } else {
+                for (dx, dy) in [
+                    (x, y),
+                    (y, x),
+                    (-x, y),
+                    (-y, x),
+                    (x, -y),
+                    (y, -x),
+                    (-x, -y),
+                    (-y, -x),
+                ] {
+                    plot(dx, dy);
+                }
             }
         }
         oct.len() as u64

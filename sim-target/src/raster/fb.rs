@@ -18,7 +18,12 @@ pub struct Framebuffer {
     writes: Option<Vec<u8>>,
     fragments: u64,
     overdraw: u64,
+    pat: [u8; PAT_BYTES],
+    pat_color: Option<Rgb>,
 }
+
+/// Bytes of the cached span pattern (64 RGB888 pixels).
+const PAT_BYTES: usize = 3 * 64;
 
 impl Framebuffer {
     /// A framebuffer cleared to `background`, depth cleared to far.
@@ -32,6 +37,8 @@ impl Framebuffer {
             writes: None,
             fragments: 0,
             overdraw: 0,
+            pat: [0; PAT_BYTES],
+            pat_color: None,
         };
         fb.clear(background);
         fb
@@ -155,14 +162,17 @@ impl Framebuffer {
         }
         let idx = y as usize * self.width as usize + x0 as usize;
         let n = (x1 - x0) as usize;
+        if self.pat_color != Some(c) {
+            for px in self.pat.chunks_exact_mut(3) {
+                px.copy_from_slice(&[c.r, c.g, c.b]);
+            }
+            self.pat_color = Some(c);
+        }
+        // One memcpy per 64 pixels from a cached pattern row: spans are mostly short,
+        // and per-pixel 3-byte stores cost more than the copy.
         let row = &mut self.rgb[idx * 3..(idx + n) * 3];
-        row[..3].copy_from_slice(&[c.r, c.g, c.b]);
-        // Doubling copies: a span costs log2(n) memcpys instead of n 3-byte stores.
-        let mut filled = 3;
-        while filled < row.len() {
-            let k = filled.min(row.len() - filled);
-            row.copy_within(..k, filled);
-            filled += k;
+        for ch in row.chunks_mut(PAT_BYTES) {
+            ch.copy_from_slice(&self.pat[..ch.len()]);
         }
         self.count(idx, n);
     }

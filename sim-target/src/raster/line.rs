@@ -93,14 +93,21 @@ pub fn draw_skip_first(fb: &mut Framebuffer, l: &Line, bits: u8, skip_first: boo
     let b = ((l.to.x >> bits) as i64, (l.to.y >> bits) as i64);
     let (w, h) = (fb.width() as i64, fb.height() as i64);
     let inside = |p: (i64, i64)| (0..w).contains(&p.0) && (0..h).contains(&p.1);
-    if l.algo == LineAlgo::Bresenham
-        && l.color_to.is_none()
-        && !skip_first
-        && !fb.tracking()
-        && inside(a)
-        && inside(b)
-    {
-        return fast_bresenham(fb, a, b, l.color);
+    if l.color_to.is_none() && !skip_first && !fb.tracking() && inside(a) && inside(b) {
+        if l.algo == LineAlgo::Bresenham {
+            return fast_bresenham(fb, a, b, l.color);
+        }
+        // In-bounds DDA: the same walk, writing straight into the buffer.
+        let c = l.color;
+        let rgb = fb.raw_rgb_mut();
+        let mut n = 0u64;
+        thin_pixels(a, b, l.algo, &mut |x, y, _, _| {
+            let k = 3 * (y * w + x) as usize;
+            rgb[k..k + 3].copy_from_slice(&[c.r, c.g, c.b]);
+            n += 1;
+        });
+        fb.add_fragments(n);
+        return n;
     }
     let mut n = 0u64;
     let flat = l.color_to.is_none();

@@ -167,7 +167,7 @@ impl Raster {
             len: data.len(),
             words,
         };
-        if data.len() % 4 != 0 {
+        if !data.len().is_multiple_of(4) {
             return Err(err);
         }
         let start = offset as usize;
@@ -204,7 +204,9 @@ impl Raster {
             }
             RasterCmd::Circle(c) => {
                 check_point(&c.center, "circle.center")?;
-                if c.radius > tri::COORD_LIMIT as u32 {
+                // The filled circle keeps one half-width per row: bound the radius to four
+                // viewports so that this table stays small.
+                if c.radius > tri::COORD_LIMIT as u32 || (c.radius >> bits) > 4 * tri::MAX_DIM {
                     return Err(RasterError::Coordinate {
                         field: "circle.radius",
                         value: c.radius as i64,
@@ -260,7 +262,7 @@ impl Raster {
         };
         let frags = self.fb.fragments() - before;
         self.stats.fragments += frags;
-        let records = records(cmd);
+        let records = records(cmd, bits);
         let lanes = if self.setup.traversal == Traversal::Simd8 && unit == hw::Unit::Triangle {
             8
         } else {
@@ -327,11 +329,30 @@ impl Raster {
 /// the FITkit layout (9-bit integer coordinates, 8-bit colour) use seed 000's 2 records;
 /// anything richer is costed with 16-bit coordinates, 24-bit colours, 24-bit z, 32-bit w
 /// and texture words, plus a 4-bit opcode and the CB bit.
-pub fn records(cmd: &RasterCmd) -> u32 {
+pub fn records(cmd: &RasterCmd, subpixel_bits: u8) -> u32 {
+    // Whole pixels in 0..512: the FITkit's 9-bit coordinates.
+    let fits = |p: &Point| {
+        let m = (1i32 << subpixel_bits) - 1;
+        p.x >= 0
+            && p.y >= 0
+            && p.x & m == 0
+            && p.y & m == 0
+            && (p.x >> subpixel_bits) < 512
+            && (p.y >> subpixel_bits) < 512
+    };
     let bits: u32 = match cmd {
         RasterCmd::Clear(_) => 5 + 24,
+        RasterCmd::Triangle(t)
+            if matches!(t.shade, Shade::Flat(_))
+                && t.z.is_none()
+                && t.w.is_none()
+                && t.tex.is_none()
+                && t.v.iter().all(fits) =>
+        {
+            63
+        }
         RasterCmd::Line(l) => {
-            if l.color_to.is_none() && !l.aa && l.width == 0 {
+            if l.color_to.is_none() && !l.aa && l.width == 0 && fits(&l.from) && fits(&l.to) {
                 45
             } else {
                 5 + 64 + 48 + 16 + 2

@@ -215,25 +215,94 @@ fn test_row<F: FnMut(u32, u32, u32)>(s: &TriSetup, j: u32, x0: u32, x1: u32, emi
     }
 }
 
-/// Exact span of row `j` inside all three edges, by one division per edge.
-#[inline]
-fn row_span(s: &TriSetup, j: u32) -> (u32, u32) {
-    let [x0, _, x1, _] = s.bbox;
-    let (mut lo, mut hi) = (x0 as i64, x1 as i64);
-    for e in &s.edges {
-        let v = e.at(x0 as i64, j as i64);
-        if e.a > 0 {
-            lo = lo.max(x0 as i64 + ceil_div(-v, e.a));
-        } else if e.a < 0 {
-            hi = hi.min(x0 as i64 + v.div_euclid(-e.a) + 1);
-        } else if v < 0 {
-            return (0, 0);
+/// One edge's span bound walked down the rows exactly: the quotient and remainder of
+/// `N(j) / d` are stepped with additions only (the divisions happen once, at set-up).
+#[derive(Clone, Copy)]
+struct Bound {
+    /// 1 = lower bound (`a > 0`), -1 = upper bound (`a < 0`), 0 = horizontal edge.
+    kind: i8,
+    q: i64,
+    r: i64,
+    d: i64,
+    dq: i64,
+    dr: i64,
+    /// For horizontal edges: the biased value, stepped by `b`.
+    v: i64,
+    b: i64,
+}
+
+/// Scanline spans without per-row divisions.
+struct EdgeWalk {
+    x0: i64,
+    x1: i64,
+    bounds: [Bound; 3],
+}
+
+impl EdgeWalk {
+    fn new(s: &TriSetup) -> Self {
+        let [x0, y0, x1, _] = s.bbox;
+        let bounds = s.edges.map(|e| {
+            let v = e.at(x0 as i64, y0 as i64);
+            if e.a == 0 {
+                return Bound {
+                    kind: 0,
+                    q: 0,
+                    r: 0,
+                    d: 1,
+                    dq: 0,
+                    dr: 0,
+                    v,
+                    b: e.b,
+                };
+            }
+            // Lower bound: k ≥ ceil(−v / a); upper bound: k ≤ floor(v / −a).
+            let (kind, n, d, dn) = if e.a > 0 {
+                (1, -v, e.a, -e.b)
+            } else {
+                (-1, v, -e.a, e.b)
+            };
+            Bound {
+                kind,
+                q: n.div_euclid(d),
+                r: n.rem_euclid(d),
+                d,
+                dq: dn.div_euclid(d),
+                dr: dn.rem_euclid(d),
+                v,
+                b: e.b,
+            }
+        });
+        Self {
+            x0: x0 as i64,
+            x1: x1 as i64,
+            bounds,
         }
     }
-    if lo >= hi {
-        (0, 0)
-    } else {
-        (lo as u32, hi as u32)
+
+    /// The span of the current row, then steps to the next row.
+    #[inline]
+    fn next_row(&mut self) -> (u32, u32) {
+        let (mut lo, mut hi) = (self.x0, self.x1);
+        let mut empty = false;
+        for bd in &mut self.bounds {
+            match bd.kind {
+                1 => lo = lo.max(self.x0 + bd.q + (bd.r > 0) as i64),
+                -1 => hi = hi.min(self.x0 + bd.q + 1),
+                _ => empty |= bd.v < 0,
+            }
+            bd.q += bd.dq;
+            bd.r += bd.dr;
+            if bd.r >= bd.d {
+                bd.r -= bd.d;
+                bd.q += 1;
+            }
+            bd.v += bd.b;
+        }
+        if empty || lo >= hi {
+            (0, 0)
+        } else {
+            (lo as u32, hi as u32)
+        }
     }
 }
 
@@ -241,14 +310,18 @@ fn row_span(s: &TriSetup, j: u32) -> (u32, u32) {
 /// framebuffer one long span per row instead of one per block (the SDRAM burst model).
 struct Merger {
     y0: u32,
-    rows: Vec<(u32, u32)>,
+    rows: [(u32, u32); MERGE_ROWS],
 }
 
+/// Rows a [`Merger`] holds: the tallest block.
+const MERGE_ROWS: usize = 32;
+const _: () = assert!(TILE_SIZES[0] as usize <= MERGE_ROWS && ZIGZAG_BLOCK as usize <= MERGE_ROWS);
+
 impl Merger {
-    fn new(y0: u32, n: u32) -> Self {
+    fn new(y0: u32) -> Self {
         Self {
             y0,
-            rows: vec![(0, 0); n as usize],
+            rows: [(0, 0); MERGE_ROWS],
         }
     }
 
@@ -272,6 +345,9 @@ impl Merger {
 
     fn flush<F: FnMut(u32, u32, u32)>(&mut self, emit: &mut F) {
         for (k, p) in self.rows.iter_mut().enumerate() {
+            if p.0 == p.1 {
+                continue;
+            }
             if p.0 < p.1 {
                 emit(self.y0 + k as u32, p.0, p.1);
             }
@@ -297,8 +373,9 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
             c.pixel_tests += (x1 - x0) as u64 * (y1 - y0) as u64;
         }
         Traversal::Scanline => {
+            let mut walk = EdgeWalk::new(s);
             for j in y0..y1 {
-                let (a, b) = row_span(s, j);
+                let (a, b) = walk.next_row();
                 c.wide_steps += 1;
                 if a < b {
                     c.accepted += (b - a) as u64;
@@ -307,33 +384,43 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
             }
         }
         Traversal::Simd8 => simd8(s, c, emit),
-        Traversal::Tiles => {
-            let t0 = TILE_SIZES[0];
-            let mut ty = y0;
-            let mut m = Merger::new(y0, t0);
-            while ty < y1 {
-                m.y0 = ty;
-                let mut tx = x0;
-                while tx < x1 {
-                    tile(s, tx, ty, 0, c, &mut |y, a, b| m.push(y, a, b, emit));
-                    tx += t0;
-                }
-                m.flush(emit);
-                ty += t0;
-            }
-        }
-        Traversal::Zigzag => {
-            let mut m = Merger::new(y0, ZIGZAG_BLOCK);
-            zigzag(s, c, &mut |y, a, b| {
-                if y >= m.y0 + ZIGZAG_BLOCK {
-                    m.flush(emit);
-                    m.y0 = y - (y - y0) % ZIGZAG_BLOCK;
-                }
-                m.push(y, a, b, emit)
-            });
-            m.flush(emit);
-        }
+        Traversal::Tiles => tiles(s, c, emit),
+        Traversal::Zigzag => zigzag_merged(s, c, emit),
     }
+}
+
+// Separate functions keep each traversal's state (the span merger) out of the others'
+// stack frames: inlined together, LLVM initialised it for every triangle.
+#[inline(never)]
+fn tiles<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
+    let [x0, y0, x1, y1] = s.bbox;
+    let t0 = TILE_SIZES[0];
+    let mut ty = y0;
+    let mut m = Merger::new(y0);
+    while ty < y1 {
+        m.y0 = ty;
+        let mut tx = x0;
+        while tx < x1 {
+            tile(s, tx, ty, 0, c, &mut |y, a, b| m.push(y, a, b, emit));
+            tx += t0;
+        }
+        m.flush(emit);
+        ty += t0;
+    }
+}
+
+#[inline(never)]
+fn zigzag_merged<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
+    let [_, y0, _, _] = s.bbox;
+    let mut m = Merger::new(y0);
+    zigzag(s, c, &mut |y, a, b| {
+        if y >= m.y0 + ZIGZAG_BLOCK {
+            m.flush(emit);
+            m.y0 = y - (y - y0) % ZIGZAG_BLOCK;
+        }
+        m.push(y, a, b, emit)
+    });
+    m.flush(emit);
 }
 
 fn simd8<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
