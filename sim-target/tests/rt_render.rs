@@ -180,7 +180,7 @@ fn dispatch_variants_and_progress_agree() {
             numeric: Numeric::F32,
             size: Some((64, 36)),
             aovs: true,
-            dispatch: rt::Dispatch::Match,
+            dispatch: rt::Dispatch::FnPointer,
             ..Default::default()
         },
     )

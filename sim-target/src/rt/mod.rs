@@ -81,9 +81,10 @@ pub struct RenderOptions {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Dispatch {
     /// A function pointer per object, chosen by the plan.
-    #[default]
     FnPointer,
-    /// A `match` on the object's shape at every test (inlined).
+    /// A `match` on the object's shape at every test (inlined): measured no slower than
+    /// the function pointer in every run (docs/rt.md), so it is the default.
+    #[default]
     Match,
 }
 
@@ -95,7 +96,7 @@ impl Default for RenderOptions {
             math: Math::default(),
             aovs: false,
             size: None,
-            dispatch: Dispatch::FnPointer,
+            dispatch: Dispatch::Match,
         }
     }
 }
