@@ -33,7 +33,7 @@ fn reference_small_psnr_per_format() {
     let f64_frame = render(&scene, Numeric::F64, w, h);
     dump("ref_f64", &f64_frame);
     // Thresholds sit a couple of dB under the measured values (f32 58.5, Q16.16 38.5,
-    // Q32.32 84.9 dB at 384×216): the remaining Q16.16 error is texel-boundary flips (a row
+    // Q32.32 77.8 dB at 384×216): the remaining Q16.16 error is texel-boundary flips (a row
     // of the XOR wall, the RGB dots near the cone apex) and grazing reflections, where
     // 2⁻¹⁶ moves a lookup across a texel edge. See docs/rt.md.
     for (numeric, min_db) in [

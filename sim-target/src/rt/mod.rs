@@ -182,6 +182,8 @@ pub struct Plan {
 }
 
 struct PObj<S> {
+    /// M⁻¹'s diagonal when the object is not rotated: 3 products instead of 9 + 6 sums.
+    diag: Option<V3<S>>,
     shape: Shape,
     intersect: IntersectFn<S>,
     minv: M3<S>,
@@ -298,7 +300,9 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
             let r = f::rotation(o.rotate);
             let sinv = f::diag(o.scale.map(|s| 1.0 / s));
             let minv = f::mul(sinv, f::transpose(r));
+            let rotated = o.rotate.iter().any(|a| *a != 0.0);
             PObj {
+                diag: (!rotated).then(|| V3::from_f64([minv[0][0], minv[1][1], minv[2][2]])),
                 shape: o.shape,
                 intersect: shapes::intersect_fn::<S>(o.shape),
                 minv: M3::from_f64(minv),
@@ -421,6 +425,17 @@ struct Hit<S> {
     n: V3<S>,
 }
 
+impl<S: Scalar> PObj<S> {
+    /// The ray in object space.
+    #[inline(always)]
+    fn to_object(&self, o: V3<S>, d: V3<S>) -> (V3<S>, V3<S>) {
+        match self.diag {
+            Some(g) => ((o - self.translate).hadamard(g), d.hadamard(g)),
+            None => (self.minv.mul_v(o - self.translate), self.minv.mul_v(d)),
+        }
+    }
+}
+
 impl<S: Scalar> Prepared<S> {
     #[inline(always)]
     fn hit_object(&self, ob: &PObj<S>, o: V3<S>, d: V3<S>, tmax: S) -> Option<S> {
@@ -436,8 +451,7 @@ impl<S: Scalar> Prepared<S> {
         let mut best = self.maxd;
         let mut idx = None;
         for (i, ob) in self.objs.iter().enumerate() {
-            let lo = ob.minv.mul_v(o - ob.translate);
-            let ld = ob.minv.mul_v(d);
+            let (lo, ld) = ob.to_object(o, d);
             if let Some(t) = self.hit_object(ob, lo, ld, best) {
                 best = t;
                 idx = Some(i);
@@ -449,8 +463,7 @@ impl<S: Scalar> Prepared<S> {
     #[inline]
     fn occluded(&self, o: V3<S>, d: V3<S>, tmax: S) -> bool {
         self.objs.iter().any(|ob| {
-            let lo = ob.minv.mul_v(o - ob.translate);
-            let ld = ob.minv.mul_v(d);
+            let (lo, ld) = ob.to_object(o, d);
             self.hit_object(ob, lo, ld, tmax).is_some()
         })
     }
@@ -475,8 +488,7 @@ impl<S: Scalar> Prepared<S> {
                 break;
             };
             let ob = &self.objs[i];
-            let lo = ob.minv.mul_v(o - ob.translate);
-            let ld = ob.minv.mul_v(d);
+            let (lo, ld) = ob.to_object(o, d);
             let lp = lo + ld.scale(t);
             let p = o + d.scale(t);
             let mut n = ob.nmat.mul_v(shapes::normal(ob.shape, lp)).normalize(sq);
