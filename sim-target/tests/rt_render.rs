@@ -225,3 +225,29 @@ fn invalid_scenes_are_errors_not_panics() {
     };
     assert!(rt::render(&scene, &opts).is_err());
 }
+
+#[test]
+fn reinhard_tone_map_keeps_highlights_below_white() {
+    let scene = reference();
+    let clamp = render(&scene, Numeric::F64, 96, 54);
+    let opts = RenderOptions {
+        numeric: Numeric::F64,
+        size: Some((96, 54)),
+        tone_map: rt::ToneMap::Reinhard,
+        ..Default::default()
+    };
+    let tm = rt::render(&scene, &opts).expect("renders");
+    // the clamped frame has blown-out pixels; c/(1+c) < 1 never reaches 255
+    assert!(clamp.rgb8.contains(&255));
+    assert!(!tm.rgb8.contains(&255));
+    // and it is monotonic: a channel brighter under clamp is not darker under Reinhard
+    // when neither saturates (c/(1+c) is increasing)
+    let mut checked = 0;
+    for (a, b) in clamp.rgb8.chunks(3).zip(tm.rgb8.chunks(3)) {
+        if a.iter().all(|v| *v < 250) && a[0] > a[1] + 10 {
+            assert!(b[0] >= b[1], "{a:?} {b:?}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 0);
+}

@@ -74,6 +74,19 @@ pub struct RenderOptions {
     pub size: Option<(u32, u32)>,
     /// How the kernel picks each object's intersector.
     pub dispatch: Dispatch,
+    /// How radiance becomes an 8-bit value.
+    pub tone_map: ToneMap,
+}
+
+/// Radiance → [0, 1] before ⌊255·c⌋.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ToneMap {
+    /// Clamp to 1, as the seed (blown-out highlights).
+    #[default]
+    Clamp,
+    /// (beyond) Reinhard c/(1 + c) per channel: the seed's own suggestion for its
+    /// blown-out highlights; never saturates.
+    Reinhard,
 }
 
 /// Intersector dispatch, selectable so that the two can be measured against each other
@@ -97,6 +110,7 @@ impl Default for RenderOptions {
             aovs: false,
             size: None,
             dispatch: Dispatch::Match,
+            tone_map: ToneMap::Clamp,
         }
     }
 }
@@ -661,6 +675,17 @@ fn render_generic<S: Scalar>(
                     }
                 }
                 let c = if spp == 1 { acc } else { acc.scale(inv_spp) };
+                let c = match opts.tone_map {
+                    ToneMap::Clamp => c,
+                    ToneMap::Reinhard => {
+                        let one = S::one();
+                        let r = |v: S| {
+                            let v = v.max(S::zero());
+                            v / (one + v)
+                        };
+                        V3::new(r(c.x), r(c.y), r(c.z))
+                    }
+                };
                 let q = |v: S| {
                     (v.clamp(S::zero(), S::one()) * S::from_f64(255.0))
                         .floor()
