@@ -251,3 +251,53 @@ fn reinhard_tone_map_keeps_highlights_below_white() {
     }
     assert!(checked > 0);
 }
+
+fn glass_slab(depth: u32) -> rt::Scene {
+    let text = format!(
+        r#"
+[render]
+size = [8, 8]
+depth = {depth}
+background = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 0.0, 5.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_y = 2.0
+[material.glass]
+diffuse = {{ k = 0.0 }}
+reflection = {{ mode = "fresnel", eta = 1.5, transmit = true }}
+[[object]]
+shape = "cube"
+scale = [2.0, 2.0, 0.1]
+material = "glass"
+"#
+    );
+    scene_file::parse(&text, "glass.toml").expect("parses")
+}
+
+#[test]
+fn glass_slab_transmits_by_fresnel_weights() {
+    // normal incidence, η = 1.5: r = 0.04 at both faces. depth 3: the reflection off the
+    // front sees the background (0.04) and the ray through both faces does too
+    // (0.96 · 0.96); depth 2 stops the refracted ray inside the slab.
+    for (depth, want) in [(3u32, 0.04 + 0.96 * 0.96), (2, 0.04)] {
+        let f = render(&glass_slab(depth), Numeric::F64, 8, 8);
+        let c = f.rgb8[(4 * 8 + 4) * 3];
+        let want = (255.0f64 * want).floor() as u8;
+        assert!(c.abs_diff(want) <= 1, "depth {depth}: {c} vs {want}");
+        assert!(f.stats.refracted_rays > 0);
+    }
+    let text = r#"
+[camera]
+position = [0.0, 0.0, 5.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_y = 2.0
+[material.metal]
+diffuse = { k = 0.0 }
+reflection = { mode = "fresnel", eta = 0.5, k = 3.0, transmit = true }
+"#;
+    let e = scene_file::parse(text, "m.toml").expect_err("conductors do not transmit");
+    assert_eq!(e.key, "transmit");
+}

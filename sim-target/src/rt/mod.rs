@@ -124,6 +124,8 @@ pub struct Stats {
     pub shadow_rays: u64,
     /// Reflected rays.
     pub reflected_rays: u64,
+    /// Refracted rays (beyond: transmissive dielectrics).
+    pub refracted_rays: u64,
     /// Wall-clock seconds of the sim-target render.
     pub seconds: f64,
     /// Board-time estimate in cycles: pixels·spp·II + overhead.
@@ -133,7 +135,7 @@ pub struct Stats {
 impl Stats {
     /// All rays, counted as SPEC-RT counts them.
     pub fn rays(&self) -> u64 {
-        self.primary_rays + self.shadow_rays + self.reflected_rays
+        self.primary_rays + self.shadow_rays + self.reflected_rays + self.refracted_rays
     }
     /// Millions of rays per second of wall time.
     pub fn mrays_per_s(&self) -> f64 {
@@ -216,6 +218,7 @@ enum PRefl<S> {
     None,
     Constant(S),
     Fresnel(S, S),
+    Glass(S),
 }
 
 struct PMat<S> {
@@ -373,6 +376,7 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
                 Reflection::None => PRefl::None,
                 Reflection::Constant(r) => PRefl::Constant(S::from_f64(r)),
                 Reflection::Fresnel { eta, k } => PRefl::Fresnel(S::from_f64(eta), S::from_f64(k)),
+                Reflection::Glass { eta } => PRefl::Glass(S::from_f64(eta)),
             };
             let tex = mat.texture.as_ref().map(|t| {
                 let base = next_slot * side * side;
@@ -432,6 +436,7 @@ struct Counts {
     primary: u64,
     shadow: u64,
     reflected: u64,
+    refracted: u64,
 }
 
 struct Hit<S> {
@@ -482,8 +487,17 @@ impl<S: Scalar> Prepared<S> {
         })
     }
 
-    /// Radiance along a primary ray (d unit); returns colour and first-hit data.
-    fn trace(&self, o: V3<S>, d: V3<S>, cnt: &mut Counts) -> (V3<S>, Option<Hit<S>>) {
+    /// Radiance along a ray (d unit) that starts at recursion level `start` (0 for a
+    /// primary ray, which `refracted` = false counts as primary); returns colour and the
+    /// first hit.
+    fn trace(
+        &self,
+        o: V3<S>,
+        d: V3<S>,
+        start: u32,
+        refracted: bool,
+        cnt: &mut Counts,
+    ) -> (V3<S>, Option<Hit<S>>) {
         let zero = S::zero();
         let one = S::one();
         let sq = self.m.sqrt;
@@ -491,8 +505,10 @@ impl<S: Scalar> Prepared<S> {
         let mut weight = one;
         let mut first = None;
         let (mut o, mut d) = (o, d);
-        for level in 0..self.depth {
-            if level == 0 {
+        for level in start..self.depth {
+            if level == start && refracted {
+                cnt.refracted += 1;
+            } else if level == 0 {
                 cnt.primary += 1;
             } else {
                 cnt.reflected += 1;
@@ -506,7 +522,8 @@ impl<S: Scalar> Prepared<S> {
             let lp = lo + ld.scale(t);
             let p = o + d.scale(t);
             let mut n = ob.nmat.mul_v(shapes::normal(ob.shape, lp)).normalize(sq);
-            if n.dot(d) >= zero {
+            let inside = n.dot(d) >= zero;
+            if inside {
                 n = -n; // INTERNAL_SHADING: both sides shade
             }
             if level == 0 {
@@ -575,6 +592,22 @@ impl<S: Scalar> Prepared<S> {
                 PRefl::None => break,
                 PRefl::Constant(r) => r,
                 PRefl::Fresnel(eta, k) => shade::fresnel(n.dot(wo), eta, k, sq),
+                PRefl::Glass(eta) => {
+                    // (beyond) refraction: relative index by the side the ray arrives from
+                    let eta_rel = if inside { one / eta } else { eta };
+                    let cos_i = n.dot(wo).clamp(zero, one);
+                    let r = shade::fresnel(cos_i, eta_rel, zero, sq);
+                    if r < one && level + 1 < self.depth {
+                        let ratio = one / eta_rel;
+                        let sin2_t = ratio * ratio * (one - cos_i * cos_i);
+                        let cos_t = crate::num::sqrt(one - sin2_t, sq);
+                        let t_dir = (d.scale(ratio) + n.scale(ratio * cos_i - cos_t)).normalize(sq);
+                        let (lt, _) =
+                            self.trace(p - n.scale(self.bias), t_dir, level + 1, true, cnt);
+                        color = color + lt.scale(weight * (one - r));
+                    }
+                    r
+                }
             };
             if r <= zero {
                 break;
@@ -659,7 +692,7 @@ fn render_generic<S: Scalar>(
                     let y = (1.0 - 2.0 * (j as f64 + oy) / hf) * cam.s;
                     let d = (cu.scale(S::from_f64(x)) + cv.scale(S::from_f64(y)) - cw)
                         .normalize(opts.math.sqrt);
-                    let (c, hit) = prep.trace(eye, d, &mut cnt);
+                    let (c, hit) = prep.trace(eye, d, 0, false, &mut cnt);
                     acc = acc + c;
                     if aovs && s == 0 {
                         match hit {
@@ -710,6 +743,7 @@ fn render_generic<S: Scalar>(
         total.primary += c.primary;
         total.shadow += c.shadow;
         total.reflected += c.reflected;
+        total.refracted += c.refracted;
     }
     let (depth, normal) = if aovs {
         (Some(depth), Some(normal))
@@ -770,6 +804,7 @@ pub fn render_with_progress(
         primary_rays: c.primary,
         shadow_rays: c.shadow,
         reflected_rays: c.reflected,
+        refracted_rays: c.refracted,
         seconds,
         board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
     };
