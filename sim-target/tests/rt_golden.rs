@@ -22,7 +22,7 @@ const GOLDEN: &[(&str, &str, u64)] = &[
     (
         "fresnel",
         include_str!("../../examples/rt/fresnel.toml"),
-        0x1382_12ce_3e86_aeef,
+        0x8b03_772d_4003_6aa4,
     ),
     (
         "shapes",

@@ -284,7 +284,7 @@ pub fn rsqrt<S: Scalar>(x: S, kind: SqrtKind) -> S {
         return S::max_value();
     }
     match kind {
-        SqrtKind::Exact => S::one() / x.sqrt(),
+        SqrtKind::Exact => x.rsqrt(),
         SqrtKind::PreS { iters } => rsqrt_nr(x, pre_s(x), iters),
         SqrtKind::Seamless { iters } => rsqrt_nr(x, pre_s_seamless(x), iters),
     }

@@ -57,10 +57,12 @@ macro_rules! fixed_scalar {
             const NAME: &'static str = $label;
             #[inline(always)]
             fn from_f64(x: f64) -> Self {
-                // Round half away from zero; `as` saturates at the integer range and maps
-                // NaN to 0, which is exactly the saturating conversion wanted — and,
-                // unlike `saturating_from_num`, folds to a constant for literals.
-                Self(<$inner>::from_bits((x * (1u64 << $frac) as f64).round() as $bits))
+                // Round half away from zero (add ±½, truncate: no libm `round` call on
+                // baseline x86-64); `as` saturates at the integer range and maps NaN to 0,
+                // which is exactly the saturating conversion wanted — and, unlike
+                // `saturating_from_num`, folds to a constant for literals.
+                let scaled = x * (1u64 << $frac) as f64;
+                Self(<$inner>::from_bits((scaled + 0.5f64.copysign(scaled)) as $bits))
             }
             #[inline(always)]
             fn to_f64(self) -> f64 {
@@ -72,6 +74,14 @@ macro_rules! fixed_scalar {
                     Self(<$inner>::ZERO)
                 } else {
                     Self::from_f64(self.to_f64().sqrt())
+                }
+            }
+            #[inline(always)]
+            fn rsqrt(self) -> Self {
+                if self.0 <= <$inner>::ZERO {
+                    Self(<$inner>::MAX)
+                } else {
+                    Self::from_f64(1.0 / self.to_f64().sqrt())
                 }
             }
             fn max_value() -> Self {

@@ -47,6 +47,17 @@ pub trait Scalar:
     /// fixed point, modelled through f64); negative input gives 0 so that a slightly
     /// negative discriminant from rounding cannot produce NaN.
     fn sqrt(self) -> Self;
+    /// 1/√x of the best quality the format offers (for fixed point a correctly rounded
+    /// reciprocal-square-root core, modelled through f64, instead of a divider after the
+    /// square root); x ≤ 0 gives the format's maximum.
+    #[inline(always)]
+    fn rsqrt(self) -> Self {
+        if self > Self::zero() {
+            Self::one() / self.sqrt()
+        } else {
+            Self::max_value()
+        }
+    }
     /// Largest finite value: the kernel's "infinity" for formats without one.
     fn max_value() -> Self;
     /// Largest integer not above `self`.

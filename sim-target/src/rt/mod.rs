@@ -74,6 +74,19 @@ pub struct RenderOptions {
     pub size: Option<(u32, u32)>,
     /// How the kernel picks each object's intersector.
     pub dispatch: Dispatch,
+    /// How radiance becomes an 8-bit value.
+    pub tone_map: ToneMap,
+}
+
+/// Radiance → [0, 1] before ⌊255·c⌋.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ToneMap {
+    /// Clamp to 1, as the seed (blown-out highlights).
+    #[default]
+    Clamp,
+    /// (beyond) Reinhard c/(1 + c) per channel: the seed's own suggestion for its
+    /// blown-out highlights; never saturates.
+    Reinhard,
 }
 
 /// Intersector dispatch, selectable so that the two can be measured against each other
@@ -81,9 +94,10 @@ pub struct RenderOptions {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Dispatch {
     /// A function pointer per object, chosen by the plan.
-    #[default]
     FnPointer,
-    /// A `match` on the object's shape at every test (inlined).
+    /// A `match` on the object's shape at every test (inlined): measured no slower than
+    /// the function pointer in every run (docs/rt.md), so it is the default.
+    #[default]
     Match,
 }
 
@@ -95,7 +109,8 @@ impl Default for RenderOptions {
             math: Math::default(),
             aovs: false,
             size: None,
-            dispatch: Dispatch::FnPointer,
+            dispatch: Dispatch::Match,
+            tone_map: ToneMap::Clamp,
         }
     }
 }
@@ -109,6 +124,8 @@ pub struct Stats {
     pub shadow_rays: u64,
     /// Reflected rays.
     pub reflected_rays: u64,
+    /// Refracted rays (beyond: transmissive dielectrics).
+    pub refracted_rays: u64,
     /// Wall-clock seconds of the sim-target render.
     pub seconds: f64,
     /// Board-time estimate in cycles: pixels·spp·II + overhead.
@@ -118,7 +135,7 @@ pub struct Stats {
 impl Stats {
     /// All rays, counted as SPEC-RT counts them.
     pub fn rays(&self) -> u64 {
-        self.primary_rays + self.shadow_rays + self.reflected_rays
+        self.primary_rays + self.shadow_rays + self.reflected_rays + self.refracted_rays
     }
     /// Millions of rays per second of wall time.
     pub fn mrays_per_s(&self) -> f64 {
@@ -181,6 +198,8 @@ pub struct Plan {
 }
 
 struct PObj<S> {
+    /// M⁻¹'s diagonal when the object is not rotated: 3 products instead of 9 + 6 sums.
+    diag: Option<V3<S>>,
     shape: Shape,
     intersect: IntersectFn<S>,
     minv: M3<S>,
@@ -199,6 +218,7 @@ enum PRefl<S> {
     None,
     Constant(S),
     Fresnel(S, S),
+    Glass(S),
 }
 
 struct PMat<S> {
@@ -297,7 +317,9 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
             let r = f::rotation(o.rotate);
             let sinv = f::diag(o.scale.map(|s| 1.0 / s));
             let minv = f::mul(sinv, f::transpose(r));
+            let rotated = o.rotate.iter().any(|a| *a != 0.0);
             PObj {
+                diag: (!rotated).then(|| V3::from_f64([minv[0][0], minv[1][1], minv[2][2]])),
                 shape: o.shape,
                 intersect: shapes::intersect_fn::<S>(o.shape),
                 minv: M3::from_f64(minv),
@@ -354,6 +376,7 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
                 Reflection::None => PRefl::None,
                 Reflection::Constant(r) => PRefl::Constant(S::from_f64(r)),
                 Reflection::Fresnel { eta, k } => PRefl::Fresnel(S::from_f64(eta), S::from_f64(k)),
+                Reflection::Glass { eta } => PRefl::Glass(S::from_f64(eta)),
             };
             let tex = mat.texture.as_ref().map(|t| {
                 let base = next_slot * side * side;
@@ -413,11 +436,23 @@ struct Counts {
     primary: u64,
     shadow: u64,
     reflected: u64,
+    refracted: u64,
 }
 
 struct Hit<S> {
     t: S,
     n: V3<S>,
+}
+
+impl<S: Scalar> PObj<S> {
+    /// The ray in object space.
+    #[inline(always)]
+    fn to_object(&self, o: V3<S>, d: V3<S>) -> (V3<S>, V3<S>) {
+        match self.diag {
+            Some(g) => ((o - self.translate).hadamard(g), d.hadamard(g)),
+            None => (self.minv.mul_v(o - self.translate), self.minv.mul_v(d)),
+        }
+    }
 }
 
 impl<S: Scalar> Prepared<S> {
@@ -435,8 +470,7 @@ impl<S: Scalar> Prepared<S> {
         let mut best = self.maxd;
         let mut idx = None;
         for (i, ob) in self.objs.iter().enumerate() {
-            let lo = ob.minv.mul_v(o - ob.translate);
-            let ld = ob.minv.mul_v(d);
+            let (lo, ld) = ob.to_object(o, d);
             if let Some(t) = self.hit_object(ob, lo, ld, best) {
                 best = t;
                 idx = Some(i);
@@ -448,14 +482,22 @@ impl<S: Scalar> Prepared<S> {
     #[inline]
     fn occluded(&self, o: V3<S>, d: V3<S>, tmax: S) -> bool {
         self.objs.iter().any(|ob| {
-            let lo = ob.minv.mul_v(o - ob.translate);
-            let ld = ob.minv.mul_v(d);
+            let (lo, ld) = ob.to_object(o, d);
             self.hit_object(ob, lo, ld, tmax).is_some()
         })
     }
 
-    /// Radiance along a primary ray (d unit); returns colour and first-hit data.
-    fn trace(&self, o: V3<S>, d: V3<S>, cnt: &mut Counts) -> (V3<S>, Option<Hit<S>>) {
+    /// Radiance along a ray (d unit) that starts at recursion level `start` (0 for a
+    /// primary ray, which `refracted` = false counts as primary); returns colour and the
+    /// first hit.
+    fn trace(
+        &self,
+        o: V3<S>,
+        d: V3<S>,
+        start: u32,
+        refracted: bool,
+        cnt: &mut Counts,
+    ) -> (V3<S>, Option<Hit<S>>) {
         let zero = S::zero();
         let one = S::one();
         let sq = self.m.sqrt;
@@ -463,8 +505,10 @@ impl<S: Scalar> Prepared<S> {
         let mut weight = one;
         let mut first = None;
         let (mut o, mut d) = (o, d);
-        for level in 0..self.depth {
-            if level == 0 {
+        for level in start..self.depth {
+            if level == start && refracted {
+                cnt.refracted += 1;
+            } else if level == 0 {
                 cnt.primary += 1;
             } else {
                 cnt.reflected += 1;
@@ -474,12 +518,12 @@ impl<S: Scalar> Prepared<S> {
                 break;
             };
             let ob = &self.objs[i];
-            let lo = ob.minv.mul_v(o - ob.translate);
-            let ld = ob.minv.mul_v(d);
+            let (lo, ld) = ob.to_object(o, d);
             let lp = lo + ld.scale(t);
             let p = o + d.scale(t);
             let mut n = ob.nmat.mul_v(shapes::normal(ob.shape, lp)).normalize(sq);
-            if n.dot(d) >= zero {
+            let inside = n.dot(d) >= zero;
+            if inside {
                 n = -n; // INTERNAL_SHADING: both sides shade
             }
             if level == 0 {
@@ -548,6 +592,22 @@ impl<S: Scalar> Prepared<S> {
                 PRefl::None => break,
                 PRefl::Constant(r) => r,
                 PRefl::Fresnel(eta, k) => shade::fresnel(n.dot(wo), eta, k, sq),
+                PRefl::Glass(eta) => {
+                    // (beyond) refraction: relative index by the side the ray arrives from
+                    let eta_rel = if inside { one / eta } else { eta };
+                    let cos_i = n.dot(wo).clamp(zero, one);
+                    let r = shade::fresnel(cos_i, eta_rel, zero, sq);
+                    if r < one && level + 1 < self.depth {
+                        let ratio = one / eta_rel;
+                        let sin2_t = ratio * ratio * (one - cos_i * cos_i);
+                        let cos_t = crate::num::sqrt(one - sin2_t, sq);
+                        let t_dir = (d.scale(ratio) + n.scale(ratio * cos_i - cos_t)).normalize(sq);
+                        let (lt, _) =
+                            self.trace(p - n.scale(self.bias), t_dir, level + 1, true, cnt);
+                        color = color + lt.scale(weight * (one - r));
+                    }
+                    r
+                }
             };
             if r <= zero {
                 break;
@@ -632,7 +692,7 @@ fn render_generic<S: Scalar>(
                     let y = (1.0 - 2.0 * (j as f64 + oy) / hf) * cam.s;
                     let d = (cu.scale(S::from_f64(x)) + cv.scale(S::from_f64(y)) - cw)
                         .normalize(opts.math.sqrt);
-                    let (c, hit) = prep.trace(eye, d, &mut cnt);
+                    let (c, hit) = prep.trace(eye, d, 0, false, &mut cnt);
                     acc = acc + c;
                     if aovs && s == 0 {
                         match hit {
@@ -648,6 +708,17 @@ fn render_generic<S: Scalar>(
                     }
                 }
                 let c = if spp == 1 { acc } else { acc.scale(inv_spp) };
+                let c = match opts.tone_map {
+                    ToneMap::Clamp => c,
+                    ToneMap::Reinhard => {
+                        let one = S::one();
+                        let r = |v: S| {
+                            let v = v.max(S::zero());
+                            v / (one + v)
+                        };
+                        V3::new(r(c.x), r(c.y), r(c.z))
+                    }
+                };
                 let q = |v: S| {
                     (v.clamp(S::zero(), S::one()) * S::from_f64(255.0))
                         .floor()
@@ -672,6 +743,7 @@ fn render_generic<S: Scalar>(
         total.primary += c.primary;
         total.shadow += c.shadow;
         total.reflected += c.reflected;
+        total.refracted += c.refracted;
     }
     let (depth, normal) = if aovs {
         (Some(depth), Some(normal))
@@ -732,6 +804,7 @@ pub fn render_with_progress(
         primary_rays: c.primary,
         shadow_rays: c.shadow,
         reflected_rays: c.reflected,
+        refracted_rays: c.refracted,
         seconds,
         board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
     };

@@ -98,6 +98,12 @@ pub enum Reflection {
         /// Extinction coefficient.
         k: f64,
     },
+    /// (beyond) A transmissive dielectric: Fresnel reflectance r plus a refracted ray of
+    /// weight 1 − r (Snell's law, total internal reflection when leaving a denser medium).
+    Glass {
+        /// Refractive index (the other side is taken to be vacuum).
+        eta: f64,
+    },
 }
 
 /// Procedural texture generator.

@@ -182,6 +182,7 @@ struct ReflectionToml {
     r: Option<f64>,
     eta: Option<f64>,
     k: Option<f64>,
+    transmit: Option<bool>,
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -452,9 +453,18 @@ pub fn parse_with_limits(
                     if eta <= 0.0 {
                         return Err(err(pos, "eta", "must be positive".into()));
                     }
-                    Reflection::Fresnel {
-                        eta,
-                        k: r.k.unwrap_or(0.0),
+                    let k = r.k.unwrap_or(0.0);
+                    if r.transmit.unwrap_or(false) {
+                        if k != 0.0 {
+                            return Err(err(
+                                pos,
+                                "transmit",
+                                "only dielectrics (k = 0) transmit".into(),
+                            ));
+                        }
+                        Reflection::Glass { eta }
+                    } else {
+                        Reflection::Fresnel { eta, k }
                     }
                 }
             },
