@@ -162,7 +162,7 @@ fn render(a: &RenderArgs) -> Result<()> {
             aov_paths.push((kind.to_string(), PathBuf::from(path)));
         }
     }
-    let regs = sim_target::scene_regs::to_regs(&scene).with_context(|| format!("{name}"))?;
+    let regs = sim_target::scene_regs::to_regs(&scene).with_context(|| name.clone())?;
     let mut session = Session::new(builtin::sim_target());
     // The built-in target renders synchronously inside the link's poll: allow for a
     // full-HD frame in the slowest format.

@@ -130,14 +130,11 @@ impl Renderer {
         let (w, h) = (render.width as u16, render.height as u16);
         let rect = Rect { x: 0, y: 0, w, h };
         let image = match packing {
-            Packing::Rgb888 => {
-                let data = session.read_back(ReadRequest {
-                    plane: Plane::Color,
-                    rect,
-                    format: PixelFormat::Rgb888,
-                })?;
-                data
-            }
+            Packing::Rgb888 => session.read_back(ReadRequest {
+                plane: Plane::Color,
+                rect,
+                format: PixelFormat::Rgb888,
+            })?,
             Packing::Kcu116 => {
                 let data = session.read_back(ReadRequest {
                     plane: Plane::Color,

@@ -473,6 +473,9 @@ code_enum!(
         Constant = 1,
         /// Fresnel with η − iκ.
         Fresnel = 2,
+        /// (beyond) Transmissive dielectric: Fresnel reflection plus a refracted ray of
+        /// weight 1 − r, index η.
+        Glass = 3,
     }
 );
 

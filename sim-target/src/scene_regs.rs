@@ -91,6 +91,10 @@ fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
             out.eta = eta;
             out.kappa = k;
         }
+        Reflection::Glass { eta } => {
+            out.reflection = regs::ReflectionMode::Glass;
+            out.eta = eta;
+        }
     }
     if let Some(t) = &m.texture {
         let (kind, seed) = match t.kind {
@@ -294,6 +298,7 @@ pub fn from_regs(r: &Regs) -> Result<Scene, SceneRegsError> {
                     eta: m.eta,
                     k: m.kappa,
                 },
+                regs::ReflectionMode::Glass => Reflection::Glass { eta: m.eta },
             },
             texture,
         });
