@@ -183,7 +183,12 @@ impl FpgaBus for SimBus {
 /// The built-in target: controller and emulated FPGA in this process, WIDE bus layout
 /// (16.8 coordinates, so the command file's 8 sub-pixel bits pass unchanged).
 pub fn sim_target() -> BuiltIn<SimBus> {
-    let layout = &protocol::bus::WIDE;
+    sim_target_with(&protocol::bus::WIDE)
+}
+
+/// The built-in target with another bus layout (e.g. the FITkit's, to check that a file
+/// is drawable by seed 000's board).
+pub fn sim_target_with(layout: &'static BusLayout) -> BuiltIn<SimBus> {
     let device = sim_target::device::Device::new(layout);
     let caps = device.caps();
     BuiltIn::new(SimBus(device), caps, layout)
