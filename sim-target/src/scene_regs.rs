@@ -10,8 +10,8 @@
 use protocol::scene::{self as regs, SceneError, SceneRegs};
 
 use crate::rt::{
-    Camera, DiffuseModel, Filter, Light, Mapping, Material, Object, Reflection, Scene, Shape,
-    Specular, SpecularModel, Spot, Term, Texture, TextureKind,
+    Camera, DiffuseModel, Light, Material, Object, Reflection, Scene, Specular, SpecularModel,
+    Spot, Term, Texture, TextureKind,
 };
 
 /// The default register image: the seed's OBJ_NUM = 8 and LIGHTS_NUM = 2.
@@ -106,18 +106,11 @@ fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
         };
         out.texture = regs::Texture {
             kind,
-            mapping: match t.mapping {
-                Mapping::Planar => regs::Mapping::Planar,
-                Mapping::Cylindrical => regs::Mapping::Cylindrical,
-                Mapping::Spherical => regs::Mapping::Spherical,
-            },
+            mapping: t.mapping,
             scale: t.scale,
             offset: t.offset,
             color2: t.color2,
-            filter: match t.filter {
-                Filter::Nearest => regs::TexFilter::Nearest,
-                Filter::Bilinear => regs::TexFilter::Bilinear,
-            },
+            filter: t.filter,
             seed,
             base: 0,
             width_log2: 8,
@@ -188,15 +181,7 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
         r.set_object(
             i,
             &regs::Object {
-                shape: match o.shape {
-                    Shape::Sphere => regs::Shape::Sphere,
-                    Shape::Plane => regs::Shape::Plane,
-                    Shape::Disk => regs::Shape::Disk,
-                    Shape::Square => regs::Shape::Square,
-                    Shape::Cylinder => regs::Shape::Cylinder,
-                    Shape::Cone => regs::Shape::Cone,
-                    Shape::Cube => regs::Shape::Cube,
-                },
+                shape: o.shape,
                 translate: o.translate,
                 scale: o.scale,
                 rotate: o.rotate,
@@ -254,18 +239,11 @@ pub fn from_regs(r: &Regs) -> Result<Scene, SceneRegsError> {
                         seed: m.texture.seed,
                     },
                 },
-                mapping: match m.texture.mapping {
-                    regs::Mapping::Planar => Mapping::Planar,
-                    regs::Mapping::Cylindrical => Mapping::Cylindrical,
-                    regs::Mapping::Spherical => Mapping::Spherical,
-                },
+                mapping: m.texture.mapping,
                 scale: m.texture.scale,
                 offset: m.texture.offset,
                 color2: m.texture.color2,
-                filter: match m.texture.filter {
-                    regs::TexFilter::Nearest => Filter::Nearest,
-                    regs::TexFilter::Bilinear => Filter::Bilinear,
-                },
+                filter: m.texture.filter,
             }),
         };
         materials.push(Material {
@@ -303,15 +281,7 @@ pub fn from_regs(r: &Regs) -> Result<Scene, SceneRegsError> {
             texture,
         });
         objects.push(Object {
-            shape: match o.shape {
-                regs::Shape::Sphere => Shape::Sphere,
-                regs::Shape::Plane => Shape::Plane,
-                regs::Shape::Disk => Shape::Disk,
-                regs::Shape::Square => Shape::Square,
-                regs::Shape::Cylinder => Shape::Cylinder,
-                regs::Shape::Cone => Shape::Cone,
-                regs::Shape::Cube => Shape::Cube,
-            },
+            shape: o.shape,
             translate: o.translate,
             scale: o.scale,
             rotate: o.rotate,

@@ -1,6 +1,10 @@
 //! The scene as the ray-trace block is given it: plain f64 numbers, format-independent.
 //! The kernel converts it once into the chosen format (see `kernel::Prepared`).
 
+// The enumerations the register map already defines are the same here: one definition,
+// so a shape or mapping added to the hardware interface is added to the model at once.
+pub use protocol::scene::{Mapping, Shape, TexFilter as Filter};
+
 /// Camera as in the scene file: w = normalize(position − look_at), u = normalize(up × w).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Camera {
@@ -130,26 +134,6 @@ pub enum TextureKind {
     },
 }
 
-/// Object-space → (u, v) mapping.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mapping {
-    /// u = (x+1)/2, v = (z+1)/2.
-    Planar,
-    /// u = atan2(x, z)/2π, v = (y+1)/2.
-    Cylindrical,
-    /// u as cylindrical, v = 1 − acos(y)/π.
-    Spherical,
-}
-
-/// Texture filter.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Filter {
-    /// Nearest texel.
-    Nearest,
-    /// Bilinear between texel centres.
-    Bilinear,
-}
-
 /// A texture applied to a material's ambient and diffuse colours.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Texture {
@@ -184,25 +168,6 @@ pub struct Material {
     pub reflection: Reflection,
     /// Texture.
     pub texture: Option<Texture>,
-}
-
-/// Canonical shapes (SPEC-RT table), all inside [−1, 1]³.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Shape {
-    /// Unit sphere.
-    Sphere,
-    /// Plane y = 0.
-    Plane,
-    /// Unit disk in y = 0.
-    Disk,
-    /// Square |x|, |z| ≤ 1 in y = 0.
-    Square,
-    /// Open cylinder x² + z² = 1, |y| ≤ 1.
-    Cylinder,
-    /// Open cone, base radius 1 at y = 0, apex at y = 1.
-    Cone,
-    /// Cube [−1, 1]³.
-    Cube,
 }
 
 /// An object: canonical shape, then scale, rotation (degrees, X then Y then Z), translation.
