@@ -130,8 +130,11 @@ where
                     }
                 }
                 Some(Event::PeerReset { .. }) => {
+                    // A new host session: nothing of the old one may leak into it.
                     self.inbox.clear();
                     self.malformed.clear();
+                    self.outgoing.clear();
+                    self.engine.forget_host();
                     self.next_seq = 0;
                 }
                 Some(Event::Synced) => {}

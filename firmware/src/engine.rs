@@ -77,6 +77,14 @@ impl<B: FpgaBus> Engine<B> {
         let _ = self.outbox.push_back(frame);
     }
 
+    /// Drops answers and read-backs meant for a host session that has ended; the next
+    /// session must shake hands again. The FPGA keeps its state (a board does too).
+    pub fn forget_host(&mut self) {
+        self.outbox.clear();
+        self.read = None;
+        self.handshaken = false;
+    }
+
     /// Refuses a request the controller could not even hand to the engine.
     pub fn refuse(&mut self, code: ErrorCode, seq: u16, index: u32) {
         self.error(code, seq, index);

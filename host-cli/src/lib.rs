@@ -5,4 +5,5 @@ pub mod builtin;
 pub mod raster;
 pub mod raster_file;
 pub mod render;
+pub mod serial;
 pub mod session;

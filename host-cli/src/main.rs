@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 use host_cli::builtin;
 use host_cli::raster_file;
-use host_cli::session::Session;
+use host_cli::session::{Session, Transport};
 
 #[derive(Parser)]
 #[command(
@@ -17,8 +17,26 @@ use host_cli::session::Session;
     about = "Drive an FPGA graphics accelerator, or its golden model"
 )]
 struct Cli {
+    /// Serial port of a board or of `fpgfx-sim --pty` (default: the built-in target).
+    #[arg(long, global = true, env = "FPGFX_PORT")]
+    port: Option<String>,
+    /// Line rate of --port.
+    #[arg(long, global = true, default_value_t = 115_200)]
+    baud: u32,
     #[command(subcommand)]
     command: Command,
+}
+
+/// The target: a serial port if one was named, else the built-in one.
+fn connect(port: Option<&str>, baud: u32) -> Result<Session<Box<dyn Transport>>> {
+    let transport: Box<dyn Transport> = match port {
+        Some(p) => Box::new(
+            host_cli::serial::SerialTransport::open(p, baud)
+                .with_context(|| format!("cannot open serial port {p} at {baud} baud"))?,
+        ),
+        None => Box::new(builtin::sim_target()),
+    };
+    Ok(Session::new(transport))
 }
 
 #[derive(Subcommand)]
@@ -94,13 +112,21 @@ fn main() -> std::process::ExitCode {
 }
 
 fn run(cli: Cli) -> Result<()> {
+    let port = cli.port.as_deref();
+    let baud = cli.baud;
     match cli.command {
         Command::Raster {
             file,
             output,
             traversal,
             stats,
-        } => raster(&file, &output, traversal.as_deref(), stats),
+        } => raster(
+            connect(port, baud)?,
+            &file,
+            &output,
+            traversal.as_deref(),
+            stats,
+        ),
         Command::Render {
             scene,
             output,
@@ -110,16 +136,19 @@ fn run(cli: Cli) -> Result<()> {
             aov,
             packing,
             stats,
-        } => render(&RenderArgs {
-            scene,
-            output,
-            size,
-            numeric,
-            spp,
-            aov,
-            packing,
-            stats,
-        }),
+        } => render(
+            connect(port, baud)?,
+            &RenderArgs {
+                scene,
+                output,
+                size,
+                numeric,
+                spp,
+                aov,
+                packing,
+                stats,
+            },
+        ),
     }
 }
 
@@ -134,7 +163,7 @@ struct RenderArgs {
     stats: bool,
 }
 
-fn render(a: &RenderArgs) -> Result<()> {
+fn render(mut session: Session<Box<dyn Transport>>, a: &RenderArgs) -> Result<()> {
     use host_cli::render::{Aovs, Packing, Renderer};
     let name = a.scene.display().to_string();
     let text = std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read {name}"))?;
@@ -174,13 +203,10 @@ fn render(a: &RenderArgs) -> Result<()> {
         }
     }
     let regs = sim_target::scene_regs::to_regs(&scene).with_context(|| name.clone())?;
-    let mut session = Session::new(builtin::sim_target());
-    // The built-in target renders synchronously inside the link's poll: allow for a
-    // full-HD frame in the slowest format.
+    // The target renders a frame without answering in between: allow for a full-HD
+    // frame in the slowest format.
     session.timeout = std::time::Duration::from_secs(3600);
-    session
-        .handshake()
-        .context("handshake with the built-in target")?;
+    session.handshake().context("handshake with the target")?;
     let started = std::time::Instant::now();
     let (out, words) = Renderer::new().frame(&mut session, &regs, numeric, packing, aovs)?;
     let elapsed = started.elapsed();
@@ -235,7 +261,13 @@ fn render(a: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
-fn raster(file: &Path, output: &Path, traversal: Option<&str>, stats: bool) -> Result<()> {
+fn raster(
+    mut session: Session<Box<dyn Transport>>,
+    file: &Path,
+    output: &Path,
+    traversal: Option<&str>,
+    stats: bool,
+) -> Result<()> {
     let name = file.display().to_string();
     let text = std::fs::read_to_string(file).with_context(|| format!("cannot read {name}"))?;
     let mut job = raster_file::parse(&text, &name)?;
@@ -243,10 +275,7 @@ fn raster(file: &Path, output: &Path, traversal: Option<&str>, stats: bool) -> R
         job.setup.traversal =
             raster_file::parse_traversal(t).map_err(|m| anyhow::anyhow!("--traversal: {m}"))?;
     }
-    let mut session = Session::new(builtin::sim_target());
-    session
-        .handshake()
-        .context("handshake with the built-in target")?;
+    session.handshake().context("handshake with the target")?;
     let started = std::time::Instant::now();
     let out = host_cli::raster::run(&mut session, &job, &name)?;
     let elapsed = started.elapsed();

@@ -229,6 +229,13 @@ impl<T: Transport> Session<T> {
 
     /// Exchanges hellos; a version or schema mismatch is an error naming both sides.
     pub fn handshake(&mut self) -> Result<Hello, SessionError> {
+        // A board keeps running between host sessions, its link in the middle of the
+        // previous session's sequence numbers: start a new epoch so both ends resync. The
+        // nonce only has to differ from the last session's.
+        let nonce = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(1, |d| d.subsec_nanos() as u16 | 1);
+        self.link.reset(self.now(), nonce);
         let ours = Hello::new(
             Caps::default(),
             concat!("fpgfx ", env!("CARGO_PKG_VERSION")),
