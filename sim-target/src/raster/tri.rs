@@ -77,6 +77,35 @@ pub fn is_clockwise(v: &[Point; 3]) -> Option<bool> {
 
 /// Triangle setup. `None` when the triangle is degenerate, culled or misses the viewport.
 pub fn setup(v: &[Point; 3], bits: u8, width: u32, height: u32, cull: Cull) -> Option<TriSetup> {
+    let s = edges_only(v, bits, cull)?;
+    let h = 1i64 << bits;
+    let (mut minx, mut maxx, mut miny, mut maxy) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
+    for q in v {
+        let (x, y) = (2 * q.x as i64, 2 * q.y as i64);
+        minx = minx.min(x);
+        maxx = maxx.max(x);
+        miny = miny.min(y);
+        maxy = maxy.max(y);
+    }
+    // Divisions by the power of two 2h are arithmetic shifts (floor for negatives too).
+    let sh = bits as u32 + 1;
+    let lo = |m: i64| (-((h - m) >> sh)).max(0);
+    let hi = |m: i64, lim: u32| (((m - h) >> sh) + 1).min(lim as i64);
+    let bbox = [lo(minx), lo(miny), hi(maxx, width), hi(maxy, height)];
+    if bbox[0] >= bbox[2] || bbox[1] >= bbox[3] {
+        return None;
+    }
+    Some(TriSetup {
+        bbox: bbox.map(|x| x as u32),
+        ..s
+    })
+}
+
+/// Edge functions, area and vertex order without the viewport bounding box (left
+/// empty): what the anti-aliased path needs to interpolate depth and texture
+/// coordinates at pixels whose centre may lie outside the triangle. `None` when the
+/// triangle is degenerate or culled.
+pub fn edges_only(v: &[Point; 3], bits: u8, cull: Cull) -> Option<TriSetup> {
     let cw = is_clockwise(v)?;
     match (cull, cw) {
         (Cull::Clockwise, true) | (Cull::CounterClockwise, false) => return None,
@@ -106,23 +135,11 @@ pub fn setup(v: &[Point; 3], bits: u8, width: u32, height: u32, cull: Cull) -> O
         let ((x0, y0), (x1, y1), (x2, y2)) = (p[0], p[1], p[2]);
         (x2 - x0) * (y1 - y0) - (y2 - y0) * (x1 - x0)
     };
-    let minx = p.iter().map(|q| q.0).min()?;
-    let maxx = p.iter().map(|q| q.0).max()?;
-    let miny = p.iter().map(|q| q.1).min()?;
-    let maxy = p.iter().map(|q| q.1).max()?;
-    // Divisions by the power of two 2h are arithmetic shifts (floor for negatives too).
-    let sh = bits as u32 + 1;
-    let lo = |m: i64| (-((h - m) >> sh)).max(0);
-    let hi = |m: i64, lim: u32| (((m - h) >> sh) + 1).min(lim as i64);
-    let bbox = [lo(minx), lo(miny), hi(maxx, width), hi(maxy, height)];
-    if bbox[0] >= bbox[2] || bbox[1] >= bbox[3] {
-        return None;
-    }
     Some(TriSetup {
         edges,
         area,
         order,
-        bbox: bbox.map(|x| x as u32),
+        bbox: [0; 4],
     })
 }
 
