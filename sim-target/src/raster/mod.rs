@@ -350,14 +350,12 @@ impl Raster {
 /// and texture words, plus a 4-bit opcode and the CB bit.
 pub fn records(cmd: &RasterCmd, subpixel_bits: u8) -> u32 {
     // Whole pixels in 0..512: the FITkit's 9-bit coordinates.
+    // Both coordinates at once: for non-negative x and y, x | y is non-negative, has no
+    // fractional bits and is below 512 px exactly when each of them does and is.
     let fits = |p: &Point| {
         let m = (1i32 << subpixel_bits) - 1;
-        p.x >= 0
-            && p.y >= 0
-            && p.x & m == 0
-            && p.y & m == 0
-            && (p.x >> subpixel_bits) < 512
-            && (p.y >> subpixel_bits) < 512
+        let o = p.x | p.y;
+        o >= 0 && o & m == 0 && (o >> subpixel_bits) < 512
     };
     let bits: u32 = match cmd {
         RasterCmd::Clear(_) => 5 + 24,

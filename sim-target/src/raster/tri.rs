@@ -105,6 +105,7 @@ pub fn setup(v: &[Point; 3], bits: u8, width: u32, height: u32, cull: Cull) -> O
 /// empty): what the anti-aliased path needs to interpolate depth and texture
 /// coordinates at pixels whose centre may lie outside the triangle. `None` when the
 /// triangle is degenerate or culled.
+#[inline]
 pub fn edges_only(v: &[Point; 3], bits: u8, cull: Cull) -> Option<TriSetup> {
     let cw = is_clockwise(v)?;
     match (cull, cw) {
