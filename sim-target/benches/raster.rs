@@ -5,7 +5,7 @@
 
 use std::convert::Infallible;
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
 use embedded_graphics::{
     pixelcolor::Rgb888,
     prelude::{DrawTarget, OriginDimensions, Point as EgPoint, Primitive, RgbColor, Size},
@@ -164,7 +164,8 @@ fn triangles(c: &mut Criterion) {
     }
 }
 
-fn lines(c: &mut Criterion) {
+/// 256 random full-window lines (fixed seed) drawn with `algo`.
+fn line_cmds(algo: LineAlgo) -> Vec<RasterCmd> {
     let mut s = 99u64;
     let mut rnd = move |m: u32| {
         s = s
@@ -172,7 +173,7 @@ fn lines(c: &mut Criterion) {
             .wrapping_add(1442695040888963407);
         ((s >> 33) as u32 % m) as i32
     };
-    let ls: Vec<RasterCmd> = (0..256)
+    (0..256)
         .map(|_| {
             RasterCmd::Line(Line {
                 from: Point {
@@ -187,19 +188,16 @@ fn lines(c: &mut Criterion) {
                 color_to: None,
                 width: 0,
                 aa: false,
-                algo: LineAlgo::Bresenham,
+                algo,
             })
         })
-        .collect();
+        .collect()
+}
+
+fn lines(c: &mut Criterion) {
     let mut g = c.benchmark_group("line");
     for algo in [LineAlgo::Bresenham, LineAlgo::Dda] {
-        let ls: Vec<RasterCmd> = ls
-            .iter()
-            .map(|l| match l {
-                RasterCmd::Line(l) => RasterCmd::Line(Line { algo, ..*l }),
-                other => other.clone(),
-            })
-            .collect();
+        let ls = line_cmds(algo);
         let mut probe = Raster::new(W, H, &setup(Traversal::Tiles)).expect("setup");
         for l in &ls {
             probe.draw(l).expect("draw");
@@ -218,4 +216,55 @@ fn lines(c: &mut Criterion) {
 }
 
 criterion_group!(benches, triangles, lines);
-criterion_main!(benches);
+
+/// Instruction-count mode for `valgrind --tool=callgrind` on a shared machine, where
+/// wall-clock medians are noisy: `RASTER_CG=100px:Scanline` (or `line:Bresenham`) draws
+/// that workload `RASTER_CG_ITERS` times (default 100) and exits without criterion.
+fn callgrind_mode(spec: &str) {
+    let iters: usize = std::env::var("RASTER_CG_ITERS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100);
+    let (shape, trav) = spec.split_once(':').unwrap_or((spec, "Scanline"));
+    let cmds = if shape == "line" {
+        let algo = if trav == "Dda" {
+            LineAlgo::Dda
+        } else {
+            LineAlgo::Bresenham
+        };
+        line_cmds(algo)
+    } else {
+        let tris = shapes()
+            .into_iter()
+            .find(|(n, _)| *n == shape)
+            .map(|(_, t)| t)
+            .unwrap_or_default();
+        cmds(&tris)
+    };
+    let t = [
+        Traversal::BoundingBox,
+        Traversal::Scanline,
+        Traversal::Zigzag,
+        Traversal::Tiles,
+        Traversal::Simd8,
+    ]
+    .into_iter()
+    .find(|t| format!("{t:?}") == trav)
+    .unwrap_or(Traversal::Scanline);
+    let mut r = Raster::new(W, H, &setup(t)).expect("setup");
+    for _ in 0..iters {
+        for cmd in &cmds {
+            r.draw(std::hint::black_box(cmd)).expect("draw");
+        }
+    }
+    println!("{spec}: {} fragments", r.stats().fragments);
+}
+
+fn main() {
+    if let Ok(spec) = std::env::var("RASTER_CG") {
+        callgrind_mode(&spec);
+        return;
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

@@ -149,8 +149,22 @@ fn bbox(v: &[Point; 3], bits: u8, w: u32, h: u32) -> Option<(i64, i64, i64, i64)
 }
 
 /// Draws an anti-aliased triangle (flat colour; Gouraud uses the pixel-centre colour);
-/// returns pixels visited.
-pub fn draw_triangle(fb: &mut Framebuffer, t: &Triangle, bits: u8, cull: Cull, aa: Aa) -> u64 {
+/// returns pixels visited. `shade(fb, x, y, colour)` is asked for every pixel with
+/// coverage: it may run the depth test and substitute a texture colour, and returns the
+/// colour to blend or `None` to leave the pixel (depth test failed).
+pub fn draw_triangle(
+    fb: &mut Framebuffer,
+    t: &Triangle,
+    bits: u8,
+    cull: Cull,
+    aa: Aa,
+    shade: &mut dyn FnMut(
+        &mut Framebuffer,
+        u32,
+        u32,
+        protocol::frame::Rgb,
+    ) -> Option<protocol::frame::Rgb>,
+) -> u64 {
     let Some(cw) = tri::is_clockwise(&t.v) else {
         return 0;
     };
@@ -186,7 +200,9 @@ pub fn draw_triangle(fb: &mut Framebuffer, t: &Triangle, bits: u8, cull: Cull, a
                     Shade::Flat(c) => c,
                     Shade::Gouraud(c) => gouraud_at(&t.v, bits, &c, i, j),
                 };
-                fb.blend(i as u32, j as u32, c, k, of);
+                if let Some(c) = shade(fb, i as u32, j as u32, c) {
+                    fb.blend(i as u32, j as u32, c, k, of);
+                }
             }
         }
     }

@@ -289,7 +289,26 @@ impl Raster {
         let (w, h) = (self.fb.width(), self.fb.height());
         let bits = self.setup.subpixel_bits;
         if self.setup.aa.pattern != AaPattern::None {
-            let n = aa::draw_triangle(&mut self.fb, t, bits, self.setup.cull, self.setup.aa);
+            let cull = self.setup.cull;
+            // Depth and texture are evaluated once per pixel at its centre (one z-buffer
+            // entry per pixel), with barycentric weights clamped to the triangle, and the
+            // result is blended by the sample coverage.
+            let attrs = if t.z.is_some() || t.tex.is_some() {
+                tri::edges_only(&t.v, bits, cull).map(|s| (Shader::new(t, &s, &self.texture), s))
+            } else {
+                None
+            };
+            let n = aa::draw_triangle(
+                &mut self.fb,
+                t,
+                bits,
+                cull,
+                self.setup.aa,
+                &mut |fb, x, y, c| match &attrs {
+                    Some((sh, s)) => sh.aa_color(fb, s, x, y, c),
+                    None => Some(c),
+                },
+            );
             self.stats.pixel_tests += n;
             return Ok(hw::SETUP_CYCLES + n);
         }
@@ -331,14 +350,12 @@ impl Raster {
 /// and texture words, plus a 4-bit opcode and the CB bit.
 pub fn records(cmd: &RasterCmd, subpixel_bits: u8) -> u32 {
     // Whole pixels in 0..512: the FITkit's 9-bit coordinates.
+    // Both coordinates at once: for non-negative x and y, x | y is non-negative, has no
+    // fractional bits and is below 512 px exactly when each of them does and is.
     let fits = |p: &Point| {
         let m = (1i32 << subpixel_bits) - 1;
-        p.x >= 0
-            && p.y >= 0
-            && p.x & m == 0
-            && p.y & m == 0
-            && (p.x >> subpixel_bits) < 512
-            && (p.y >> subpixel_bits) < 512
+        let o = p.x | p.y;
+        o >= 0 && o & m == 0 && (o >> subpixel_bits) < 512
     };
     let bits: u32 = match cmd {
         RasterCmd::Clear(_) => 5 + 24,
@@ -424,19 +441,64 @@ impl<'a> Shader<'a> {
 
     #[inline]
     fn fragment(&self, fb: &mut Framebuffer, s: &TriSetup, x: u32, y: u32) {
-        let l = s.edges.map(|e| e.raw(x as i64, y as i64).max(0) as u128);
-        if let Some(z) = self.z {
-            // Depth is affine in screen space (z/w is what the projection makes linear).
-            let area = s.area as u128;
-            let num: u128 = (0..3).map(|k| z[k] as u128 * l[k]).sum();
-            let zv = ((num + area / 2) / area) as u32;
+        let l = weights(s, x, y);
+        if let Some(zv) = self.depth(&l) {
             if !fb.depth_test(x, y, zv) {
                 return;
             }
         }
+        if let Some(c) = self.color(&l) {
+            fb.put(x, y, c);
+        }
+    }
+
+    /// The anti-aliased path's pixel: depth test at the pixel centre, then the texture
+    /// colour (or `base`, the path's flat/Gouraud colour, when untextured). `None` when
+    /// the depth test fails.
+    fn aa_color(
+        &self,
+        fb: &mut Framebuffer,
+        s: &TriSetup,
+        x: u32,
+        y: u32,
+        base: Rgb,
+    ) -> Option<Rgb> {
+        let l = weights(s, x, y);
+        if let Some(zv) = self.depth(&l) {
+            if !fb.depth_test(x, y, zv) {
+                return None;
+            }
+        }
+        if self.tex.is_some() {
+            self.color(&l)
+        } else {
+            Some(base)
+        }
+    }
+
+    /// Interpolated depth, or `None` without z. Depth is affine in screen space (z/w is
+    /// what the projection makes linear). The weights are normalised by their sum: for
+    /// centres inside the triangle that sum is the area, and for the anti-aliased path's
+    /// edge pixels (centre outside, weights clamped at 0) it keeps z a convex combination
+    /// of the vertices' depths instead of an extrapolation.
+    #[inline]
+    fn depth(&self, l: &[u128; 3]) -> Option<u32> {
+        let z = self.z?;
+        let sum: u128 = l.iter().sum();
+        let num: u128 = (0..3).map(|k| z[k] as u128 * l[k]).sum();
+        if sum == 0 {
+            // Unreachable for a non-degenerate triangle (the weights sum to its area).
+            return Some(z[0]);
+        }
+        Some(((num + sum / 2) / sum) as u32)
+    }
+
+    /// Gouraud or perspective-correct colour, or the texture sample.
+    #[inline]
+    fn color(&self, l: &[u128; 3]) -> Option<Rgb> {
         let q = match self.pw {
             Some(pw) => [l[0] * pw[0], l[1] * pw[1], l[2] * pw[2]],
-            None => l,
+            None => *l,
         };
         // Keep 96 significant bits so that i32 texture coordinates × weights fit i128.
         let sum: u128 = q.iter().sum();
@@ -444,9 +506,9 @@ impl<'a> Shader<'a> {
         let q = q.map(|v| v >> shift);
         let den: u128 = q.iter().sum();
         if den == 0 {
-            return;
+            return None;
         }
-        let c = if let Some((tx, lod)) = &self.tex {
+        Some(if let Some((tx, lod)) = &self.tex {
             let interp = |k: usize| -> i64 {
                 let num: i128 = (0..3).map(|v| tx.uv[v][k] as i128 * q[v] as i128).sum();
                 let d = den as i128;
@@ -459,7 +521,13 @@ impl<'a> Shader<'a> {
                 ((num + den / 2) / den) as u8
             };
             Rgb::new(ch(|c| c.r), ch(|c| c.g), ch(|c| c.b))
-        };
-        fb.put(x, y, c);
+        })
     }
+}
+
+/// Raw edge values at the centre of pixel (x, y), clamped at 0: barycentric weights
+/// times the area inside the triangle.
+#[inline]
+fn weights(s: &TriSetup, x: u32, y: u32) -> [u128; 3] {
+    s.edges.map(|e| e.raw(x as i64, y as i64).max(0) as u128)
 }

@@ -75,12 +75,38 @@ pub fn is_clockwise(v: &[Point; 3]) -> Option<bool> {
     }
 }
 
-fn ceil_div(n: i64, d: i64) -> i64 {
-    -((-n).div_euclid(d))
-}
-
 /// Triangle setup. `None` when the triangle is degenerate, culled or misses the viewport.
 pub fn setup(v: &[Point; 3], bits: u8, width: u32, height: u32, cull: Cull) -> Option<TriSetup> {
+    let s = edges_only(v, bits, cull)?;
+    let h = 1i64 << bits;
+    let (mut minx, mut maxx, mut miny, mut maxy) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
+    for q in v {
+        let (x, y) = (2 * q.x as i64, 2 * q.y as i64);
+        minx = minx.min(x);
+        maxx = maxx.max(x);
+        miny = miny.min(y);
+        maxy = maxy.max(y);
+    }
+    // Divisions by the power of two 2h are arithmetic shifts (floor for negatives too).
+    let sh = bits as u32 + 1;
+    let lo = |m: i64| (-((h - m) >> sh)).max(0);
+    let hi = |m: i64, lim: u32| (((m - h) >> sh) + 1).min(lim as i64);
+    let bbox = [lo(minx), lo(miny), hi(maxx, width), hi(maxy, height)];
+    if bbox[0] >= bbox[2] || bbox[1] >= bbox[3] {
+        return None;
+    }
+    Some(TriSetup {
+        bbox: bbox.map(|x| x as u32),
+        ..s
+    })
+}
+
+/// Edge functions, area and vertex order without the viewport bounding box (left
+/// empty): what the anti-aliased path needs to interpolate depth and texture
+/// coordinates at pixels whose centre may lie outside the triangle. `None` when the
+/// triangle is degenerate or culled.
+#[inline]
+pub fn edges_only(v: &[Point; 3], bits: u8, cull: Cull) -> Option<TriSetup> {
     let cw = is_clockwise(v)?;
     match (cull, cw) {
         (Cull::Clockwise, true) | (Cull::CounterClockwise, false) => return None,
@@ -110,21 +136,11 @@ pub fn setup(v: &[Point; 3], bits: u8, width: u32, height: u32, cull: Cull) -> O
         let ((x0, y0), (x1, y1), (x2, y2)) = (p[0], p[1], p[2]);
         (x2 - x0) * (y1 - y0) - (y2 - y0) * (x1 - x0)
     };
-    let minx = p.iter().map(|q| q.0).min()?;
-    let maxx = p.iter().map(|q| q.0).max()?;
-    let miny = p.iter().map(|q| q.1).min()?;
-    let maxy = p.iter().map(|q| q.1).max()?;
-    let lo = |m: i64| ceil_div(m - h, 2 * h).max(0);
-    let hi = |m: i64, lim: u32| ((m - h).div_euclid(2 * h) + 1).min(lim as i64);
-    let bbox = [lo(minx), lo(miny), hi(maxx, width), hi(maxy, height)];
-    if bbox[0] >= bbox[2] || bbox[1] >= bbox[3] {
-        return None;
-    }
     Some(TriSetup {
         edges,
         area,
         order,
-        bbox: bbox.map(|x| x as u32),
+        bbox: [0; 4],
     })
 }
 
@@ -217,94 +233,129 @@ fn test_row<F: FnMut(u32, u32, u32)>(s: &TriSetup, j: u32, x0: u32, x1: u32, emi
 
 /// One edge's span bound walked down the rows exactly: the quotient and remainder of
 /// `N(j) / d` are stepped with additions only (the divisions happen once, at set-up).
+/// Lower and upper bounds are both kept in floor form (a ceiling is a floor of
+/// `n + d − 1`) with the column offset folded into `q`, so a row costs one
+/// add-compare-carry per bound and no branch on the edge's kind.
 #[derive(Clone, Copy)]
-struct Bound {
-    /// 1 = lower bound (`a > 0`), -1 = upper bound (`a < 0`), 0 = horizontal edge.
-    kind: i8,
+struct Step {
     q: i64,
     r: i64,
     d: i64,
     dq: i64,
     dr: i64,
-    /// For horizontal edges: the biased value, stepped by `b`.
-    v: i64,
-    b: i64,
 }
 
-/// Scanline spans without per-row divisions.
+impl Step {
+    /// A bound that never binds: `q` stays at `at`.
+    const fn neutral(at: i64) -> Self {
+        Self {
+            q: at,
+            r: 0,
+            d: 1,
+            dq: 0,
+            dr: 0,
+        }
+    }
+
+    /// `offset + floor(n / d)` stepped by `dn` per row (`d > 0`).
+    fn new(offset: i64, n: i64, d: i64, dn: i64) -> Self {
+        let (q, dq) = (n.div_euclid(d), dn.div_euclid(d));
+        Self {
+            q: offset + q,
+            r: n - q * d,
+            d,
+            dq,
+            dr: dn - dq * d,
+        }
+    }
+
+    #[inline(always)]
+    fn advance(&mut self) {
+        self.r += self.dr;
+        let carry = (self.r >= self.d) as i64;
+        self.q += self.dq + carry;
+        self.r -= self.d & -carry;
+    }
+}
+
+/// Scanline spans without per-row divisions. A triangle has at most two edges with
+/// `a > 0` (they bound the span from the left) and two with `a < 0` (from the right),
+/// because the three `a` sum to zero; missing ones are padded with neutral bounds. A
+/// horizontal edge (`a = 0`) does not depend on the column: it only trims the row range,
+/// which is decided here once.
 struct EdgeWalk {
     x0: i64,
     x1: i64,
-    bounds: [Bound; 3],
+    lo: [Step; 2],
+    hi: [Step; 2],
+    /// Rows `[y0, y1)` left after the horizontal edge, if any.
+    rows: (u32, u32),
 }
 
 impl EdgeWalk {
     fn new(s: &TriSetup) -> Self {
-        let [x0, y0, x1, _] = s.bbox;
-        let bounds = s.edges.map(|e| {
+        let [x0, mut y0, x1, mut y1] = s.bbox;
+        for e in &s.edges {
+            if e.a != 0 {
+                continue;
+            }
+            // Inside iff v + b·k ≥ 0 at row y0 + k, monotone in k.
             let v = e.at(x0 as i64, y0 as i64);
-            if e.a == 0 {
-                return Bound {
-                    kind: 0,
-                    q: 0,
-                    r: 0,
-                    d: 1,
-                    dq: 0,
-                    dr: 0,
-                    v,
-                    b: e.b,
-                };
+            let span = (y1 - y0) as i64;
+            if e.b > 0 {
+                let k = (-v).div_euclid(e.b) + ((-v).rem_euclid(e.b) > 0) as i64;
+                y0 += k.clamp(0, span) as u32;
+            } else if e.b < 0 {
+                let k = v.div_euclid(-e.b) + 1;
+                y1 = y0 + k.clamp(0, span) as u32;
+            } else if v < 0 {
+                y1 = y0;
             }
-            // Lower bound: k ≥ ceil(−v / a); upper bound: k ≤ floor(v / −a).
-            let (kind, n, d, dn) = if e.a > 0 {
-                (1, -v, e.a, -e.b)
-            } else {
-                (-1, v, -e.a, e.b)
-            };
-            Bound {
-                kind,
-                q: n.div_euclid(d),
-                r: n.rem_euclid(d),
-                d,
-                dq: dn.div_euclid(d),
-                dr: dn.rem_euclid(d),
-                v,
-                b: e.b,
+        }
+        let (xa, xb) = (x0 as i64, x1 as i64);
+        let mut lo = [Step::neutral(xa); 2];
+        let mut hi = [Step::neutral(xb); 2];
+        let (mut nl, mut nh) = (0, 0);
+        for e in &s.edges {
+            let v = e.at(x0 as i64, y0 as i64);
+            if e.a > 0 {
+                // First inside column: k ≥ ceil(−v / a) = floor((a − 1 − v) / a).
+                if let Some(slot) = lo.get_mut(nl) {
+                    *slot = Step::new(xa, e.a - 1 - v, e.a, -e.b);
+                }
+                nl += 1;
+            } else if e.a < 0 {
+                // One past the last inside column: k ≤ floor(v / −a).
+                if let Some(slot) = hi.get_mut(nh) {
+                    *slot = Step::new(xa + 1, v, -e.a, e.b);
+                }
+                nh += 1;
             }
-        });
+        }
         Self {
-            x0: x0 as i64,
-            x1: x1 as i64,
-            bounds,
+            x0: xa,
+            x1: xb,
+            lo,
+            hi,
+            rows: (y0, y1.max(y0)),
         }
     }
 
-    /// The span of the current row, then steps to the next row.
-    #[inline]
-    fn next_row(&mut self) -> (u32, u32) {
-        let (mut lo, mut hi) = (self.x0, self.x1);
-        let mut empty = false;
-        for bd in &mut self.bounds {
-            match bd.kind {
-                1 => lo = lo.max(self.x0 + bd.q + (bd.r > 0) as i64),
-                -1 => hi = hi.min(self.x0 + bd.q + 1),
-                _ => empty |= bd.v < 0,
-            }
-            bd.q += bd.dq;
-            bd.r += bd.dr;
-            if bd.r >= bd.d {
-                bd.r -= bd.d;
-                bd.q += 1;
-            }
-            bd.v += bd.b;
-        }
-        if empty || lo >= hi {
-            (0, 0)
-        } else {
-            (lo as u32, hi as u32)
-        }
+    /// The span of the current row (possibly empty: `lo ≥ hi`), then steps to the next row.
+    #[inline(always)]
+    fn next_row(&mut self) -> (i64, i64) {
+        let lo = self.lo[0].q.max(self.lo[1].q).max(self.x0);
+        let hi = self.hi[0].q.min(self.hi[1].q).min(self.x1);
+        self.lo[0].advance();
+        self.lo[1].advance();
+        self.hi[0].advance();
+        self.hi[1].advance();
+        (lo, hi)
     }
 }
+
+/// Rows of spans the scanline traversal computes before handing them out.
+const SPAN_BAND: usize = 32;
 
 /// Joins spans that touch within a band of rows, so that block traversals hand the
 /// framebuffer one long span per row instead of one per block (the SDRAM burst model).
@@ -373,15 +424,28 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
             c.pixel_tests += (x1 - x0) as u64 * (y1 - y0) as u64;
         }
         Traversal::Scanline => {
+            // One span set-up per bounding-box row, as the hardware walks them all.
+            c.wide_steps += (y1 - y0) as u64;
             let mut walk = EdgeWalk::new(s);
-            for j in y0..y1 {
-                let (a, b) = walk.next_row();
-                c.wide_steps += 1;
-                if a < b {
-                    c.accepted += (b - a) as u64;
-                    emit(j, a, b);
+            let (mut ya, yb) = walk.rows;
+            let mut accepted = 0;
+            // Spans are computed a band of rows at a time with no call in the loop, so
+            // the walk's state stays in registers instead of being spilled around `emit`.
+            let mut band = [(0i64, 0i64); SPAN_BAND];
+            while ya < yb {
+                let n = ((yb - ya) as usize).min(SPAN_BAND);
+                for sp in &mut band[..n] {
+                    *sp = walk.next_row();
                 }
+                for (j, &(a, b)) in (ya..).zip(&band[..n]) {
+                    if a < b {
+                        accepted += (b - a) as u64;
+                        emit(j, a as u32, b as u32);
+                    }
+                }
+                ya += n as u32;
             }
+            c.accepted += accepted;
         }
         Traversal::Simd8 => simd8(s, c, emit),
         Traversal::Tiles => tiles(s, c, emit),
