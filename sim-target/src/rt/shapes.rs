@@ -18,7 +18,7 @@ pub enum Quadratic {
 }
 
 /// Both roots of a t² + b t + c = 0 in ascending order, or None if Δ < 0 or a = b = 0.
-#[inline(always)]
+#[inline]
 pub fn solve_quadratic<S: Scalar>(a: S, b: S, c: S, m: &Math) -> Option<(S, S)> {
     let zero = S::zero();
     if a == zero {
