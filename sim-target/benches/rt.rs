@@ -18,6 +18,17 @@ fn bench(c: &mut Criterion) {
         size,
         ..Default::default()
     };
+    // One render and out, for instruction counts that do not depend on the machine's load:
+    // `RT_BENCH_ONCE=q16.16 valgrind --tool=callgrind target/release/deps/rt-… --bench`.
+    if let Some(numeric) = std::env::var("RT_BENCH_ONCE")
+        .ok()
+        .and_then(|n| rt::parse_numeric(&n))
+    {
+        if let Ok(frame) = rt::render(&scene, &opts(numeric)) {
+            eprintln!("{numeric:?}: {} rays", frame.stats.rays());
+        }
+        return;
+    }
     let reference = rt::render(&scene, &opts(Numeric::F64))
         .map(|f| f.rgb8)
         .unwrap_or_default();

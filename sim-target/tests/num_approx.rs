@@ -173,3 +173,96 @@ fn approximations_in_q16_16_stay_close() {
     );
     assert!(e < 5e-4, "{e}");
 }
+
+mod exact_ops {
+    //! The hand-written fixed-point multiply/divide and the libm-free floors must be
+    //! bit-identical to what they replace (`fixed`'s saturating ops, `f32/f64::floor`):
+    //! the golden images depend on it.
+    use fixed::types::{I16F16, I24F8, I32F32, I8F24};
+    use proptest::prelude::*;
+    use sim_target::num::{floor_f32, floor_f64, Q16_16, Q24_8, Q32_32, Q8_24};
+
+    macro_rules! same_as_fixed {
+        ($name:ident, $q:ident, $inner:ty, $bits:ty) => {
+            proptest! {
+                #![proptest_config(ProptestConfig::with_cases(20_000))]
+                #[test]
+                fn $name(a in any::<$bits>(), b in any::<$bits>(), sh in 0u32..31) {
+                    // also small operands, where most of the scene's values are
+                    for (a, b) in [(a, b), (a >> sh, b >> sh), (a >> sh, b), (a, b >> sh)] {
+                        let (fa, fb) = (<$inner>::from_bits(a), <$inner>::from_bits(b));
+                        prop_assert_eq!(($q(fa) * $q(fb)).0, fa.saturating_mul(fb));
+                        if b != 0 {
+                            prop_assert_eq!(($q(fa) / $q(fb)).0, fa.saturating_div(fb));
+                        }
+                    }
+                }
+            }
+        };
+    }
+    same_as_fixed!(q16_16_mul_div_match_fixed, Q16_16, I16F16, i32);
+    same_as_fixed!(q8_24_mul_div_match_fixed, Q8_24, I8F24, i32);
+    same_as_fixed!(q24_8_mul_div_match_fixed, Q24_8, I24F8, i32);
+    same_as_fixed!(q32_32_mul_div_match_fixed, Q32_32, I32F32, i64);
+
+    #[test]
+    fn division_edge_cases_match_fixed() {
+        let edge = [
+            i32::MIN,
+            i32::MIN + 1,
+            -65536,
+            -1,
+            1,
+            65536,
+            i32::MAX - 1,
+            i32::MAX,
+        ];
+        for a in edge {
+            for b in edge {
+                let (fa, fb) = (I16F16::from_bits(a), I16F16::from_bits(b));
+                assert_eq!((Q16_16(fa) / Q16_16(fb)).0, fa.saturating_div(fb));
+                assert_eq!((Q16_16(fa) * Q16_16(fb)).0, fa.saturating_mul(fb));
+                let (fa, fb) = (I24F8::from_bits(a), I24F8::from_bits(b));
+                assert_eq!((Q24_8(fa) / Q24_8(fb)).0, fa.saturating_div(fb));
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        #[test]
+        fn floors_match_std(bits in any::<u64>(), bits32 in any::<u32>(), x in -1e7f64..1e7) {
+            for v in [f64::from_bits(bits), x, x.fract(), -x.fract()] {
+                let (got, want) = (floor_f64(v), v.floor());
+                prop_assert!(got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()));
+            }
+            for v in [f32::from_bits(bits32), x as f32, x.fract() as f32] {
+                let (got, want) = (floor_f32(v), v.floor());
+                prop_assert!(got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()));
+            }
+        }
+    }
+
+    #[test]
+    fn floor_special_values() {
+        for v in [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            -1.0,
+            1.0,
+            -1e-300,
+            4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::MAX,
+            f64::MIN,
+        ] {
+            assert_eq!(floor_f64(v).to_bits(), v.floor().to_bits(), "{v}");
+            let w = v as f32;
+            assert_eq!(floor_f32(w).to_bits(), w.floor().to_bits(), "{w}");
+        }
+    }
+}

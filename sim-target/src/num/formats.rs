@@ -4,8 +4,46 @@ use super::Scalar;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use fixed::types::{I16F16, I24F8, I32F32, I8F24};
 
+/// Truncating (toward zero) fixed-point quotient (a·2^frac)/b of raw bits, b ≠ 0,
+/// saturated by the sign of the true quotient — bit for bit `fixed`'s `saturating_div`.
+///
+/// When a·2^frac fits in 53 bits (i32 formats with frac ≤ 21: Q16.16, Q24.8) the quotient
+/// goes through one f64 division instead of a 64-bit integer divide: numerator and
+/// divisor are exact in f64, and a non-integer quotient n/d is at least 1/|d| from the
+/// nearest integer while the rounding error is at most 2⁻⁵³·|n/d| < 1/|d|, so truncating
+/// the rounded quotient gives the exact integer quotient; the saturating `as` cast then
+/// clips exactly as `fixed` does. Other formats use the integer divide.
+#[inline(always)]
+fn div_bits<B: DivBits, const FRAC: u32>(a: B, b: B) -> B {
+    B::div_bits::<FRAC>(a, b)
+}
+
+trait DivBits: Copy {
+    fn div_bits<const FRAC: u32>(a: Self, b: Self) -> Self;
+}
+
+impl DivBits for i32 {
+    #[inline(always)]
+    fn div_bits<const FRAC: u32>(a: i32, b: i32) -> i32 {
+        if FRAC + 32 <= 53 {
+            (a as f64 * (1u64 << FRAC) as f64 / b as f64) as i32
+        } else {
+            let q = ((a as i64) << FRAC) / b as i64;
+            q.clamp(i32::MIN as i64, i32::MAX as i64) as i32
+        }
+    }
+}
+
+impl DivBits for i64 {
+    #[inline(always)]
+    fn div_bits<const FRAC: u32>(a: i64, b: i64) -> i64 {
+        let q = ((a as i128) << FRAC) / b as i128;
+        q.clamp(i64::MIN as i128, i64::MAX as i128) as i64
+    }
+}
+
 macro_rules! fixed_scalar {
-    ($(#[$m:meta])* $name:ident, $inner:ty, $bits:ty, $frac:literal, $label:literal) => {
+    ($(#[$m:meta])* $name:ident, $inner:ty, $bits:ty, $wide:ty, $frac:literal, $label:literal) => {
         $(#[$m])*
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
         pub struct $name(pub $inner);
@@ -28,7 +66,14 @@ macro_rules! fixed_scalar {
             type Output = Self;
             #[inline(always)]
             fn mul(self, o: Self) -> Self {
-                Self(self.0.saturating_mul(o.0))
+                // One widening multiply and an arithmetic shift (floor, as `fixed`); the
+                // product of two $bits fits the double width, so the only overflow is of
+                // the shifted result, and clamping it saturates exactly as
+                // `fixed::saturating_mul` (sign of the true product).
+                let p = (self.0.to_bits() as $wide * o.0.to_bits() as $wide) >> $frac;
+                Self(<$inner>::from_bits(
+                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
+                ))
             }
         }
         impl Div for $name {
@@ -42,7 +87,10 @@ macro_rules! fixed_scalar {
                         Self(<$inner>::MIN)
                     }
                 } else {
-                    Self(self.0.saturating_div(o.0))
+                    Self(<$inner>::from_bits(div_bits::<$bits, $frac>(
+                        self.0.to_bits(),
+                        o.0.to_bits(),
+                    )))
                 }
             }
         }
@@ -104,6 +152,7 @@ fixed_scalar!(
     Q16_16,
     I16F16,
     i32,
+    i64,
     16,
     "q16.16"
 );
@@ -112,6 +161,7 @@ fixed_scalar!(
     Q8_24,
     I8F24,
     i32,
+    i64,
     24,
     "q8.24"
 );
@@ -120,6 +170,7 @@ fixed_scalar!(
     Q24_8,
     I24F8,
     i32,
+    i64,
     8,
     "q24.8"
 );
@@ -128,6 +179,7 @@ fixed_scalar!(
     Q32_32,
     I32F32,
     i64,
+    i128,
     32,
     "q32.32"
 );

@@ -121,6 +121,32 @@ pub trait Scalar:
     }
 }
 
+/// `f64::floor` without the libm call that baseline x86-64 (no SSE4.1 `roundsd`) makes:
+/// below 2⁵² in magnitude truncation is exact, one step down fixes negatives, and floor
+/// never changes the sign bit (so −0 and (−1, 0) keep it through `copysign`); larger
+/// values, ±∞ and NaN are already integral or propagate unchanged. Bit-identical to
+/// `f64::floor` (tested in `tests/num_approx.rs`).
+#[inline(always)]
+pub fn floor_f64(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let t = (x as i64) as f64;
+        (if t > x { t - 1.0 } else { t }).copysign(x)
+    } else {
+        x
+    }
+}
+
+/// `f32::floor` without the libm call; see [`floor_f64`].
+#[inline(always)]
+pub fn floor_f32(x: f32) -> f32 {
+    if x.abs() < 8_388_608.0 {
+        let t = (x as i32) as f32;
+        (if t > x { t - 1.0 } else { t }).copysign(x)
+    } else {
+        x
+    }
+}
+
 impl Scalar for f64 {
     const NAME: &'static str = "f64";
     #[inline(always)]
@@ -144,7 +170,7 @@ impl Scalar for f64 {
     }
     #[inline(always)]
     fn floor(self) -> Self {
-        f64::floor(self)
+        floor_f64(self)
     }
 }
 
@@ -171,7 +197,7 @@ impl Scalar for f32 {
     }
     #[inline(always)]
     fn floor(self) -> Self {
-        f32::floor(self)
+        floor_f32(self)
     }
 }
 

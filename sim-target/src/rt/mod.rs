@@ -205,6 +205,10 @@ struct PObj<S> {
     minv: M3<S>,
     nmat: M3<S>,
     translate: V3<S>,
+    /// The camera position in object space: every primary ray starts there, so its
+    /// transform is done once per object instead of once per pixel (same operations, same
+    /// bits).
+    eye: V3<S>,
     material: usize,
 }
 
@@ -234,6 +238,8 @@ struct PMat<S> {
 
 struct Prepared<S> {
     objs: Vec<PObj<S>>,
+    /// World-space camera position (primary rays' origin).
+    eye: V3<S>,
     lights: Vec<PLight<S>>,
     mats: Vec<PMat<S>>,
     ambient: V3<S>,
@@ -309,6 +315,7 @@ pub fn plan(scene: &Scene) -> Plan {
 }
 
 fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -> Prepared<S> {
+    let eye = V3::<S>::from_f64(scene.camera.position);
     let objs = scene
         .objects
         .iter()
@@ -318,15 +325,18 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
             let sinv = f::diag(o.scale.map(|s| 1.0 / s));
             let minv = f::mul(sinv, f::transpose(r));
             let rotated = o.rotate.iter().any(|a| *a != 0.0);
-            PObj {
+            let mut ob = PObj {
                 diag: (!rotated).then(|| V3::from_f64([minv[0][0], minv[1][1], minv[2][2]])),
                 shape: o.shape,
                 intersect: shapes::intersect_fn::<S>(o.shape),
                 minv: M3::from_f64(minv),
                 nmat: M3::from_f64(f::transpose(minv)),
                 translate: V3::from_f64(o.translate),
+                eye: V3::zero(),
                 material: o.material,
-            }
+            };
+            ob.eye = ob.to_object(eye, V3::zero()).0;
+            ob
         })
         .collect();
     let lights = scene
@@ -397,6 +407,7 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
                         scale: (S::from_f64(t.scale[0]), S::from_f64(t.scale[1])),
                         offset: (S::from_f64(t.offset[0]), S::from_f64(t.offset[1])),
                         grey: texture::is_grey(t.kind),
+                        levels: texture::levels(),
                     },
                     V3::from_f64(t.color2),
                 )
@@ -418,6 +429,7 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
         .collect();
     Prepared {
         objs,
+        eye,
         lights,
         mats,
         ambient: V3::from_f64(scene.ambient),
@@ -437,6 +449,10 @@ struct Counts {
     shadow: u64,
     reflected: u64,
     refracted: u64,
+    /// Index of the object that blocked the last shadow ray of this row: tried first by
+    /// the next one (neighbouring pixels share occluders). `occluded` is an any(), so the
+    /// order cannot change the result.
+    occluder: usize,
 }
 
 struct Hit<S> {
@@ -465,12 +481,18 @@ impl<S: Scalar> Prepared<S> {
         }
     }
 
+    /// Nearest hit; `from_eye` says that o is the camera position, whose object-space
+    /// image each object has precomputed.
     #[inline]
-    fn closest(&self, o: V3<S>, d: V3<S>) -> Option<(S, usize)> {
+    fn closest(&self, o: V3<S>, d: V3<S>, from_eye: bool) -> Option<(S, usize)> {
         let mut best = self.maxd;
         let mut idx = None;
         for (i, ob) in self.objs.iter().enumerate() {
-            let (lo, ld) = ob.to_object(o, d);
+            let (lo, ld) = if from_eye {
+                (ob.eye, ob.to_object(V3::zero(), d).1)
+            } else {
+                ob.to_object(o, d)
+            };
             if let Some(t) = self.hit_object(ob, lo, ld, best) {
                 best = t;
                 idx = Some(i);
@@ -479,12 +501,27 @@ impl<S: Scalar> Prepared<S> {
         idx.map(|i| (best, i))
     }
 
+    #[inline(always)]
+    fn blocks(&self, ob: &PObj<S>, o: V3<S>, d: V3<S>, tmax: S) -> bool {
+        let (lo, ld) = ob.to_object(o, d);
+        self.hit_object(ob, lo, ld, tmax).is_some()
+    }
+
     #[inline]
-    fn occluded(&self, o: V3<S>, d: V3<S>, tmax: S) -> bool {
-        self.objs.iter().any(|ob| {
-            let (lo, ld) = ob.to_object(o, d);
-            self.hit_object(ob, lo, ld, tmax).is_some()
-        })
+    fn occluded(&self, o: V3<S>, d: V3<S>, tmax: S, cache: &mut usize) -> bool {
+        let first = *cache;
+        if let Some(ob) = self.objs.get(first) {
+            if self.blocks(ob, o, d, tmax) {
+                return true;
+            }
+        }
+        for (i, ob) in self.objs.iter().enumerate() {
+            if i != first && self.blocks(ob, o, d, tmax) {
+                *cache = i;
+                return true;
+            }
+        }
+        false
     }
 
     /// Radiance along a ray (d unit) that starts at recursion level `start` (0 for a
@@ -513,7 +550,8 @@ impl<S: Scalar> Prepared<S> {
             } else {
                 cnt.reflected += 1;
             }
-            let Some((t, i)) = self.closest(o, d) else {
+            let from_eye = level == 0 && !refracted && o == self.eye;
+            let Some((t, i)) = self.closest(o, d, from_eye) else {
                 color = color + self.background.scale(weight);
                 break;
             };
@@ -576,7 +614,7 @@ impl<S: Scalar> Prepared<S> {
                 }
                 cnt.shadow += 1;
                 let dist = dist2 * inv_dist;
-                if self.occluded(p_off, wi, dist) {
+                if self.occluded(p_off, wi, dist, &mut cnt.occluder) {
                     continue;
                 }
                 let g = ndl / dist2 * scf;

@@ -139,28 +139,46 @@ pub struct TexSlot<S> {
     pub offset: (S, S),
     /// Grey mix texture?
     pub grey: bool,
+    /// Channel byte b → b/255 in the format ([`levels`]), so that a fetch indexes instead
+    /// of converting three f64 values per texel (four texels per bilinear sample).
+    pub levels: [S; 256],
 }
 
-fn unpack<S: Scalar>(w: u32) -> V3<S> {
+/// The value of each channel byte, b/255, exactly as converted per fetch before.
+pub fn levels<S: Scalar>() -> [S; 256] {
     let k = 1.0 / 255.0;
+    core::array::from_fn(|b| S::from_f64(b as f64 * k))
+}
+
+#[inline(always)]
+fn unpack<S: Scalar>(w: u32, levels: &[S; 256]) -> V3<S> {
     V3::new(
-        S::from_f64(((w >> 16) & 255) as f64 * k),
-        S::from_f64(((w >> 8) & 255) as f64 * k),
-        S::from_f64((w & 255) as f64 * k),
+        levels[((w >> 16) & 255) as usize],
+        levels[((w >> 8) & 255) as usize],
+        levels[(w & 255) as usize],
     )
 }
 
 /// Sample a slot at (u, v) after its transform, repeat wrap. Returns the texel value as a
 /// colour (for grey textures every channel is the mix factor).
+#[inline]
 pub fn sample<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> V3<S> {
     let u = (u * slot.scale.0 + slot.offset.0).fract();
     let v = (v * slot.scale.1 + slot.offset.1).fract();
     let side = slot.side as i64;
     let sidef = S::from_f64(slot.side as f64);
+    // sides are powers of two (`side_for`): the wrap is a mask, as in hardware
+    let pow2 = side > 0 && side & (side - 1) == 0;
     let fetch = |x: i64, y: i64| -> V3<S> {
-        let x = x.rem_euclid(side) as usize;
-        let y = y.rem_euclid(side) as usize;
-        unpack(mem.get(slot.base + y * slot.side + x).copied().unwrap_or(0))
+        let (x, y) = if pow2 {
+            ((x & (side - 1)) as usize, (y & (side - 1)) as usize)
+        } else {
+            (x.rem_euclid(side) as usize, y.rem_euclid(side) as usize)
+        };
+        unpack(
+            mem.get(slot.base + y * slot.side + x).copied().unwrap_or(0),
+            &slot.levels,
+        )
     };
     match slot.filter {
         Filter::Nearest => {
