@@ -245,14 +245,11 @@ impl<T: Transport> Session<T> {
         // can name both sides; check it before looking at a refusal.
         let start = Instant::now();
         loop {
-            if let Some(pos) = self
+            let pos = self
                 .inbox
                 .iter()
-                .position(|f| matches!(f, DeviceFrame::Hello(_)))
-            {
-                let Some(DeviceFrame::Hello(peer)) = self.inbox.remove(pos) else {
-                    unreachable!("position() found a hello here")
-                };
+                .position(|f| matches!(f, DeviceFrame::Hello(_)));
+            if let Some(DeviceFrame::Hello(peer)) = pos.and_then(|p| self.inbox.remove(p)) {
                 peer.check().map_err(|source| SessionError::Handshake {
                     peer: peer.ident.to_string(),
                     source,

@@ -33,6 +33,11 @@ fn main() -> std::process::ExitCode {
     }
 }
 
+/// EIO (read) or EPIPE (write) on a pty master: no process has the slave open.
+fn host_gone(e: &std::io::Error) -> bool {
+    e.kind() == std::io::ErrorKind::BrokenPipe || matches!(e.raw_os_error(), Some(5) | Some(32))
+}
+
 fn run(cli: Cli) -> Result<()> {
     anyhow::ensure!(cli.pty, "nothing to serve: give --pty");
     let (master, slave) =
@@ -62,7 +67,7 @@ fn run(cli: Cli) -> Result<()> {
             Ok(()) => {}
             // EIO (read) or EPIPE (write) on the master while no one has the slave open:
             // the host went away; wait for the next one (it will reset the link).
-            Err(ControllerError::Host(e)) if matches!(e.raw_os_error(), Some(5) | Some(32)) => {
+            Err(ControllerError::Host(e)) if host_gone(&e) => {
                 std::thread::sleep(Duration::from_millis(20));
             }
             Err(ControllerError::Host(e)) => return Err(e).context("host link"),
