@@ -247,6 +247,14 @@ impl<B: FpgaBus> Engine<B> {
             return Ok(());
         };
         for (i, cmd) in cmds.iter().enumerate() {
+            // The one value the packer cannot judge: a seed must lie in this frame's
+            // framebuffer, or the FPGA's fill unit would fault.
+            if let RasterCmd::Fill(f) = cmd {
+                if f.seed.x >= setup.width || f.seed.y >= setup.height {
+                    self.error(ErrorCode::OutOfRange, seq, i as u32);
+                    return Ok(());
+                }
+            }
             // A clear is its own command here; folding it into the next command's CB
             // bit is the packer's business.
             let opts = PackOptions {

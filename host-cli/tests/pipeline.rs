@@ -313,3 +313,42 @@ fn built_in_render_matches_direct_and_sends_only_changes() {
         .expect("renders");
     assert_eq!(words, 1, "only translate.x changed");
 }
+
+/// A seed outside the framebuffer (which the file parser also refuses) is refused by the
+/// controller itself, so a foreign host cannot make the FPGA fault.
+#[test]
+fn controller_refuses_a_seed_outside_the_frame() {
+    use protocol::frame::{Connectivity, HostFrame, Pixel, Rgb, SeedFill};
+    let job = raster_file::parse("size = [16, 16]", "s.toml").expect("valid");
+    let mut session = Session::new(host_cli::builtin::sim_target());
+    session.handshake().expect("handshake");
+    session
+        .send(
+            &HostFrame::RasterSetup(job.setup),
+            Box::new(|_| "setup".into()),
+        )
+        .expect("sent");
+    let mut cmds = heapless::Vec::new();
+    let fill = RasterCmd::Fill(SeedFill {
+        seed: Pixel { x: 16, y: 0 },
+        color: Rgb::new(1, 2, 3),
+        connectivity: Connectivity::Four,
+    });
+    cmds.push(fill).expect("capacity");
+    session
+        .send(
+            &HostFrame::Raster(cmds),
+            Box::new(|i| format!("batch entry {i}")),
+        )
+        .expect("sent");
+    let err = session.sync().expect_err("refused");
+    match err {
+        SessionError::Refused { what, code, .. } => {
+            assert_eq!(code, ErrorCode::OutOfRange);
+            assert_eq!(what, "batch entry 0");
+        }
+        other => panic!("expected a refusal, got {other}"),
+    }
+    // The board is still alive.
+    session.sync().expect("still answering");
+}
