@@ -56,31 +56,7 @@ enum Command {
         stats: bool,
     },
     /// Ray-trace a scene file (SPEC-RT's TOML) and write the frame as PNG.
-    Render {
-        /// The scene file.
-        scene: PathBuf,
-        /// Output PNG.
-        #[arg(short, long, default_value = "frame.png")]
-        output: PathBuf,
-        /// Frame size WxH (overrides the scene; the field of view is kept).
-        #[arg(long, value_parser = parse_size)]
-        size: Option<(u32, u32)>,
-        /// Number format: f64, f32, f16, q16.16, q8.24, q24.8, q32.32.
-        #[arg(long, default_value = "f32")]
-        numeric: String,
-        /// Samples per pixel (overrides the scene).
-        #[arg(long)]
-        spp: Option<u32>,
-        /// AOVs to write, e.g. depth=d.pfm,normal=n.pfm.
-        #[arg(long)]
-        aov: Option<String>,
-        /// Read-back packing: rgb888 or kcu116 (ViRAY's 16-bit mode, reconstructed).
-        #[arg(long, default_value = "rgb888")]
-        packing: String,
-        /// Print rays, time, board-time estimate and link counters.
-        #[arg(long)]
-        stats: bool,
-    },
+    Render(RenderArgs),
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -127,39 +103,35 @@ fn run(cli: Cli) -> Result<()> {
             traversal.as_deref(),
             stats,
         ),
-        Command::Render {
-            scene,
-            output,
-            size,
-            numeric,
-            spp,
-            aov,
-            packing,
-            stats,
-        } => render(
-            connect(port, baud)?,
-            &RenderArgs {
-                scene,
-                output,
-                size,
-                numeric,
-                spp,
-                aov,
-                packing,
-                stats,
-            },
-        ),
+        Command::Render(args) => render(connect(port, baud)?, &args),
     }
 }
 
+/// Arguments of `fpgfx render`.
+#[derive(clap::Args)]
 struct RenderArgs {
+    /// The scene file.
     scene: PathBuf,
+    /// Output PNG.
+    #[arg(short, long, default_value = "frame.png")]
     output: PathBuf,
+    /// Frame size WxH (overrides the scene; the field of view is kept).
+    #[arg(long, value_parser = parse_size)]
     size: Option<(u32, u32)>,
+    /// Number format: f64, f32, f16, q16.16, q8.24, q24.8, q32.32.
+    #[arg(long, default_value = "f32")]
     numeric: String,
+    /// Samples per pixel (overrides the scene).
+    #[arg(long)]
     spp: Option<u32>,
+    /// AOVs to write, e.g. depth=d.pfm,normal=n.pfm.
+    #[arg(long)]
     aov: Option<String>,
+    /// Read-back packing: rgb888 or kcu116 (ViRAY's 16-bit mode, reconstructed).
+    #[arg(long, default_value = "rgb888")]
     packing: String,
+    /// Print rays, time, board-time estimate and link counters.
+    #[arg(long)]
     stats: bool,
 }
 

@@ -36,15 +36,7 @@ fn bench(c: &mut Criterion) {
     g.sample_size(10)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
-    for numeric in [
-        Numeric::F64,
-        Numeric::F32,
-        Numeric::F16,
-        Numeric::Q16_16,
-        Numeric::Q8_24,
-        Numeric::Q24_8,
-        Numeric::Q32_32,
-    ] {
+    for numeric in Numeric::ALL {
         let Ok(frame) = rt::render(&scene, &opts(numeric)) else {
             continue;
         };

@@ -21,22 +21,25 @@ pub fn octant(r: i64) -> Vec<(i64, i64)> {
     pts
 }
 
+/// The eight points symmetric to (x, y) about the axes and diagonals.
+fn eight_way(x: i64, y: i64) -> [(i64, i64); 8] {
+    [
+        (x, y),
+        (y, x),
+        (-x, y),
+        (-y, x),
+        (x, -y),
+        (y, -x),
+        (-x, -y),
+        (-y, -x),
+    ]
+}
+
 /// All distinct outline offsets, eight-way symmetric.
 pub fn outline(r: i64) -> Vec<(i64, i64)> {
     let mut v: Vec<(i64, i64)> = octant(r)
         .into_iter()
-        .flat_map(|(x, y)| {
-            [
-                (x, y),
-                (y, x),
-                (-x, y),
-                (-y, x),
-                (x, -y),
-                (y, -x),
-                (-x, -y),
-                (-y, -x),
-            ]
-        })
+        .flat_map(|(x, y)| eight_way(x, y))
         .collect();
     v.sort_unstable();
     v.dedup();
@@ -101,16 +104,7 @@ pub fn draw(fb: &mut Framebuffer, c: &Circle, bits: u8) -> u64 {
                     plot(dx, dy);
                 }
             } else {
-                for (dx, dy) in [
-                    (x, y),
-                    (y, x),
-                    (-x, y),
-                    (-y, x),
-                    (x, -y),
-                    (y, -x),
-                    (-x, -y),
-                    (-y, -x),
-                ] {
+                for (dx, dy) in eight_way(x, y) {
                     plot(dx, dy);
                 }
             }
