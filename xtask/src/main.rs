@@ -1,8 +1,8 @@
 //! `cargo xtask test` — the README's test command and the only thing `.ci/run` calls.
 //!
-//! It installs what the checks need (the Cortex-M target; QEMU from Debian once the
-//! firmware's QEMU tests exist) idempotently,
-//! so a fresh machine needs nothing done by hand, then runs every
+//! It installs what the checks need (the Cortex-M target; from Debian, QEMU for the
+//! firmware's end-to-end test and the third-party `stm32flash` the bootloader test drives)
+//! idempotently, so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
 use std::process::Command;
@@ -46,11 +46,58 @@ fn prints(program: &str, args: &[&str], needle: &str) -> bool {
         .unwrap_or(false)
 }
 
+/// Debian packages the tests drive, as (program the test runs, package that provides it).
+const PACKAGES: &[(&str, &str)] = &[
+    ("qemu-system-arm", "qemu-system-arm"),
+    ("stm32flash", "stm32flash"),
+];
+
+/// Whether `program` is on the PATH.
+fn on_path(program: &str) -> bool {
+    std::env::var_os("PATH")
+        .map(|paths| std::env::split_paths(&paths).any(|d| d.join(program).is_file()))
+        .unwrap_or(false)
+}
+
+/// Installs the missing Debian packages; `apt-get update` only if the first try fails
+/// (a fresh image may have no package lists), and through sudo when not root.
+fn install_packages() -> Result<()> {
+    let missing: Vec<&str> = PACKAGES
+        .iter()
+        .filter(|(program, _)| !on_path(program))
+        .map(|&(_, package)| package)
+        .collect();
+    if missing.is_empty() {
+        return Ok(());
+    }
+    let root = Command::new("id")
+        .arg("-u")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+        .unwrap_or(false);
+    let apt = |args: &[&str]| -> Result<()> {
+        let mut full = vec!["apt-get"];
+        full.extend_from_slice(args);
+        if root {
+            run(full[0], &full[1..])
+        } else {
+            run("sudo", &full)
+        }
+    };
+    let mut install = vec!["install", "-y", "--no-install-recommends"];
+    install.extend_from_slice(&missing);
+    if apt(&install).is_err() {
+        apt(&["update"])?;
+        apt(&install).with_context(|| format!("cannot install {missing:?} from Debian"))?;
+    }
+    Ok(())
+}
+
 fn setup() -> Result<()> {
     if !prints("rustup", &["target", "list", "--installed"], MCU_TARGET) {
         run("rustup", &["target", "add", MCU_TARGET])?;
     }
-    Ok(())
+    install_packages()
 }
 
 fn test() -> Result<()> {
