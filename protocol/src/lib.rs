@@ -13,6 +13,8 @@
 //! * [`bus`] — the bit-packed words the controller pushes into the FPGA's input FIFO
 //!   (the FITkit raster block and richer layouts), and [`scene`] — the ray tracer's
 //!   32-bit AXI4-Lite register image.
+//! * [`fpga`] — the same bus operations as messages, for an FPGA reached over a serial
+//!   line (the board's second UART when the FPGA is the `fpgfx-sim` emulator).
 //!
 //! The crate is `#![no_std]` without `alloc`: everything here must fit a Cortex-M4 with
 //! 128 KiB of RAM, so buffers are `heapless` and bounded by the named constants below.
@@ -20,6 +22,7 @@
 #![deny(missing_docs)]
 
 pub mod bus;
+pub mod fpga;
 pub mod frame;
 pub mod link;
 pub mod scene;
