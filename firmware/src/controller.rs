@@ -129,7 +129,8 @@ where
                         }
                     }
                 }
-                Some(Event::PeerReset { .. }) => {
+                Some(Event::PeerReset { discarded }) => {
+                    crate::log::log_info!("host link reset ({} frames discarded)", discarded);
                     // A new host session: nothing of the old one may leak into it.
                     self.inbox.clear();
                     self.malformed.clear();

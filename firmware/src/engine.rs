@@ -91,6 +91,7 @@ impl<B: FpgaBus> Engine<B> {
     }
 
     fn error(&mut self, code: ErrorCode, seq: u16, index: u32) {
+        crate::log::log_warn!("request {} refused: {} at {}", seq, code as u8, index);
         self.answer(DeviceFrame::Error(ErrorReport { code, seq, index }));
     }
 
@@ -215,7 +216,10 @@ impl<B: FpgaBus> Engine<B> {
         // both sides in its error message.
         self.answer(DeviceFrame::Hello(Hello::new(self.caps, self.ident)));
         match peer.check() {
-            Ok(()) => self.handshaken = true,
+            Ok(()) => {
+                crate::log::log_info!("host session: protocol {}", peer.protocol_version);
+                self.handshaken = true
+            }
             Err(_) => {
                 self.handshaken = false;
                 self.error(ErrorCode::Handshake, seq, 0);

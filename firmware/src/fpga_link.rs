@@ -25,6 +25,11 @@ use crate::fpga::FpgaBus;
 pub trait Clock {
     /// The current time.
     fn now_ms(&mut self) -> u64;
+
+    /// Called while waiting for an answer when nothing has arrived. A board sleeps until
+    /// the next interrupt (a received byte or the millisecond tick): busy-polling a UART
+    /// wastes power on silicon and, under QEMU, starves the thread that delivers the bytes.
+    fn idle(&mut self) {}
 }
 
 impl<F: FnMut() -> u64> Clock for F {
@@ -67,6 +72,33 @@ pub enum FpgaLinkError<E> {
     },
     /// The FPGA side restarted: everything it held is gone; reset and start over.
     PeerReset,
+}
+
+#[cfg(feature = "defmt")]
+impl<E> defmt::Format for FpgaLinkError<E> {
+    // By hand rather than derived: protocol's types stay free of a logging dependency, and
+    // numbers are all a log reader needs next to the names.
+    fn format(&self, f: defmt::Formatter<'_>) {
+        match self {
+            FpgaLinkError::Io(_) => defmt::write!(f, "UART error"),
+            FpgaLinkError::Timeout { waiting_for } => {
+                defmt::write!(f, "no answer to {=str}", waiting_for)
+            }
+            FpgaLinkError::Fault(x) => defmt::write!(
+                f,
+                "FPGA refused request {=u32} (fault {=u8})",
+                x.request,
+                x.code as u8
+            ),
+            FpgaLinkError::Unexpected { question } => {
+                defmt::write!(f, "unexpected answer to {=str}", question)
+            }
+            FpgaLinkError::Schema { ours, theirs } => {
+                defmt::write!(f, "FPGA message set {=u64:x}, ours {=u64:x}", theirs, ours)
+            }
+            FpgaLinkError::PeerReset => defmt::write!(f, "FPGA restarted"),
+        }
+    }
 }
 
 /// The FPGA at the other end of a serial line.
@@ -212,6 +244,9 @@ where
                 return self.transmit(now);
             }
             self.pump()?;
+            if !self.port.read_ready().map_err(FpgaLinkError::Io)? {
+                self.clock.idle();
+            }
             if now > deadline {
                 return Err(FpgaLinkError::Timeout { waiting_for: what });
             }
@@ -227,7 +262,12 @@ where
         self.post(req, what)?;
         let deadline = self.clock.now_ms() + self.timeout_ms;
         loop {
-            self.pump()?;
+            if !self.pump()?
+                && self.replies.is_empty()
+                && !self.port.read_ready().map_err(FpgaLinkError::Io)?
+            {
+                self.clock.idle();
+            }
             match self.replies.pop_front() {
                 Some(Some(FpgaReply::Fault(f))) => return Err(FpgaLinkError::Fault(f)),
                 Some(Some(reply)) => return Ok(reply),

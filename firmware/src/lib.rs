@@ -11,6 +11,7 @@ pub mod controller;
 pub mod engine;
 pub mod fpga;
 pub mod fpga_link;
+mod log;
 
 pub use controller::{Controller, ControllerError};
 pub use engine::Engine;

@@ -65,7 +65,13 @@ fn render_over_the_fpga_link_is_identical_and_sends_only_changes() {
     scene.objects[1].translate[1] += 0.25;
     let moved = sim_target::scene_regs::to_regs(&scene).expect("fits");
     let (_, words) = renderer
-        .frame(&mut session, &moved, numeric, Packing::Kcu116, Aovs::default())
+        .frame(
+            &mut session,
+            &moved,
+            numeric,
+            Packing::Kcu116,
+            Aovs::default(),
+        )
         .expect("second frame");
     assert_eq!(words, 1, "one register changed");
 }

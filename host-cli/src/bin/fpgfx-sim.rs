@@ -21,6 +21,13 @@ struct Cli {
     /// controller + FPGA model on it until killed.
     #[arg(long)]
     pty: bool,
+    /// Serve only the FPGA (the serial FPGA link, `protocol::fpga`) on this serial port,
+    /// e.g. the pty QEMU gives the board's USART2.
+    #[arg(long, value_name = "PORT", conflicts_with = "pty")]
+    fpga_link: Option<String>,
+    /// Line rate of --fpga-link (a pty ignores it).
+    #[arg(long, default_value_t = 921_600)]
+    baud: u32,
 }
 
 fn main() -> std::process::ExitCode {
@@ -39,7 +46,10 @@ fn host_gone(e: &std::io::Error) -> bool {
 }
 
 fn run(cli: Cli) -> Result<()> {
-    anyhow::ensure!(cli.pty, "nothing to serve: give --pty");
+    if let Some(port) = &cli.fpga_link {
+        return serve_fpga_link(port, cli.baud);
+    }
+    anyhow::ensure!(cli.pty, "nothing to serve: give --pty or --fpga-link PORT");
     let (master, slave) =
         serialport::TTYPort::pair().context("cannot create a pseudo-terminal pair")?;
     let path = serialport::SerialPort::name(&slave).context("the pseudo-terminal has no path")?;
@@ -74,5 +84,51 @@ fn run(cli: Cli) -> Result<()> {
             Err(ControllerError::Fpga(e)) => return Err(anyhow::anyhow!("FPGA model: {e}")),
         }
         std::thread::sleep(Duration::from_micros(200));
+    }
+}
+
+/// The FPGA alone behind a serial port: a board's controller (QEMU's USART2) talks to it.
+fn serve_fpga_link(path: &str, baud: u32) -> Result<()> {
+    use std::io::Read;
+    let mut port = serialport::new(path, baud)
+        .timeout(Duration::from_millis(1))
+        .open_native()
+        .with_context(|| format!("cannot open FPGA-link port {path}"))?;
+    eprintln!("fpgfx-sim: FPGA link on {path}");
+    let layout = &protocol::bus::WIDE;
+    let mut server =
+        sim_target::fpga_link::FpgaServer::new(sim_target::device::Device::new(layout));
+    let epoch = Instant::now();
+    let mut buf = [0u8; 4096];
+    let mut out = [0u8; protocol::link::MAX_FRAME];
+    let mut busy = false;
+    loop {
+        // While the FIFO holds work, only peek at the line; when idle, sleep in the read.
+        use serialport::SerialPort;
+        port.set_timeout(if busy {
+            Duration::ZERO
+        } else {
+            Duration::from_millis(1)
+        })?;
+        let n = match port.read(&mut buf) {
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => 0,
+            Err(e) if host_gone(&e) => {
+                // The board went away (QEMU exited): nothing left to serve.
+                eprintln!("fpgfx-sim: FPGA-link peer closed {path}");
+                return Ok(());
+            }
+            Err(e) => return Err(e).with_context(|| format!("reading {path}")),
+        };
+        let now = epoch.elapsed().as_millis() as u64;
+        server.input(now, &buf[..n]);
+        while let Some(m) = server.poll_transmit(now, &mut out) {
+            port.write_all(&out[..m])
+                .with_context(|| format!("writing {path}"))?;
+        }
+        if let Some(text) = server.take_fault_text() {
+            eprintln!("fpgfx-sim: FPGA fault: {text}");
+        }
+        busy = server.work();
     }
 }
