@@ -88,9 +88,12 @@ where
                 self.engine.refuse(code, seq, 0);
             } else if let Some((seq, frame)) = self.inbox.pop_front() {
                 let link = self.link.counters();
-                self.engine
-                    .handle(seq, &frame, link)
-                    .map_err(ControllerError::Fpga)?;
+                if let Err(e) = self.engine.handle(seq, &frame, link) {
+                    // The host gets an answer (sent on the next poll) and the caller the
+                    // transport's error, to log it and decide whether to reset the FPGA.
+                    self.engine.refuse(ErrorCode::Device, seq, 0);
+                    return Err(ControllerError::Fpga(e));
+                }
             }
         }
         let free = (INBOX - self.inbox.len() - self.malformed.len()) as u8;
