@@ -281,13 +281,14 @@ fn main() -> ! {
         id.caps.max_objects
     );
 
-    let mut controller = Controller::new(
-        host,
-        fpga,
-        id.caps,
-        id.layout.layout(),
-        "fpgfx-firmware stm32f405",
-    );
+    // In a static rather than on the stack, so that `llvm-size` shows the controller's
+    // whole RAM (link windows, inbox, register shadow) in .bss.
+    let Some(controller) = cortex_m::singleton!(: Controller<Usart, FpgaLink<Usart, BoardClock>> =
+        Controller::new(host, fpga, id.caps, id.layout.layout(), "fpgfx-firmware stm32f405"))
+    else {
+        defmt::error!("controller created twice");
+        exit(false)
+    };
     let mut reported_lost = 0;
     loop {
         // Sleep until something arrives or the millisecond tick: every step of the
