@@ -73,6 +73,11 @@ where
         }
     }
 
+    /// The host link, e.g. to plug a new connection into a socket-backed one.
+    pub fn host(&mut self) -> &mut H {
+        &mut self.host
+    }
+
     /// The engine, for inspection.
     pub fn engine(&mut self) -> &mut Engine<B> {
         &mut self.engine
