@@ -229,3 +229,61 @@ fn pace_holds_the_line_rate() {
         "read-back took {ms} ms, the line needs at least {floor:.0} ms"
     );
 }
+
+/// A controller built from another message set: the handshake error names both schema
+/// hashes (and the peer), instead of exchanging garbage.
+#[test]
+fn a_schema_mismatch_names_both_sides() {
+    use protocol::frame::{decode, encode, Caps, DeviceFrame, Hello, HostFrame};
+    use protocol::link::{Event, Link, MAX_FRAME};
+    use std::io::{Read, Write};
+    let (mut master, slave) = serialport::TTYPort::pair().expect("pty pair");
+    let path = serialport::SerialPort::name(&slave).expect("pty path");
+    drop(slave);
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let stop_peer = stop.clone();
+    let peer = std::thread::spawn(move || {
+        let mut link: Link = Link::new(Default::default());
+        let epoch = std::time::Instant::now();
+        let mut buf = [0u8; 512];
+        let mut out = [0u8; MAX_FRAME];
+        while !stop_peer.load(std::sync::atomic::Ordering::Relaxed) {
+            let now = epoch.elapsed().as_millis() as u64;
+            let n = master.read(&mut buf).unwrap_or(0);
+            let mut input = &buf[..n];
+            let mut reply = None;
+            loop {
+                let (used, event) = link.handle_input(now, input);
+                input = &input[used..];
+                match event {
+                    Some(Event::Data(p)) => {
+                        if let Ok(HostFrame::Hello(_)) = decode::<HostFrame>(p) {
+                            let mut hello = Hello::new(Caps::default(), "old firmware 0.0.9");
+                            hello.schema_hash ^= 0xdead_beef;
+                            reply = Some(DeviceFrame::Hello(hello));
+                        }
+                    }
+                    None if input.is_empty() => break,
+                    _ => {}
+                }
+            }
+            if let Some(r) = reply {
+                let mut b = [0u8; 256];
+                let bytes = encode(&r, &mut b).expect("fits").to_vec();
+                let _ = link.send(now, &bytes);
+            }
+            link.handle_timeout(now);
+            while let Some(m) = link.poll_transmit(now, &mut out) {
+                let _ = master.write_all(&out[..m]);
+            }
+        }
+    });
+    let err = fpgfx_fails(&["--port", &path, "--timeout", "5", "raster", &gallery()]);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    let _ = peer.join();
+    assert!(err.contains("old firmware 0.0.9"), "{err}");
+    assert!(err.contains("message schema mismatch"), "{err}");
+    let ours = format!("{:#018x}", protocol::frame::SCHEMA_HASH);
+    let theirs = format!("{:#018x}", protocol::frame::SCHEMA_HASH ^ 0xdead_beef);
+    assert!(err.contains(&ours) && err.contains(&theirs), "{err}");
+}
