@@ -83,6 +83,14 @@ enum Command {
     },
     /// Ray-trace a scene file (SPEC-RT's TOML) and write the frame as PNG.
     Render(RenderArgs),
+    /// Animate a scene (or raster commands) with a Rhai script; write a GIF or PNGs.
+    ///
+    /// The script defines `fn scene(s, frame, time)` (gets the scene file as a map, returns
+    /// the frame's scene; base scene from `const SCENE = "file.toml";` or --scene) or
+    /// `fn raster(frame, time)` (returns a raster job map: size, background, cmd). Between
+    /// frames only the changed ray-tracer registers are sent; each frame's bytes are
+    /// printed.
+    Animate(AnimateArgs),
     /// List serial ports with their USB identity; known adapters are marked.
     ///
     /// Defaults for --port, --baud and --timeout are read from the first of $FPGFX_CONFIG,
@@ -136,6 +144,7 @@ fn run(cli: Cli) -> Result<()> {
         ),
         Command::Render(args) => render(connect(&cli.target)?, &args),
         Command::Ports => ports(),
+        Command::Animate(args) => animate(connect(&cli.target)?, &args),
     }
 }
 
@@ -338,5 +347,154 @@ fn raster(
         }
     }
     eprintln!("wrote {}", output.display());
+    Ok(())
+}
+
+/// Arguments of `fpgfx animate`.
+#[derive(clap::Args)]
+struct AnimateArgs {
+    /// The Rhai script.
+    script: PathBuf,
+    /// Output: NAME.gif, or a PNG pattern such as frames/f-%04d.png.
+    #[arg(short, long)]
+    output: String,
+    /// Frames to render.
+    #[arg(long, default_value_t = 24)]
+    frames: u32,
+    /// Frames per second (the script's time is frame / fps; the GIF plays at this rate).
+    #[arg(long, default_value_t = 12.0)]
+    fps: f64,
+    /// Base scene (overrides the script's SCENE constant).
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Frame size WxH for scene scripts (overrides the scene).
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u32, u32)>,
+    /// Number format of the ray tracer.
+    #[arg(long, default_value = "f32")]
+    numeric: String,
+    /// Also write each frame's scene or command file (a pattern like the PNG one), to
+    /// check or replay a frame with `fpgfx render` / `fpgfx raster`.
+    #[arg(long, value_name = "PATTERN")]
+    save_frames: Option<String>,
+}
+
+fn animate(mut session: Session<Box<dyn Transport>>, a: &AnimateArgs) -> Result<()> {
+    use host_cli::animate::{Kind, Output, Script};
+    use host_cli::render::{Aovs, Packing, Renderer};
+    let output = Output::parse(&a.output).map_err(anyhow::Error::msg)?;
+    anyhow::ensure!(a.frames >= 1, "--frames must be at least 1");
+    anyhow::ensure!(
+        a.fps.is_finite() && a.fps > 0.0,
+        "--fps {} must be a positive number",
+        a.fps
+    );
+    let numeric = sim_target::rt::parse_numeric(&a.numeric).ok_or_else(|| {
+        anyhow::anyhow!(
+            "--numeric {:?}: expected f64, f32, f16, q16.16, q8.24, q24.8 or q32.32",
+            a.numeric
+        )
+    })?;
+    let mut script = Script::load(&a.script)?;
+    let name = a.script.display().to_string();
+    if script.kind() == Kind::Scene {
+        let file = a
+            .scene
+            .clone()
+            .or_else(|| script.scene_file.clone())
+            .ok_or_else(|| {
+                anyhow::anyhow!(
+                    "{name}: a scene script needs `const SCENE = \"file.toml\";` or --scene"
+                )
+            })?;
+        let text = std::fs::read_to_string(&file)
+            .with_context(|| format!("cannot read {}", file.display()))?;
+        script.set_base_scene(&text, &file.display().to_string())?;
+    }
+    session.handshake().context("handshake with the target")?;
+    session.timeout = std::time::Duration::from_secs(3600);
+    let mut renderer = Renderer::new();
+    let mut frames: Vec<image::RgbImage> = Vec::new();
+    let (mut total_payload, mut total_wire) = (0u64, 0u64);
+    for f in 0..a.frames {
+        let time = f64::from(f) / a.fps;
+        let text = script.frame(f, time)?;
+        let label = format!("{name} frame {f}");
+        if let Some(pattern) = &a.save_frames {
+            let path = Output::png_path(pattern, f);
+            std::fs::write(&path, &text)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+        }
+        let (payload0, wire0) = (session.traffic().payload_sent, session.traffic().sent);
+        let started = std::time::Instant::now();
+        let (image, what) = match script.kind() {
+            Kind::Scene => {
+                let mut scene = sim_target::rt::scene_file::parse(&text, &label)?;
+                if let Some((w, h)) = a.size {
+                    scene.width = w;
+                    scene.height = h;
+                }
+                let regs =
+                    sim_target::scene_regs::to_regs(&scene).with_context(|| label.clone())?;
+                let (out, words) = renderer
+                    .frame(
+                        &mut session,
+                        &regs,
+                        numeric,
+                        Packing::Rgb888,
+                        Aovs::default(),
+                    )
+                    .with_context(|| label.clone())?;
+                (out.image, format!("{words:>4} register words"))
+            }
+            Kind::Raster => {
+                let job = raster_file::parse(&text, &label)?;
+                let out = host_cli::raster::run(&mut session, &job, &label)?;
+                (out.image, format!("{:>4} commands", job.cmds.len()))
+            }
+        };
+        let payload = session.traffic().payload_sent - payload0;
+        let wire = session.traffic().sent - wire0;
+        total_payload += payload;
+        total_wire += wire;
+        println!(
+            "frame {f:>4}  t={time:>7.3} s  {what}  {payload:>7} B payload  {wire:>7} B on the wire  {:>8.1} ms",
+            started.elapsed().as_secs_f64() * 1e3
+        );
+        match &output {
+            Output::Pngs(pattern) => {
+                let path = Output::png_path(pattern, f);
+                image
+                    .save(&path)
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+            }
+            Output::Gif(_) => frames.push(image),
+        }
+    }
+    println!(
+        "total {} frames: {total_payload} B payload, {total_wire} B host → target",
+        a.frames
+    );
+    if let Output::Gif(path) = &output {
+        write_gif(path, &frames, a.fps)?;
+        eprintln!("wrote {}", path.display());
+    } else {
+        eprintln!("wrote {} frames", a.frames);
+    }
+    Ok(())
+}
+
+fn write_gif(path: &Path, frames: &[image::RgbImage], fps: f64) -> Result<()> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let file =
+        std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+    let mut enc = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
+    enc.set_repeat(Repeat::Infinite)?;
+    let delay = image::Delay::from_numer_denom_ms(1000, (fps.round() as u32).max(1));
+    for f in frames {
+        let rgba = image::DynamicImage::ImageRgb8(f.clone()).into_rgba8();
+        enc.encode_frame(image::Frame::from_parts(rgba, 0, 0, delay))
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
     Ok(())
 }

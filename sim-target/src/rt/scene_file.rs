@@ -48,7 +48,9 @@ struct FileToml {
     #[serde(default)]
     light: Vec<Spanned<LightToml>>,
     #[serde(default)]
-    material: BTreeMap<String, Spanned<MaterialToml>>,
+    // Not `Spanned`: toml cannot span a table that only exists implicitly (a material
+    // written as `[material.clay.diffuse]` headers), and refuses the file instead.
+    material: BTreeMap<String, MaterialToml>,
     #[serde(default)]
     object: Vec<Spanned<ObjectToml>>,
 }
@@ -406,8 +408,8 @@ pub fn parse_with_limits(
     let mut names = Vec::new();
     let mut materials = Vec::new();
     for (name, m) in &f.material {
-        let pos = m.span().start;
-        let m = m.get_ref();
+        // Errors point at the material's first header or dotted key.
+        let pos = text.find(&format!("material.{name}")).unwrap_or(0);
         let diffuse_model = match m.diffuse.model.unwrap_or(DiffuseModelToml::Lambert) {
             DiffuseModelToml::Lambert => DiffuseModel::Lambert,
             DiffuseModelToml::OrenNayar => {
