@@ -2,6 +2,7 @@
 //! them to a target. The binary (`main.rs`) only parses arguments and reports errors.
 
 pub mod builtin;
+pub mod flash;
 pub mod raster;
 pub mod raster_file;
 pub mod render;

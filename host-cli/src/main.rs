@@ -57,6 +57,8 @@ enum Command {
     },
     /// Ray-trace a scene file (SPEC-RT's TOML) and write the frame as PNG.
     Render(RenderArgs),
+    /// Program the board's STM32F405 through its ROM bootloader (AN3155) on --port.
+    Flash(host_cli::flash::FlashArgs),
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -104,6 +106,9 @@ fn run(cli: Cli) -> Result<()> {
             stats,
         ),
         Command::Render(args) => render(connect(port, baud)?, &args),
+        Command::Flash(args) => host_cli::flash::run(port, baud, &args)
+            .map(|_| ())
+            .with_context(|| format!("flash {}", args.image.display())),
     }
 }
 
