@@ -227,7 +227,9 @@ impl Image {
             }
             for (i, &b) in data.iter().enumerate() {
                 let a = start + i as u32;
-                let page = pages.entry(a & !0xFF).or_insert(([0xFF; 256], [false; 256]));
+                let page = pages
+                    .entry(a & !0xFF)
+                    .or_insert(([0xFF; 256], [false; 256]));
                 let o = (a & 0xFF) as usize;
                 if page.1[o] {
                     return Err(ImageError::Overlap(a));
@@ -329,8 +331,10 @@ pub fn parse_hex(bytes: &[u8]) -> Result<Vec<(u32, Vec<u8>)>, ImageError> {
         if ended {
             return Err(err("record after the end-of-file record"));
         }
-        let body = l.strip_prefix(':').ok_or_else(|| err("does not start with ':'"))?;
-        if body.len() % 2 != 0 || body.len() < 10 {
+        let body = l
+            .strip_prefix(':')
+            .ok_or_else(|| err("does not start with ':'"))?;
+        if !body.len().is_multiple_of(2) || body.len() < 10 {
             return Err(err("odd or too short record"));
         }
         let rec: Vec<u8> = (0..body.len())
@@ -383,9 +387,9 @@ pub fn parse_elf(bytes: &[u8]) -> Result<Vec<(u32, Vec<u8>)>, ImageError> {
             if ph.p_type(endian) != object::elf::PT_LOAD {
                 continue;
             }
-            let data = ph.data(endian, bytes).map_err(|()| {
-                ImageError::Elf("a PT_LOAD segment lies outside the file".into())
-            })?;
+            let data = ph
+                .data(endian, bytes)
+                .map_err(|()| ImageError::Elf("a PT_LOAD segment lies outside the file".into()))?;
             if data.is_empty() {
                 continue;
             }
@@ -543,12 +547,13 @@ impl<T: Transport> Client<T> {
         command: Command,
         stage: &str,
     ) -> Result<Vec<u8>, FlashError> {
-        self.read_exact(n, timeout).map_err(|(got, _)| FlashError::Timeout {
-            command: command.name(),
-            stage: stage.to_string(),
-            timeout,
-            got: hex(&got),
-        })
+        self.read_exact(n, timeout)
+            .map_err(|(got, _)| FlashError::Timeout {
+                command: command.name(),
+                stage: stage.to_string(),
+                timeout,
+                got: hex(&got),
+            })
     }
 
     fn expect_ack(
@@ -657,8 +662,8 @@ impl<T: Transport> Client<T> {
     /// One Write Memory.
     pub fn write_block(&mut self, address: u32, data: &[u8]) -> Result<(), FlashError> {
         let mut frame = [0u8; bl::MAX_BLOCK + 2];
-        let n = bl::encode_data_block(data, &mut frame)
-            .map_err(|e| io::Error::other(e.to_string()))?;
+        let n =
+            bl::encode_data_block(data, &mut frame).map_err(|e| io::Error::other(e.to_string()))?;
         self.send_command(Command::WriteMemory)?;
         self.port.write_all(&bl::address_frame(address))?;
         let ack = self.timeouts.ack;
@@ -685,7 +690,12 @@ impl<T: Transport> Client<T> {
         self.expect_ack(Command::ReadMemory, &stage, ack)?;
         self.port.write_all(&length)?;
         self.expect_ack(Command::ReadMemory, &format!("to length {len}"), ack)?;
-        self.read_or_fail(len, ack, Command::ReadMemory, &format!("(data of {address:#010x})"))
+        self.read_or_fail(
+            len,
+            ack,
+            Command::ReadMemory,
+            &format!("(data of {address:#010x})"),
+        )
     }
 
     /// Go.

@@ -126,34 +126,54 @@ fn stm32flash_identifies_writes_and_reads_back() {
         .arg(&sim.pty)
         .output()
         .expect("stm32flash runs");
-    let text = String::from_utf8_lossy(&info.stdout).to_string() + &String::from_utf8_lossy(&info.stderr);
+    let text =
+        String::from_utf8_lossy(&info.stdout).to_string() + &String::from_utf8_lossy(&info.stderr);
     assert!(info.status.success(), "stm32flash {}: {text}", sim.pty);
     assert!(text.contains("0x0413"), "device id not reported:\n{text}");
-    assert!(text.contains("0x31"), "bootloader version not reported:\n{text}");
+    assert!(
+        text.contains("0x31"),
+        "bootloader version not reported:\n{text}"
+    );
 
     let image = random_bytes(40 * 1024, 0x5EED);
     let bin = tmp("stm32flash-in.bin");
     std::fs::write(&bin, &image).expect("write image");
     let w = stm32flash()
-        .args(["-w", bin.to_str().unwrap_or_default(), "-v", "-S", "0x08000000"])
+        .args([
+            "-w",
+            bin.to_str().unwrap_or_default(),
+            "-v",
+            "-S",
+            "0x08000000",
+        ])
         .arg(&sim.pty)
         .output()
         .expect("stm32flash runs");
-    let wtext = String::from_utf8_lossy(&w.stdout).to_string() + &String::from_utf8_lossy(&w.stderr);
+    let wtext =
+        String::from_utf8_lossy(&w.stdout).to_string() + &String::from_utf8_lossy(&w.stderr);
     assert!(w.status.success(), "stm32flash -w: {wtext}");
 
     let back = tmp("stm32flash-out.bin");
     let _ = std::fs::remove_file(&back);
     let r = stm32flash()
-        .args(["-r", back.to_str().unwrap_or_default(), "-S", "0x08000000:40960"])
+        .args([
+            "-r",
+            back.to_str().unwrap_or_default(),
+            "-S",
+            "0x08000000:40960",
+        ])
         .arg(&sim.pty)
         .output()
         .expect("stm32flash runs");
-    let rtext = String::from_utf8_lossy(&r.stdout).to_string() + &String::from_utf8_lossy(&r.stderr);
+    let rtext =
+        String::from_utf8_lossy(&r.stdout).to_string() + &String::from_utf8_lossy(&r.stderr);
     assert!(r.status.success(), "stm32flash -r: {rtext}");
     let read = std::fs::read(&back).expect("read-back file");
     assert_eq!(read.len(), image.len());
-    assert!(read == image, "stm32flash read back other bytes than it wrote");
+    assert!(
+        read == image,
+        "stm32flash read back other bytes than it wrote"
+    );
 }
 
 /// Intel HEX with extended linear address records, 16 bytes a line.
@@ -209,8 +229,22 @@ fn to_elf(text_at: u32, text: &[u8], data_lma: u32, data: &[u8]) -> Vec<u8> {
     u16le(&mut f, 0);
     // (offset, vaddr, paddr, filesz, memsz, flags)
     let phdrs = [
-        (text_off, text_at, text_at, text.len() as u32, text.len() as u32, 5),
-        (data_off, 0x2000_0000, data_lma, data.len() as u32, data.len() as u32, 6),
+        (
+            text_off,
+            text_at,
+            text_at,
+            text.len() as u32,
+            text.len() as u32,
+            5,
+        ),
+        (
+            data_off,
+            0x2000_0000,
+            data_lma,
+            data.len() as u32,
+            data.len() as u32,
+            6,
+        ),
         (0, 0x2000_1000, 0x2000_1000, 0, 0x100, 6),
     ];
     for (off, vaddr, paddr, filesz, memsz, flags) in phdrs {
@@ -238,7 +272,13 @@ fn fpgfx_flashes_bin_hex_and_elf_and_erases_only_what_it_needs() {
     let bin = tmp("fw.bin");
     std::fs::write(&bin, &bin_data).expect("write");
     let err = ok(
-        &fpgfx(&["flash", bin.to_str().unwrap_or_default(), "--port", &sim.pty, "--go"]),
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+            "--go",
+        ]),
         "fpgfx flash .bin",
     );
     assert!(err.contains("erased sectors [0]"), "{err}");
@@ -249,7 +289,12 @@ fn fpgfx_flashes_bin_hex_and_elf_and_erases_only_what_it_needs() {
     let hex = tmp("fw.hex");
     std::fs::write(&hex, to_hex(0x0802_0010, &hex_data)).expect("write");
     let err = ok(
-        &fpgfx(&["flash", hex.to_str().unwrap_or_default(), "--port", &sim.pty]),
+        &fpgfx(&[
+            "flash",
+            hex.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
         "fpgfx flash .hex",
     );
     assert!(err.contains("erased sectors [5]"), "{err}");
@@ -258,7 +303,13 @@ fn fpgfx_flashes_bin_hex_and_elf_and_erases_only_what_it_needs() {
     let elf = tmp("fw.elf");
     std::fs::write(&elf, to_elf(0x0804_0000, &text, 0x0804_1000, &data)).expect("write");
     let err = ok(
-        &fpgfx(&["flash", elf.to_str().unwrap_or_default(), "--port", &sim.pty, "--go"]),
+        &fpgfx(&[
+            "flash",
+            elf.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+            "--go",
+        ]),
         "fpgfx flash .elf",
     );
     assert!(err.contains("erased sectors [6]"), "{err}");
@@ -267,7 +318,10 @@ fn fpgfx_flashes_bin_hex_and_elf_and_erases_only_what_it_needs() {
     let flash = flash_file(&image_file);
     let at = |a: u32| (a - FLASH_BASE) as usize;
     assert_eq!(&flash[..bin_data.len()], &bin_data[..]);
-    assert_eq!(&flash[at(0x0802_0010)..at(0x0802_0010) + 5000], &hex_data[..]);
+    assert_eq!(
+        &flash[at(0x0802_0010)..at(0x0802_0010) + 5000],
+        &hex_data[..]
+    );
     assert_eq!(&flash[at(0x0804_0000)..at(0x0804_0000) + 3000], &text[..]);
     assert_eq!(&flash[at(0x0804_1000)..at(0x0804_1000) + 100], &data[..]);
     // Everything else is still erased: no stray writes, no padding beyond the word.
@@ -306,7 +360,12 @@ fn an_interrupted_flash_is_completed_by_a_second_run() {
         "40",
     ]);
     let err = failed(
-        &fpgfx(&["flash", bin.to_str().unwrap_or_default(), "--port", &sim.pty]),
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
         "flash into a board that dies",
     );
     assert!(err.contains("error: flash"), "{err}");
@@ -319,7 +378,12 @@ fn an_interrupted_flash_is_completed_by_a_second_run() {
     // Power back on: the second run erases again, writes everything and verifies.
     let sim = start_sim(&["--flash-image", image_file.to_str().unwrap_or_default()]);
     let err = ok(
-        &fpgfx(&["flash", bin.to_str().unwrap_or_default(), "--port", &sim.pty]),
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
         "second flash",
     );
     assert!(err.contains("erased sectors [0, 1, 2, 3]"), "{err}");
@@ -356,7 +420,9 @@ fn a_port_nobody_answers_on_says_what_was_sent() {
     drop(master);
     let err = failed(&out, "flash to a silent pty");
     assert!(
-        err.contains("no answer from the bootloader: sent 0x7F 4 times at 115200 baud 8E1, got nothing"),
+        err.contains(
+            "no answer from the bootloader: sent 0x7F 4 times at 115200 baud 8E1, got nothing"
+        ),
         "{err}"
     );
 }
@@ -370,7 +436,12 @@ fn a_busy_port_is_a_clear_error() {
     let bin = tmp("busy.bin");
     std::fs::write(&bin, [0u8; 16]).expect("write");
     let err = failed(
-        &fpgfx(&["flash", bin.to_str().unwrap_or_default(), "--port", &sim.pty]),
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
         "flash to a busy port",
     );
     assert!(err.contains("cannot open serial port"), "{err}");
@@ -384,7 +455,8 @@ fn the_emulator_refuses_to_program_unerased_flash() {
     let mut c = Client::new(BootPort::open(&sim.pty, 115_200).expect("open"), 115_200);
     c.sync(4).expect("sync");
     c.erase(&[0]).expect("erase sector 0");
-    c.write_block(FLASH_BASE, &[1, 2, 3, 4]).expect("first write");
+    c.write_block(FLASH_BASE, &[1, 2, 3, 4])
+        .expect("first write");
     let e = c
         .write_block(FLASH_BASE, &[5, 6, 7, 8])
         .expect_err("second write over the same word");

@@ -227,7 +227,7 @@ pub fn encode_data_block(data: &[u8], out: &mut [u8]) -> Result<usize, EncodeErr
 /// True if a Write Memory of `len` bytes at `address` has the alignment the F4's
 /// bootloader accepts: address and length multiples of four (it programs 32-bit words).
 pub const fn is_write_aligned(address: u32, len: usize) -> bool {
-    address % 4 == 0 && len % 4 == 0 && len > 0 && len <= MAX_BLOCK
+    address.is_multiple_of(4) && len.is_multiple_of(4) && len > 0 && len <= MAX_BLOCK
 }
 
 /// What an Extended Erase asks for.
@@ -533,8 +533,11 @@ mod tests {
     #[test]
     fn sectors_touched_by_images() {
         let idx = |start, len| {
-            sectors_touched(start, len)
-                .map(|it| it.iter().map(|s| s.index).collect::<heapless::Vec<u16, 12>>())
+            sectors_touched(start, len).map(|it| {
+                it.iter()
+                    .map(|s| s.index)
+                    .collect::<heapless::Vec<u16, 12>>()
+            })
         };
         // 40 KiB at the start: sectors 0..=2.
         assert_eq!(idx(FLASH_BASE, 40 * 1024).unwrap().as_slice(), &[0, 1, 2]);

@@ -66,10 +66,7 @@ enum State {
         len: usize,
     },
     /// Read Memory: collecting N-1 and its complement.
-    ReadLength {
-        address: u32,
-        first: Option<u8>,
-    },
+    ReadLength { address: u32, first: Option<u8> },
     /// Write Memory: collecting N-1, N bytes and the checksum.
     WriteData { address: u32, buf: Vec<u8> },
     /// Extended Erase: collecting the 16-bit count or special code.
@@ -384,10 +381,12 @@ impl Bootloader {
     fn address(&mut self, cmd: Command, address: u32, out: &mut Vec<u8>) {
         let ok = match cmd {
             Command::ReadMemory => self.readable(address, 1).is_some(),
-            Command::WriteMemory => address % 4 == 0 && self.writable(address, 4),
+            Command::WriteMemory => address.is_multiple_of(4) && self.writable(address, 4),
             // Go only makes sense into code: flash or RAM.
-            Command::Go => in_region(address, 1, bl::FLASH_BASE, bl::FLASH_SIZE)
-                || in_region(address, 1, bl::RAM_BASE, bl::RAM_SIZE),
+            Command::Go => {
+                in_region(address, 1, bl::FLASH_BASE, bl::FLASH_SIZE)
+                    || in_region(address, 1, bl::RAM_BASE, bl::RAM_SIZE)
+            }
             _ => false,
         };
         if !ok {
@@ -577,8 +576,8 @@ mod tests {
         assert_eq!(
             talk(&mut b, &cmd(Command::Get)),
             [
-                ACK, 0x0B, 0x31, 0x00, 0x01, 0x02, 0x11, 0x21, 0x31, 0x44, 0x63, 0x73, 0x82,
-                0x92, ACK
+                ACK, 0x0B, 0x31, 0x00, 0x01, 0x02, 0x11, 0x21, 0x31, 0x44, 0x63, 0x73, 0x82, 0x92,
+                ACK
             ]
         );
     }
@@ -678,15 +677,18 @@ mod tests {
     #[test]
     fn programming_unerased_flash_is_refused_whole() {
         let mut b = synced();
-        assert_eq!(write(&mut b, bl::FLASH_BASE + 8, &[0x12, 0x34, 0x56, 0x78]), ACK);
+        assert_eq!(
+            write(&mut b, bl::FLASH_BASE + 8, &[0x12, 0x34, 0x56, 0x78]),
+            ACK
+        );
         // The block overlaps the programmed word: refused, and nothing of it lands.
         let block = [0xA5; 16];
         assert_eq!(write(&mut b, bl::FLASH_BASE, &block), NACK);
         assert_eq!(
             read(&mut b, bl::FLASH_BASE, 16),
             [
-                0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x12, 0x34, 0x56, 0x78, 0xFF,
-                0xFF, 0xFF, 0xFF
+                0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x12, 0x34, 0x56, 0x78, 0xFF, 0xFF,
+                0xFF, 0xFF
             ]
         );
         // All-ones over it programs nothing, so it is allowed (tools pad with 0xFF).
@@ -710,7 +712,10 @@ mod tests {
         assert_eq!(read(&mut b, F405_SECTORS[4].start, 4), [0xFF; 4]);
         assert_eq!(read(&mut b, F405_SECTORS[5].start, 4), [0; 4]);
         assert_eq!(read(&mut b, F405_SECTORS[11].start, 4), [0xFF; 4]);
-        assert_eq!(b.take_dirty(), vec![0x1_0000..0x2_0000, 0xE_0000..0x10_0000]);
+        assert_eq!(
+            b.take_dirty(),
+            vec![0x1_0000..0x2_0000, 0xE_0000..0x10_0000]
+        );
     }
 
     #[test]
@@ -718,7 +723,10 @@ mod tests {
         let mut b = synced();
         assert_eq!(write(&mut b, bl::FLASH_BASE, &[0; 4]), ACK);
         // Sector 12 does not exist: the whole command is refused.
-        assert_eq!(erase(&mut b, bl::EraseRequest::Pages(&[0, 12])), [ACK, NACK]);
+        assert_eq!(
+            erase(&mut b, bl::EraseRequest::Pages(&[0, 12])),
+            [ACK, NACK]
+        );
         // Bad checksum.
         assert_eq!(talk(&mut b, &cmd(Command::ExtendedErase)), [ACK]);
         assert_eq!(talk(&mut b, &[0x00, 0x00, 0x00, 0x00, 0x01]), [NACK]);

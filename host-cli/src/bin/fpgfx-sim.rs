@@ -95,8 +95,8 @@ fn run(cli: Cli) -> Result<()> {
 /// `--bootloader`: the emulated ROM bootloader on a pty. A pty has no physical parity,
 /// so the 8E1 the host asks for is accepted and changes nothing: bytes arrive as sent.
 fn serve_bootloader(cli: &Cli) -> Result<()> {
-    use std::io::Read;
     use sim_target::bootloader::Bootloader;
+    use std::io::Read;
 
     let mut flash_file = None;
     let mut chip = match &cli.flash_image {
