@@ -104,7 +104,7 @@ pub enum FlashError {
     },
     /// Nothing (or nothing sensible) came back to 0x7F.
     #[error(
-        "no answer from the bootloader: sent 0x7F {attempts} times at {baud} baud 8E1, got {got} \
+        "no answer from the bootloader: sent 0x7F {attempts} times{burst} at {baud} baud 8E1, got {got} \
          (is BOOT0 high and the board reset? is this the right port?)"
     )]
     NoSync {
@@ -112,6 +112,8 @@ pub enum FlashError {
         attempts: u32,
         /// The line rate.
         baud: u32,
+        /// Mentions the flushing burst if one was sent.
+        burst: &'static str,
         /// What came back, as hex, or "nothing".
         got: String,
     },
@@ -533,11 +535,18 @@ impl<T: Transport> Client<T> {
         Ok(got)
     }
 
-    /// Drops whatever is waiting in the receive buffer.
-    fn drain(&mut self) -> io::Result<()> {
+    /// Empties the receive buffer; returns (the first 64 of) what was in it.
+    fn drain(&mut self) -> io::Result<Vec<u8>> {
         let mut buf = [0u8; 256];
-        while self.port.read(&mut buf, Duration::from_millis(5))? > 0 {}
-        Ok(())
+        let mut seen = Vec::new();
+        loop {
+            let n = self.port.read(&mut buf, Duration::from_millis(5))?;
+            if n == 0 {
+                return Ok(seen);
+            }
+            let room = 64usize.saturating_sub(seen.len());
+            seen.extend_from_slice(&buf[..n.min(room)]);
+        }
     }
 
     fn read_or_fail(
@@ -593,11 +602,30 @@ impl<T: Transport> Client<T> {
 
     /// Autobaud: 0x7F until the chip answers. A fresh chip ACKs; one that is already
     /// synced takes 0x7F as a command byte and NACKs the second 0x7F (not its
-    /// complement) — both mean it is listening.
+    /// complement) — both mean it is listening and now idle.
+    ///
+    /// A chip whose previous host died mid-command sits inside a half-received frame
+    /// and swallows single bytes, so after two silent tries one burst of 258 × 0x7F
+    /// (longer than any frame: N-1, 256 data bytes, checksum) ends that frame with a
+    /// NACK; the bytes after it pair up into further NACKs, and at most two more single
+    /// 0x7F then get a NACK from an idle chip.
     pub fn sync(&mut self, attempts: u32) -> Result<(), FlashError> {
         let mut got = Vec::new();
-        for _ in 0..attempts {
-            self.drain()?;
+        let mut burst = false;
+        for i in 0..attempts {
+            if i == 2 {
+                self.port.write_all(&[SYNC; 258])?;
+                burst = true;
+                // Let the burst and its answers cross the line (2 × 258 byte times).
+                let line =
+                    Duration::from_secs_f64(2.0 * 258.0 * 11.0 / f64::from(self.baud.max(1)));
+                std::thread::sleep(line.min(Duration::from_secs(1)) + Duration::from_millis(20));
+                let answers = self.drain()?;
+                if answers.iter().any(|&b| b != ACK && b != NACK) {
+                    got.extend(answers);
+                }
+            }
+            got.extend(self.drain()?);
             self.port.write_all(&[SYNC])?;
             match self.read_exact(1, self.timeouts.sync) {
                 Ok(b) if b[0] == ACK || b[0] == NACK => return Ok(()),
@@ -608,6 +636,11 @@ impl<T: Transport> Client<T> {
         Err(FlashError::NoSync {
             attempts,
             baud: self.baud,
+            burst: if burst {
+                " (and one burst of 258 to end a half-received command)"
+            } else {
+                ""
+            },
             got: hex(&got),
         })
     }
@@ -1123,9 +1156,32 @@ mod tests {
         let e = c.sync(3).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "no answer from the bootloader: sent 0x7F 3 times at 115200 baud 8E1, got nothing \
+            "no answer from the bootloader: sent 0x7F 3 times (and one burst of 258 to end a \
+             half-received command) at 115200 baud 8E1, got nothing \
              (is BOOT0 high and the board reset? is this the right port?)"
         );
+    }
+
+    /// A host died after sending a Write Memory's address and part of its data: the
+    /// chip swallows single 0x7F bytes, and sync must still get it back to idle.
+    #[test]
+    fn sync_recovers_a_chip_stuck_in_a_half_received_frame() {
+        for sent in [0usize, 1, 7, 100, 257] {
+            let mut w = wire();
+            let mut out = Vec::new();
+            w.chip.feed(&[SYNC], &mut out);
+            w.chip
+                .feed(&bl::command_frame(Command::WriteMemory), &mut out);
+            w.chip.feed(&bl::address_frame(bl::FLASH_BASE), &mut out);
+            w.chip.feed(&vec![0xFF; sent], &mut out);
+            let mut c = client(w);
+            c.sync(4)
+                .unwrap_or_else(|e| panic!("after {sent} data bytes: {e}"));
+            let info = c
+                .identify()
+                .unwrap_or_else(|e| panic!("after {sent} data bytes: {e}"));
+            assert_eq!(info.pid, 0x413);
+        }
     }
 
     #[test]

@@ -392,6 +392,62 @@ fn an_interrupted_flash_is_completed_by_a_second_run() {
     assert!(full[..image.len()] == image[..]);
 }
 
+/// `fpgfx flash` killed while it writes (the user pulls the plug on the host side): the
+/// same running board is flashed completely by the next run.
+#[test]
+fn a_killed_flash_is_completed_by_a_second_run_on_the_same_board() {
+    let image_file = tmp("killed.flash");
+    let _ = std::fs::remove_file(&image_file);
+    let image = random_bytes(960 * 1024, 11);
+    let bin = tmp("killed.bin");
+    std::fs::write(&bin, &image).expect("write");
+    let sim = start_sim(&["--flash-image", image_file.to_str().unwrap_or_default()]);
+
+    let mut first = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
+        .args([
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ])
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("fpgfx runs");
+    // Kill it once the first blocks have landed (the sim writes the flash through).
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(15);
+    loop {
+        let f = std::fs::read(&image_file).unwrap_or_default();
+        if f.len() == FLASH_SIZE as usize && f[..4] == image[..4] {
+            break;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the first run never wrote"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    first.kill().expect("kill fpgfx");
+    let _ = first.wait();
+    let partial = flash_file(&image_file);
+    assert!(
+        partial[image.len() - 256..] != image[image.len() - 256..],
+        "the first run finished before it could be killed: the test proves nothing"
+    );
+
+    let err = ok(
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
+        "flash after a killed one",
+    );
+    assert!(err.contains("verified"), "{err}");
+    let full = flash_file(&image_file);
+    assert!(full[..image.len()] == image[..]);
+}
+
 #[test]
 fn a_missing_port_is_a_clear_error() {
     let bin = tmp("missing-port.bin");
@@ -421,7 +477,8 @@ fn a_port_nobody_answers_on_says_what_was_sent() {
     let err = failed(&out, "flash to a silent pty");
     assert!(
         err.contains(
-            "no answer from the bootloader: sent 0x7F 4 times at 115200 baud 8E1, got nothing"
+            "no answer from the bootloader: sent 0x7F 4 times (and one burst of 258 to end a \
+             half-received command) at 115200 baud 8E1, got nothing"
         ),
         "{err}"
     );
