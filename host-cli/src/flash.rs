@@ -55,7 +55,7 @@ pub fn parse_u32(s: &str) -> Result<u32, String> {
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
     /// The file could not be read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}")]
     Read {
         /// The file.
         path: String,
@@ -161,13 +161,14 @@ pub enum FlashError {
     #[error(transparent)]
     Image(#[from] ImageError),
     /// A block failed every attempt.
-    #[error("block at {address:#010x} failed after {attempts} attempts: {last}")]
+    #[error("block at {address:#010x} failed (attempts made: {attempts})")]
     Block {
         /// The block's address.
         address: u32,
         /// Attempts made.
         attempts: u32,
         /// The last failure.
+        #[source]
         last: Box<FlashError>,
     },
     /// Read-back differs from the image.
@@ -181,7 +182,7 @@ pub enum FlashError {
         read: u8,
     },
     /// The port itself failed.
-    #[error("serial port: {0}")]
+    #[error("the serial port failed (adapter unplugged, or the board lost power?)")]
     Io(#[from] io::Error),
 }
 
@@ -742,28 +743,9 @@ impl<T: Transport> Client<T> {
         )
     }
 
-    /// Brings a chip that may be half-way through a command back to idle: single zero
-    /// bytes complete whatever frame it waits for, and the first NACK that follows means
-    /// it is idle again (a NACK always returns the bootloader to its command loop). Falls
-    /// back to a fresh sync when the chip was reset meanwhile.
+    /// Brings a chip that may be half-way through a command (a lost byte, a lost
+    /// answer) back to its idle command loop: that is what [`Client::sync`] does.
     pub fn recover(&mut self) -> Result<(), FlashError> {
-        for _ in 0..300 {
-            self.port.write_all(&[0x00])?;
-            if let Ok(b) = self.read_exact(1, Duration::from_millis(20)) {
-                let mut last = b[0];
-                let mut buf = [0u8; 300];
-                loop {
-                    let k = self.port.read(&mut buf, Duration::from_millis(20))?;
-                    if k == 0 {
-                        break;
-                    }
-                    last = buf[k - 1];
-                }
-                if last == NACK {
-                    return Ok(());
-                }
-            }
-        }
         self.sync(4)
     }
 }
@@ -846,44 +828,13 @@ pub fn flash<T: Transport>(
     let mut done = 0u64;
     progress("write", 0, total);
     for block in &image.blocks {
-        let mut last = None;
-        for attempt in 0..attempts {
-            if attempt > 0 {
-                retries += 1;
-            }
-            match client.write_block(block.address, &block.data) {
-                Ok(()) => {
-                    last = None;
-                    break;
-                }
-                Err(e @ (FlashError::Nack { .. } | FlashError::Timeout { .. })) => {
-                    // A timeout may leave the chip mid-frame; a NACK leaves it idle.
-                    if matches!(e, FlashError::Timeout { .. }) {
-                        client.recover()?;
-                    }
-                    // The block may have landed with only the ACK lost, and a plain
-                    // retry would then be refused as programming unerased flash.
-                    match client.read_block(block.address, block.data.len()) {
-                        Ok(back) if back == block.data => {
-                            last = None;
-                            break;
-                        }
-                        Ok(_) | Err(FlashError::Nack { .. }) => {}
-                        Err(FlashError::Timeout { .. }) => client.recover()?,
-                        Err(other) => return Err(other),
-                    }
-                    last = Some(e);
-                }
-                Err(e) => return Err(e),
-            }
-        }
-        if let Some(e) = last {
-            return Err(FlashError::Block {
-                address: block.address,
-                attempts,
-                last: Box::new(e),
-            });
-        }
+        let mut made = 0;
+        write_with_retries(client, block, attempts, &mut made).map_err(|e| FlashError::Block {
+            address: block.address,
+            attempts: made,
+            last: Box::new(e),
+        })?;
+        retries += made.saturating_sub(1);
         done += block.data.len() as u64;
         progress("write", done, total);
     }
@@ -945,6 +896,40 @@ pub fn flash<T: Transport>(
         verified: opts.verify,
         jumped,
     })
+}
+
+/// Writes one block with up to `attempts` tries, counting them in `made`; returns the
+/// last failure.
+fn write_with_retries<T: Transport>(
+    client: &mut Client<T>,
+    block: &Block,
+    attempts: u32,
+    made: &mut u32,
+) -> Result<(), FlashError> {
+    let mut last = None;
+    for _ in 0..attempts {
+        *made += 1;
+        match client.write_block(block.address, &block.data) {
+            Ok(()) => return Ok(()),
+            Err(e @ (FlashError::Nack { .. } | FlashError::Timeout { .. })) => {
+                // A timeout may leave the chip mid-frame; a NACK leaves it idle.
+                if matches!(e, FlashError::Timeout { .. }) {
+                    client.recover()?;
+                }
+                // The block may have landed with only the ACK lost, and a plain retry
+                // would then be refused as programming unerased flash.
+                match client.read_block(block.address, block.data.len()) {
+                    Ok(back) if back == block.data => return Ok(()),
+                    Ok(_) | Err(FlashError::Nack { .. }) => {}
+                    Err(FlashError::Timeout { .. }) => client.recover()?,
+                    Err(other) => return Err(other),
+                }
+                last = Some(e);
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Err(last.unwrap_or(FlashError::Io(io::ErrorKind::TimedOut.into())))
 }
 
 /// `fpgfx flash`: the whole command, with a progress bar on stderr (hidden when stderr
