@@ -1098,6 +1098,51 @@ mod tests {
         assert_eq!(&c.port.chip.flash()[0x4000..0x4400], &pattern(1024, 3)[..]);
     }
 
+    /// A line that flips one bit of the second full data block on its way (and fixes the
+    /// checksum so the chip accepts it): the read-back must name the exact address.
+    #[test]
+    fn verify_reports_the_first_differing_address() {
+        struct Flip(Wire, usize);
+        impl Transport for Flip {
+            fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+                if bytes.len() == 258 {
+                    self.1 += 1;
+                    if self.1 == 2 {
+                        let mut b = bytes.to_vec();
+                        b[1 + 9] ^= 0x04;
+                        b[257] ^= 0x04;
+                        return self.0.write_all(&b);
+                    }
+                }
+                self.0.write_all(bytes)
+            }
+            fn read(&mut self, buf: &mut [u8], t: Duration) -> io::Result<usize> {
+                self.0.read(buf, t)
+            }
+        }
+        let data = pattern(1024, 5);
+        let image = Image::from_pieces(&[(bl::FLASH_BASE, data.clone())]).unwrap();
+        let mut c = Client::new(Flip(wire(), 0), 115_200);
+        c.timeouts.ack = Duration::from_millis(1);
+        let e = flash(&mut c, &image, OPTS, &mut |_, _, _| {}).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "verify failed at 0x08000109: wrote {:#04x}, read back {:#04x}",
+                data[0x109],
+                data[0x109] ^ 0x04
+            )
+        );
+        // --no-verify does not notice.
+        let mut c = Client::new(Flip(wire(), 0), 115_200);
+        c.timeouts.ack = Duration::from_millis(1);
+        let no_verify = FlashOptions {
+            verify: false,
+            ..OPTS
+        };
+        assert!(flash(&mut c, &image, no_verify, &mut |_, _, _| {}).is_ok());
+    }
+
     #[test]
     fn unknown_chip_is_refused() {
         // A chip that answers like an F405 but with another ID: patch the wire.
