@@ -79,7 +79,8 @@ enum State {
         remaining: u32,
         xor: u8,
         high: Option<u8>,
-        pages: Vec<u16>,
+        /// Bit i set: sector i is to be erased (a sector listed twice is erased once).
+        pages: u16,
         valid: bool,
     },
     /// Go was accepted: the chip runs user code and no longer listens.
@@ -275,7 +276,7 @@ impl Bootloader {
                             remaining: 2 * count,
                             xor: hi ^ b,
                             high: None,
-                            pages: Vec::new(),
+                            pages: 0,
                             valid: true,
                         },
                         _ => State::EraseSpecial { code: n },
@@ -304,8 +305,10 @@ impl Bootloader {
                     if xor != b || !valid {
                         return self.nack(out);
                     }
-                    for p in pages {
-                        self.erase_sector(usize::from(p));
+                    for i in 0..F405_SECTORS.len() {
+                        if pages & (1 << i) != 0 {
+                            self.erase_sector(i);
+                        }
                     }
                     out.push(ACK);
                     return;
@@ -314,8 +317,8 @@ impl Bootloader {
                     None => Some(b),
                     Some(hi) => {
                         let page = u16::from_be_bytes([hi, b]);
-                        if usize::from(page) < F405_SECTORS.len() && pages.len() < 64 {
-                            pages.push(page);
+                        if usize::from(page) < F405_SECTORS.len() {
+                            pages |= 1 << page;
                         } else {
                             valid = false;
                         }
@@ -716,6 +719,19 @@ mod tests {
             b.take_dirty(),
             vec![0x1_0000..0x2_0000, 0xE_0000..0x10_0000]
         );
+    }
+
+    #[test]
+    fn a_sector_listed_many_times_is_erased_once() {
+        let mut b = synced();
+        assert_eq!(write(&mut b, F405_SECTORS[3].start, &[0; 4]), ACK);
+        let list = [3u16; 100];
+        let mut frame = [0u8; 256];
+        let n = bl::encode_extended_erase(bl::EraseRequest::Pages(&list), &mut frame).unwrap();
+        assert_eq!(talk(&mut b, &cmd(Command::ExtendedErase)), [ACK]);
+        assert_eq!(talk(&mut b, &frame[..n]), [ACK]);
+        assert_eq!(read(&mut b, F405_SECTORS[3].start, 4), [0xFF; 4]);
+        assert_eq!(b.stats().sectors_erased, 1);
     }
 
     #[test]
