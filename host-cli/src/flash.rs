@@ -157,6 +157,9 @@ pub enum FlashError {
     /// The bootloader lacks a command we need.
     #[error("the bootloader does not offer {0} (its Get answer lists {1})")]
     MissingCommand(&'static str, String),
+    /// The fpgfx config file is unreadable.
+    #[error("config file: {0}")]
+    Config(String),
     /// The image is unusable.
     #[error(transparent)]
     Image(#[from] ImageError),
@@ -934,12 +937,27 @@ fn write_with_retries<T: Transport>(
 
 /// `fpgfx flash`: the whole command, with a progress bar on stderr (hidden when stderr
 /// is not a terminal) and a summary.
-pub fn run(port: Option<&str>, baud: u32, args: &FlashArgs) -> Result<Report, FlashError> {
+pub fn run(port: Option<&str>, baud: Option<u32>, args: &FlashArgs) -> Result<Report, FlashError> {
     let image = Image::load(&args.image, args.address)?;
-    let port = port.ok_or_else(|| FlashError::Open {
-        port: "(none)".into(),
-        why: "flash needs --port (or FPGFX_PORT): the built-in target has no bootloader".into(),
-    })?;
+    // --port/--baud, else the config file `fpgfx ports --help` describes.
+    let config = crate::connect::load_config()
+        .map_err(|e| FlashError::Config(e.to_string()))?
+        .map(|(_, c)| c)
+        .unwrap_or_default();
+    let port = port.map(str::to_string).or(config.port);
+    let baud = baud.or(config.baud).unwrap_or(115_200);
+    let port = match port.as_deref() {
+        Some(p) if p != "builtin" && !p.starts_with("tcp:") => p.to_string(),
+        other => {
+            return Err(FlashError::Open {
+                port: other.unwrap_or("(none)").to_string(),
+                why: "flash needs a serial --port (or FPGFX_PORT) with the board's bootloader \
+                      behind it; the built-in and TCP targets have none"
+                    .into(),
+            })
+        }
+    };
+    let port = port.as_str();
     let mut client = Client::new(BootPort::open(port, baud)?, baud);
 
     let bar = indicatif::ProgressBar::with_draw_target(

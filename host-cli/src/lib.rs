@@ -2,7 +2,9 @@
 //! them to a target. The binary (`main.rs`) only parses arguments and reports errors.
 
 pub mod builtin;
+pub mod connect;
 pub mod flash;
+pub mod ports;
 pub mod raster;
 pub mod raster_file;
 pub mod render;

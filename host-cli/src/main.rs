@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
-use host_cli::builtin;
 use host_cli::raster_file;
 use host_cli::session::{Session, Transport};
 
@@ -17,26 +16,53 @@ use host_cli::session::{Session, Transport};
     about = "Drive an FPGA graphics accelerator, or its golden model"
 )]
 struct Cli {
-    /// Serial port of a board or of `fpgfx-sim --pty` (default: the built-in target).
-    #[arg(long, global = true, env = "FPGFX_PORT")]
-    port: Option<String>,
-    /// Line rate of --port.
-    #[arg(long, global = true, default_value_t = 115_200)]
-    baud: u32,
+    #[command(flatten)]
+    target: TargetArgs,
     #[command(subcommand)]
     command: Command,
 }
 
-/// The target: a serial port if one was named, else the built-in one.
-fn connect(port: Option<&str>, baud: u32) -> Result<Session<Box<dyn Transport>>> {
-    let transport: Box<dyn Transport> = match port {
-        Some(p) => Box::new(
-            host_cli::serial::SerialTransport::open(p, baud)
-                .with_context(|| format!("cannot open serial port {p} at {baud} baud"))?,
-        ),
-        None => Box::new(builtin::sim_target()),
+/// Options every command shares; each falls back to `fpgfx.toml` (see `fpgfx ports
+/// --help`), then to its default.
+#[derive(clap::Args)]
+struct TargetArgs {
+    /// Target: a serial port (a board, `fpgfx-sim --pty`, QEMU), `tcp:HOST:PORT`
+    /// (`fpgfx-sim --tcp`) or `builtin`. Default: the one known USB-serial adapter if
+    /// exactly one is plugged in, else the built-in target.
+    #[arg(long, global = true, env = "FPGFX_PORT")]
+    port: Option<String>,
+    /// Line rate of a serial --port [default: 115200].
+    #[arg(long, global = true)]
+    baud: Option<u32>,
+    /// Seconds to wait for the target to answer the handshake [default: 10].
+    #[arg(long, global = true)]
+    timeout: Option<f64>,
+}
+
+/// Opens the target the options, the environment and the config file name.
+fn connect(args: &TargetArgs) -> Result<Session<Box<dyn Transport>>> {
+    use host_cli::connect::{choose, load_config, open, Target};
+    let config = load_config()?.map(|(_, c)| c).unwrap_or_default();
+    let port = args.port.clone().or(config.port);
+    let baud = args.baud.or(config.baud).unwrap_or(115_200);
+    let timeout = args.timeout.or(config.timeout).unwrap_or(10.0);
+    anyhow::ensure!(
+        timeout.is_finite() && timeout > 0.0,
+        "--timeout {timeout}: must be a positive number of seconds"
+    );
+    // Listing ports only matters when none was named.
+    let ports = if port.is_none() {
+        host_cli::ports::list().unwrap_or_default()
+    } else {
+        Vec::new()
     };
-    Ok(Session::new(transport))
+    let (target, why) = choose(port.as_deref(), baud, &ports);
+    if target != Target::BuiltIn && port.is_none() {
+        eprintln!("using {why}");
+    }
+    let mut session = Session::new(open(&target)?);
+    session.timeout = std::time::Duration::from_secs_f64(timeout);
+    Ok(session)
 }
 
 #[derive(Subcommand)]
@@ -57,6 +83,12 @@ enum Command {
     },
     /// Ray-trace a scene file (SPEC-RT's TOML) and write the frame as PNG.
     Render(RenderArgs),
+    /// List serial ports with their USB identity; known adapters are marked.
+    ///
+    /// Defaults for --port, --baud and --timeout are read from the first of $FPGFX_CONFIG,
+    /// ./fpgfx.toml, $XDG_CONFIG_HOME/fpgfx/config.toml, ~/.config/fpgfx/config.toml
+    /// (keys: port, baud, timeout).
+    Ports,
     /// Program the board's STM32F405 through its ROM bootloader (AN3155) on --port.
     Flash(host_cli::flash::FlashArgs),
 }
@@ -90,8 +122,6 @@ fn main() -> std::process::ExitCode {
 }
 
 fn run(cli: Cli) -> Result<()> {
-    let port = cli.port.as_deref();
-    let baud = cli.baud;
     match cli.command {
         Command::Raster {
             file,
@@ -99,17 +129,35 @@ fn run(cli: Cli) -> Result<()> {
             traversal,
             stats,
         } => raster(
-            connect(port, baud)?,
+            connect(&cli.target)?,
+            cli.target.baud,
             &file,
             &output,
             traversal.as_deref(),
             stats,
         ),
-        Command::Render(args) => render(connect(port, baud)?, &args),
-        Command::Flash(args) => host_cli::flash::run(port, baud, &args)
-            .map(|_| ())
-            .with_context(|| format!("flash {}", args.image.display())),
+        Command::Render(args) => render(connect(&cli.target)?, &args),
+        Command::Ports => ports(),
+        Command::Flash(args) => {
+            host_cli::flash::run(cli.target.port.as_deref(), cli.target.baud, &args)
+                .map(|_| ())
+                .with_context(|| format!("flash {}", args.image.display()))
+        }
     }
+}
+
+fn ports() -> Result<()> {
+    let ports = host_cli::ports::list().context("cannot list serial ports")?;
+    if ports.is_empty() {
+        println!("no serial ports");
+    }
+    for p in &ports {
+        println!("{}", host_cli::ports::describe(p));
+    }
+    if let Some(one) = host_cli::ports::the_one_adapter(&ports) {
+        println!("without --port, fpgfx uses {}", one.path);
+    }
+    Ok(())
 }
 
 /// Arguments of `fpgfx render`.
@@ -180,10 +228,10 @@ fn render(mut session: Session<Box<dyn Transport>>, a: &RenderArgs) -> Result<()
         }
     }
     let regs = sim_target::scene_regs::to_regs(&scene).with_context(|| name.clone())?;
+    session.handshake().context("handshake with the target")?;
     // The target renders a frame without answering in between: allow for a full-HD
     // frame in the slowest format.
     session.timeout = std::time::Duration::from_secs(3600);
-    session.handshake().context("handshake with the target")?;
     let started = std::time::Instant::now();
     let (out, words) = Renderer::new().frame(&mut session, &regs, numeric, packing, aovs)?;
     let elapsed = started.elapsed();
@@ -240,6 +288,7 @@ fn render(mut session: Session<Box<dyn Transport>>, a: &RenderArgs) -> Result<()
 
 fn raster(
     mut session: Session<Box<dyn Transport>>,
+    line_rate: Option<u32>,
     file: &Path,
     output: &Path,
     traversal: Option<&str>,
@@ -278,6 +327,22 @@ fn raster(
             l.sent, l.resent, l.delivered, l.crc_errors, l.duplicates
         );
         println!("host time     {:.1} ms", elapsed.as_secs_f64() * 1e3);
+        for (what, phase) in [("commands →", out.send), ("read-back ←", out.read_back)] {
+            let mut line = format!(
+                "{what:<13} {} B payload in {:.1} ms = {:.1} KB/s",
+                phase.payload_bytes,
+                phase.time.as_secs_f64() * 1e3,
+                phase.rate() / 1e3
+            );
+            if let Some(baud) = line_rate {
+                // 8N1: ten bit times per byte on the wire.
+                line.push_str(&format!(
+                    " = {:.1} % of {baud} baud",
+                    phase.rate() / (f64::from(baud) / 10.0) * 100.0
+                ));
+            }
+            println!("{line}");
+        }
     }
     eprintln!("wrote {}", output.display());
     Ok(())

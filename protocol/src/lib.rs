@@ -15,6 +15,8 @@
 //!   32-bit AXI4-Lite register image.
 //! * [`bootloader`] — the STM32 ROM bootloader's UART protocol (ST AN3155) that
 //!   `fpgfx flash` speaks to the board and `fpgfx-sim --bootloader` emulates.
+//! * [`fpga`] — the same bus operations as messages, for an FPGA reached over a serial
+//!   line (the board's second UART when the FPGA is the `fpgfx-sim` emulator).
 //!
 //! The crate is `#![no_std]` without `alloc`: everything here must fit a Cortex-M4 with
 //! 128 KiB of RAM, so buffers are `heapless` and bounded by the named constants below.
@@ -23,6 +25,7 @@
 
 pub mod bootloader;
 pub mod bus;
+pub mod fpga;
 pub mod frame;
 pub mod link;
 pub mod scene;

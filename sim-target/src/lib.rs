@@ -2,6 +2,7 @@
 
 pub mod bootloader;
 pub mod device;
+pub mod fpga_link;
 pub mod num;
 pub mod raster;
 pub mod rt;
