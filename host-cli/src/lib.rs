@@ -4,6 +4,7 @@
 pub mod animate;
 pub mod builtin;
 pub mod connect;
+pub mod flash;
 pub mod ports;
 pub mod raster;
 pub mod raster_file;

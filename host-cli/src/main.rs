@@ -97,6 +97,8 @@ enum Command {
     /// ./fpgfx.toml, $XDG_CONFIG_HOME/fpgfx/config.toml, ~/.config/fpgfx/config.toml
     /// (keys: port, baud, timeout).
     Ports,
+    /// Program the board's STM32F405 through its ROM bootloader (AN3155) on --port.
+    Flash(host_cli::flash::FlashArgs),
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -145,6 +147,11 @@ fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render(connect(&cli.target)?, &args),
         Command::Ports => ports(),
         Command::Animate(args) => animate(connect(&cli.target)?, &args),
+        Command::Flash(args) => {
+            host_cli::flash::run(cli.target.port.as_deref(), cli.target.baud, &args)
+                .map(|_| ())
+                .with_context(|| format!("flash {}", args.image.display()))
+        }
     }
 }
 

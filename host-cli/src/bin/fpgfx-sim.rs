@@ -21,6 +21,18 @@ struct Cli {
     /// controller + FPGA model on it until killed.
     #[arg(long)]
     pty: bool,
+    /// Serve the STM32F405's ROM bootloader (AN3155) on the pty instead of the board:
+    /// what the chip does with BOOT0 high. See docs/flash.md.
+    #[arg(long, requires = "pty")]
+    bootloader: bool,
+    /// With --bootloader: keep the emulated flash in FILE (1 MiB, created erased if
+    /// missing), updated after every write or erase, so a later run sees it.
+    #[arg(long, value_name = "FILE", requires = "bootloader")]
+    flash_image: Option<std::path::PathBuf>,
+    /// With --bootloader, a test aid: exit (like a board losing power) right after the
+    /// Nth successful Write Memory, to interrupt a flash at a known point.
+    #[arg(long, value_name = "N", requires = "bootloader")]
+    exit_after_writes: Option<u64>,
     /// Serve the controller + FPGA model on TCP (e.g. 127.0.0.1:7878; port 0 picks one),
     /// one client at a time; prints the bound address on the first line of stdout.
     #[arg(long, value_name = "ADDR", conflicts_with = "pty")]
@@ -54,6 +66,9 @@ fn host_gone(e: &std::io::Error) -> bool {
 }
 
 fn run(cli: Cli) -> Result<()> {
+    if cli.bootloader {
+        return serve_bootloader(&cli);
+    }
     if let Some(port) = &cli.fpga_link {
         return serve_fpga_link(port, cli.baud);
     }
@@ -182,4 +197,115 @@ fn serve_fpga_link(path: &str, baud: u32) -> Result<()> {
         }
         busy = server.work();
     }
+}
+
+/// `--bootloader`: the emulated ROM bootloader on a pty. A pty has no physical parity,
+/// so the 8E1 the host asks for is accepted and changes nothing: bytes arrive as sent.
+fn serve_bootloader(cli: &Cli) -> Result<()> {
+    use sim_target::bootloader::Bootloader;
+    use std::io::Read;
+
+    let mut flash_file = None;
+    let mut chip = match &cli.flash_image {
+        Some(path) => {
+            let image = match std::fs::read(path) {
+                Ok(image) => image,
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                    let erased = vec![0xFF; protocol::bootloader::FLASH_SIZE as usize];
+                    std::fs::write(path, &erased)
+                        .with_context(|| format!("cannot create {}", path.display()))?;
+                    erased
+                }
+                Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
+            };
+            let chip = Bootloader::with_flash(image)
+                .with_context(|| format!("flash image {}", path.display()))?;
+            flash_file = Some(
+                std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(path)
+                    .with_context(|| format!("cannot open {}", path.display()))?,
+            );
+            chip
+        }
+        None => Bootloader::new(),
+    };
+
+    let (mut master, slave) =
+        serialport::TTYPort::pair().context("cannot create a pseudo-terminal pair")?;
+    let path = serialport::SerialPort::name(&slave).context("the pseudo-terminal has no path")?;
+    drop(slave);
+    serialport::SerialPort::set_timeout(&mut master, Duration::from_millis(5))
+        .context("pty timeout")?;
+    let mut stdout = std::io::stdout();
+    writeln!(stdout, "{path}")?;
+    stdout.flush()?;
+
+    let mut buf = [0u8; 1024];
+    let mut out = Vec::new();
+    let mut host_present = false;
+    loop {
+        let n = match master.read(&mut buf) {
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => 0,
+            Err(e) if host_gone(&e) => {
+                // Nobody has the slave open. Tools expect a fresh chip per session (on a
+                // board the adapter's DTR usually drives reset), so the next host starts
+                // with 0x7F; flash survives.
+                if host_present {
+                    chip.reset();
+                    host_present = false;
+                }
+                std::thread::sleep(Duration::from_millis(2));
+                continue;
+            }
+            Err(e) => return Err(e).context("pty read"),
+        };
+        if n == 0 {
+            continue;
+        }
+        host_present = true;
+        out.clear();
+        chip.feed(&buf[..n], &mut out);
+        let dirty = chip.take_dirty();
+        if let Some(file) = flash_file.as_mut() {
+            persist(file, chip.flash(), &dirty)?;
+        }
+        if !out.is_empty() {
+            match master.write_all(&out).and_then(|()| master.flush()) {
+                Ok(()) => {}
+                Err(e) if host_gone(&e) => continue,
+                Err(e) => return Err(e).context("pty write"),
+            }
+        }
+        if let Some(address) = chip.go_address() {
+            // The chip would now run user code. We report the jump and behave as if the
+            // board were reset into the bootloader again, so the sim keeps serving.
+            eprintln!("fpgfx-sim: Go {address:#010x}");
+            chip.reset();
+        }
+        if cli
+            .exit_after_writes
+            .is_some_and(|n| chip.stats().writes >= n)
+        {
+            eprintln!(
+                "fpgfx-sim: exiting after {} writes (--exit-after-writes)",
+                chip.stats().writes
+            );
+            return Ok(());
+        }
+    }
+}
+
+/// Writes the changed flash ranges through to the image file.
+fn persist(file: &mut std::fs::File, flash: &[u8], dirty: &[std::ops::Range<u32>]) -> Result<()> {
+    use std::io::{Seek, SeekFrom};
+    for r in dirty {
+        file.seek(SeekFrom::Start(u64::from(r.start)))?;
+        file.write_all(&flash[r.start as usize..r.end as usize])?;
+    }
+    if !dirty.is_empty() {
+        file.flush().context("flash image")?;
+    }
+    Ok(())
 }
