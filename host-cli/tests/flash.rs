@@ -126,8 +126,8 @@ fn stm32flash_identifies_writes_and_reads_back() {
         .arg(&sim.pty)
         .output()
         .expect("stm32flash runs");
-    let text =
-        String::from_utf8_lossy(&info.stdout).to_string() + &String::from_utf8_lossy(&info.stderr);
+    let text = String::from_utf8_lossy(&info.stdout).to_string()
+        + String::from_utf8_lossy(&info.stderr).as_ref();
     assert!(info.status.success(), "stm32flash {}: {text}", sim.pty);
     assert!(text.contains("0x0413"), "device id not reported:\n{text}");
     assert!(
@@ -149,8 +149,8 @@ fn stm32flash_identifies_writes_and_reads_back() {
         .arg(&sim.pty)
         .output()
         .expect("stm32flash runs");
-    let wtext =
-        String::from_utf8_lossy(&w.stdout).to_string() + &String::from_utf8_lossy(&w.stderr);
+    let wtext = String::from_utf8_lossy(&w.stdout).to_string()
+        + String::from_utf8_lossy(&w.stderr).as_ref();
     assert!(w.status.success(), "stm32flash -w: {wtext}");
 
     let back = tmp("stm32flash-out.bin");
@@ -165,8 +165,8 @@ fn stm32flash_identifies_writes_and_reads_back() {
         .arg(&sim.pty)
         .output()
         .expect("stm32flash runs");
-    let rtext =
-        String::from_utf8_lossy(&r.stdout).to_string() + &String::from_utf8_lossy(&r.stderr);
+    let rtext = String::from_utf8_lossy(&r.stdout).to_string()
+        + String::from_utf8_lossy(&r.stderr).as_ref();
     assert!(r.status.success(), "stm32flash -r: {rtext}");
     let read = std::fs::read(&back).expect("read-back file");
     assert_eq!(read.len(), image.len());
