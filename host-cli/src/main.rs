@@ -57,6 +57,45 @@ enum Command {
     },
     /// Ray-trace a scene file (SPEC-RT's TOML) and write the frame as PNG.
     Render(RenderArgs),
+    /// Sweep number formats × approximations (ray tracer) and sub-pixel bits × AA
+    /// (rasterizer): error, host time and hardware cost, with Pareto plots.
+    Bench(BenchArgs),
+}
+
+/// Arguments of `fpgfx bench`.
+#[derive(clap::Args)]
+struct BenchArgs {
+    /// Ray-trace scene files (default: examples/reference.toml and examples/rt/*).
+    #[arg(long = "scene")]
+    scenes: Vec<PathBuf>,
+    /// Raster command files (default: examples/raster/*.toml).
+    #[arg(long = "raster")]
+    raster: Vec<PathBuf>,
+    /// Small frames and a reduced sweep (what CI runs).
+    #[arg(long)]
+    quick: bool,
+    /// Timed runs per point; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Output directory (bench.csv, bench.md, pareto-rt.png, pareto-raster.png).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+fn bench(a: &BenchArgs) -> Result<()> {
+    use std::io::IsTerminal;
+    let cfg = host_cli::bench::BenchConfig {
+        scenes: a.scenes.clone(),
+        raster_files: a.raster.clone(),
+        quick: a.quick,
+        repeats: a.repeats,
+        root: PathBuf::from("."),
+        progress: std::io::stderr().is_terminal(),
+    };
+    let report = host_cli::bench::run(&cfg)?;
+    host_cli::bench::write(&report, &a.output)?;
+    print!("{}", host_cli::bench::to_markdown(&report));
+    Ok(())
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -104,6 +143,7 @@ fn run(cli: Cli) -> Result<()> {
             stats,
         ),
         Command::Render(args) => render(connect(port, baud)?, &args),
+        Command::Bench(args) => bench(&args),
     }
 }
 

@@ -278,8 +278,14 @@ mod published {
 
     fn check(name: &str, measured: f64, bound: f64) {
         eprintln!("| {name} | {measured:.3e} | {bound:.1e} |");
-        assert!(measured <= bound, "{name}: {measured:e} > published {bound:e}");
-        assert!(measured > bound / 2.0, "{name}: {measured:e} ≪ published {bound:e}");
+        assert!(
+            measured <= bound,
+            "{name}: {measured:e} > published {bound:e}"
+        );
+        assert!(
+            measured > bound / 2.0,
+            "{name}: {measured:e} ≪ published {bound:e}"
+        );
     }
 
     /// atan2 over the whole circle: 2·10⁶ angles (only y/x matters), plus the axes.

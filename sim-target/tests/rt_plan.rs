@@ -56,13 +56,14 @@ fn planned_kernels_are_bit_identical_to_the_general_one() {
                 let g = frame(&scene, numeric, math, Kernel::General);
                 assert_eq!(p.rgb8, g.rgb8, "{name} {numeric:?} rgb");
                 let bits = |v: &Option<Vec<f32>>| {
-                    v.iter()
-                        .flatten()
-                        .map(|x| x.to_bits())
-                        .collect::<Vec<_>>()
+                    v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>()
                 };
                 assert_eq!(bits(&p.depth), bits(&g.depth), "{name} {numeric:?} depth");
-                assert_eq!(bits(&p.normal), bits(&g.normal), "{name} {numeric:?} normal");
+                assert_eq!(
+                    bits(&p.normal),
+                    bits(&g.normal),
+                    "{name} {numeric:?} normal"
+                );
                 assert_eq!(p.stats.rays(), g.stats.rays(), "{name} ray count");
             }
         }
@@ -80,8 +81,16 @@ fn plan_features_follow_the_scene() {
     assert!(full.shadows && full.textures && full.reflect && !full.spheres_only);
     let flat = rt::plan(&Subset::SpheresFlat.apply(&scene)).features();
     assert!(!flat.shadows && !flat.textures && !flat.reflect && flat.spheres_only);
-    assert!(!rt::plan(&Subset::NoShadows.apply(&scene)).features().shadows);
-    assert!(!rt::plan(&Subset::NoTextures.apply(&scene)).features().textures);
+    assert!(
+        !rt::plan(&Subset::NoShadows.apply(&scene))
+            .features()
+            .shadows
+    );
+    assert!(
+        !rt::plan(&Subset::NoTextures.apply(&scene))
+            .features()
+            .textures
+    );
     assert!(!rt::plan(&Subset::Depth1.apply(&scene)).features().reflect);
 }
 
@@ -90,15 +99,18 @@ fn planned_register_image_renders_the_same_and_sends_no_more() {
     for (name, scene) in scenes() {
         let plan = rt::plan(&scene);
         let full = from_regs(&to_regs(&scene).expect("fits")).expect("decodes");
-        let planned = from_regs(&to_regs(&planned_scene(&scene, &plan)).expect("fits"))
-            .expect("decodes");
+        let planned =
+            from_regs(&to_regs(&planned_scene(&scene, &plan)).expect("fits")).expect("decodes");
         for numeric in [Numeric::F32, Numeric::Q16_16] {
             let a = frame(&full, numeric, Math::default(), Kernel::Planned);
             let b = frame(&planned, numeric, Math::default(), Kernel::Planned);
             assert_eq!(a.rgb8, b.rgb8, "{name} {numeric:?}");
         }
         let (f, p) = scene_wire_cost(&scene).expect("fits");
-        assert!(p.changed <= f.changed && p.bytes <= f.bytes, "{name}: {f:?} {p:?}");
+        assert!(
+            p.changed <= f.changed && p.bytes <= f.bytes,
+            "{name}: {f:?} {p:?}"
+        );
     }
 }
 

@@ -84,7 +84,7 @@ fn horner<S: Scalar>(x: S, coeffs: &[f64]) -> S {
 #[inline]
 fn atan_unit<S: Scalar>(z: S, kind: AtanKind) -> S {
     match kind {
-        AtanKind::Exact => c(z.to_f64().atan()),
+        AtanKind::Exact => z.atan_core(),
         AtanKind::Lut33 => {
             let a = z.abs();
             let pos = a * c::<S>(32.0);
@@ -179,7 +179,7 @@ pub fn acos<S: Scalar>(x: S, kind: AcosKind) -> S {
     let neg = x < S::zero();
     let a = x.abs();
     let r = match kind {
-        AcosKind::Exact => c(a.to_f64().acos()),
+        AcosKind::Exact => a.acos_core(),
         AcosKind::BinadeLut => acos_binade(a),
         AcosKind::SeedLut33 => {
             let pos = a * c::<S>(32.0);

@@ -54,6 +54,15 @@ impl Math {
         acos: AcosKind::SeedLut33,
     };
 
+    /// What `Math::default()` is, usable in const context: the format's √ and 1/√, the
+    /// stable quadratic, minimax-11 atan and A&S 4.4.46 acos.
+    pub const DEFAULT: Math = Math {
+        sqrt: SqrtKind::Exact,
+        quadratic: Quadratic::Stable,
+        atan: AtanKind::Minimax11,
+        acos: AcosKind::Sqrt8,
+    };
+
     /// Correctly rounded cores for every function (√ and 1/√ of the format, atan/acos
     /// through f64): the error floor of a format, `fpgfx bench`'s "exact" set.
     pub const EXACT: Math = Math {
@@ -721,13 +730,7 @@ impl<S: Scalar> Prepared<S> {
     /// specular, reflection, spheres only): a `false` removes the feature's code, a `true`
     /// keeps it together with the per-material/per-scene runtime test.
     #[allow(clippy::too_many_lines)]
-    fn trace<
-        const SH: bool,
-        const TX: bool,
-        const SP: bool,
-        const RF: bool,
-        const SO: bool,
-    >(
+    fn trace<const SH: bool, const TX: bool, const SP: bool, const RF: bool, const SO: bool>(
         &self,
         o: V3<S>,
         d: V3<S>,
@@ -758,11 +761,7 @@ impl<S: Scalar> Prepared<S> {
             let ob = &self.objs[i];
             let lp = lo + ld.scale(t);
             let p = o + d.scale(t);
-            let on = if SO {
-                lp
-            } else {
-                shapes::normal(ob.shape, lp)
-            };
+            let on = if SO { lp } else { shapes::normal(ob.shape, lp) };
             let mut n = ob.nmat.mul_v(on).normalize(sq);
             let inside = n.dot(d) >= zero;
             if inside {
@@ -1057,6 +1056,36 @@ pub fn render_with_progress(
             render_generic::<Q32_32>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
         }
     };
+    Ok(finish(
+        width,
+        height,
+        spp,
+        start,
+        plan,
+        (rgb8, depth, normal, c),
+    ))
+}
+
+/// [`render`] in any [`Scalar`] (`opts.numeric` is ignored): for formats outside
+/// [`Numeric`], e.g. an operation-counting wrapper that `fpgfx bench` uses for its
+/// hardware cost model.
+pub fn render_scalar<S: Scalar>(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
+    validate(scene)?;
+    let (width, height) = opts.size.unwrap_or((scene.width, scene.height));
+    if width == 0 || height == 0 {
+        return Err(RtError::InvalidScene(format!(
+            "frame size {width}x{height}"
+        )));
+    }
+    let spp = opts.spp.unwrap_or(scene.spp).max(1);
+    let plan = plan(scene);
+    let start = Instant::now();
+    let r = render_generic::<S>(scene, opts, width, height, spp, &plan, &|_, _| {});
+    Ok(finish(width, height, spp, start, plan, r))
+}
+
+fn finish(width: u32, height: u32, spp: u32, start: Instant, plan: Plan, r: Rendered) -> Frame {
+    let (rgb8, depth, normal, c) = r;
     let seconds = start.elapsed().as_secs_f64();
     let stats = Stats {
         primary_rays: c.primary,
@@ -1066,7 +1095,7 @@ pub fn render_with_progress(
         seconds,
         board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
     };
-    Ok(Frame {
+    Frame {
         width,
         height,
         rgb8,
@@ -1074,7 +1103,7 @@ pub fn render_with_progress(
         normal,
         stats,
         plan,
-    })
+    }
 }
 
 /// Parse a format name as the CLI spells it (`f64`, `f32`, `f16`, `q16.16`, `q8.24`,

@@ -81,7 +81,11 @@ pub fn wire_cost_gap(regs: &Regs, gap: usize) -> WireCost {
         gap,
         ..WireCost::default()
     };
-    c.changed = empty.words().zip(regs.words()).filter(|(a, b)| a != b).count();
+    c.changed = empty
+        .words()
+        .zip(regs.words())
+        .filter(|(a, b)| a != b)
+        .count();
     let mut payload = [0u8; 512];
     let mut frame = [0u8; 1024];
     for (seq, w) in diff_with_gap(&empty, regs, gap).enumerate() {
