@@ -2,6 +2,7 @@
 //! them to a target. The binary (`main.rs`) only parses arguments and reports errors.
 
 pub mod animate;
+pub mod bench;
 pub mod builtin;
 pub mod connect;
 pub mod flash;

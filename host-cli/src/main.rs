@@ -99,6 +99,9 @@ enum Command {
     Ports,
     /// Program the board's STM32F405 through its ROM bootloader (AN3155) on --port.
     Flash(host_cli::flash::FlashArgs),
+    /// Sweep number formats × approximations (ray tracer) and sub-pixel bits × AA
+    /// (rasterizer): error, host time and hardware cost, with Pareto plots.
+    Bench(BenchArgs),
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -152,6 +155,7 @@ fn run(cli: Cli) -> Result<()> {
                 .map(|_| ())
                 .with_context(|| format!("flash {}", args.image.display()))
         }
+        Command::Bench(args) => bench(&args),
     }
 }
 
@@ -503,5 +507,41 @@ fn write_gif(path: &Path, frames: &[image::RgbImage], fps: f64) -> Result<()> {
         enc.encode_frame(image::Frame::from_parts(rgba, 0, 0, delay))
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
+    Ok(())
+}
+
+/// Arguments of `fpgfx bench`.
+#[derive(clap::Args)]
+struct BenchArgs {
+    /// Ray-trace scene files (default: examples/reference.toml and examples/rt/*).
+    #[arg(long = "scene")]
+    scenes: Vec<PathBuf>,
+    /// Raster command files (default: examples/raster/*.toml).
+    #[arg(long = "raster")]
+    raster: Vec<PathBuf>,
+    /// Small frames and a reduced sweep (what CI runs).
+    #[arg(long)]
+    quick: bool,
+    /// Timed runs per point; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Output directory (bench.csv, bench.md, pareto-rt.png, pareto-raster.png).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+fn bench(a: &BenchArgs) -> Result<()> {
+    use std::io::IsTerminal;
+    let cfg = host_cli::bench::BenchConfig {
+        scenes: a.scenes.clone(),
+        raster_files: a.raster.clone(),
+        quick: a.quick,
+        repeats: a.repeats,
+        root: PathBuf::from("."),
+        progress: std::io::stderr().is_terminal(),
+    };
+    let report = host_cli::bench::run(&cfg)?;
+    host_cli::bench::write(&report, &a.output)?;
+    print!("{}", host_cli::bench::to_markdown(&report));
     Ok(())
 }

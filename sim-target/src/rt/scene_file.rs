@@ -95,6 +95,12 @@ struct RenderToml {
     background: [f64; 3],
     #[serde(default = "d_spp")]
     spp: Spanned<u32>,
+    #[serde(default = "d_shadows")]
+    shadows: bool,
+}
+
+fn d_shadows() -> bool {
+    true
 }
 
 #[derive(Deserialize)]
@@ -324,6 +330,7 @@ pub fn parse_with_limits(
         max_distance: d_maxd(),
         background: [0.0; 3],
         spp: d_spp(),
+        shadows: true,
     });
     let [width, height] = *r.size.get_ref();
     if width == 0 || height == 0 {
@@ -575,6 +582,7 @@ pub fn parse_with_limits(
         max_distance: r.max_distance,
         background: r.background,
         spp: *r.spp.get_ref(),
+        shadows: r.shadows,
         camera: Camera {
             position: f.camera.position,
             look_at: f.camera.look_at,
