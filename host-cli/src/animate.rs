@@ -272,3 +272,74 @@ fn percent_d(s: &str) -> Option<(usize, usize, usize)> {
     let width = rest[..digits].parse().unwrap_or(0);
     Some((start, start + 1 + digits + 1, width))
 }
+
+/// The user's camera moves in `--interactive`: an orbit about the scene's `look_at`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraMove {
+    /// Turn about the world y axis, radians (← →).
+    pub yaw: f64,
+    /// Tilt up or down, radians (↑ ↓), kept away from the poles.
+    pub pitch: f64,
+    /// Distance factor (+ −).
+    pub zoom: f64,
+}
+
+impl Default for CameraMove {
+    fn default() -> Self {
+        Self {
+            yaw: 0.0,
+            pitch: 0.0,
+            zoom: 1.0,
+        }
+    }
+}
+
+impl CameraMove {
+    /// Applies the move to the `[camera]` of a scene file: the eye orbits `look_at` by
+    /// yaw and pitch and its distance scales by zoom (ViRAY's board buttons moved the
+    /// observer the same way).
+    pub fn apply(&self, scene_toml: &str) -> Result<String, String> {
+        if *self == CameraMove::default() {
+            return Ok(scene_toml.to_string());
+        }
+        let mut v: toml::Value = toml::from_str(scene_toml).map_err(|e| e.to_string())?;
+        let cam = v
+            .get_mut("camera")
+            .and_then(toml::Value::as_table_mut)
+            .ok_or("the scene has no [camera]")?;
+        let vec3 = |t: &toml::Table, k: &str| -> Result<[f64; 3], String> {
+            let a = t
+                .get(k)
+                .and_then(toml::Value::as_array)
+                .filter(|a| a.len() == 3)
+                .ok_or(format!("camera.{k} is not a 3-vector"))?;
+            let f = |x: &toml::Value| {
+                x.as_float()
+                    .or_else(|| x.as_integer().map(|i| i as f64))
+                    .ok_or(format!("camera.{k} has a non-number"))
+            };
+            Ok([f(&a[0])?, f(&a[1])?, f(&a[2])?])
+        };
+        let eye = vec3(cam, "position")?;
+        let at = vec3(cam, "look_at")?;
+        let d = [eye[0] - at[0], eye[1] - at[1], eye[2] - at[2]];
+        let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        if r == 0.0 {
+            return Err("camera.position equals camera.look_at".into());
+        }
+        let yaw = d[0].atan2(d[2]) + self.yaw;
+        let limit = 89f64.to_radians();
+        let pitch = ((d[1] / r).asin() + self.pitch).clamp(-limit, limit);
+        let r = r * self.zoom;
+        let eye = [
+            at[0] + r * pitch.cos() * yaw.sin(),
+            at[1] + r * pitch.sin(),
+            at[2] + r * pitch.cos() * yaw.cos(),
+        ];
+        cam.insert(
+            "position".into(),
+            toml::Value::Array(eye.iter().map(|&x| toml::Value::Float(x)).collect()),
+        );
+        toml::to_string(&v).map_err(|e| e.to_string())
+    }
+}

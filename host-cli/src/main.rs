@@ -388,6 +388,58 @@ struct AnimateArgs {
     /// check or replay a frame with `fpgfx render` / `fpgfx raster`.
     #[arg(long, value_name = "PATTERN")]
     save_frames: Option<String>,
+    /// Move the camera while frames render (scene scripts, in a terminal): ← → orbit,
+    /// ↑ ↓ tilt, + − zoom, q or Esc stops. --frames is then the most frames rendered.
+    #[arg(long)]
+    interactive: bool,
+}
+
+/// Raw terminal mode for `--interactive`, restored however the loop ends.
+struct RawMode;
+
+impl RawMode {
+    fn enter() -> Result<Self> {
+        use std::io::IsTerminal;
+        anyhow::ensure!(
+            std::io::stdin().is_terminal(),
+            "--interactive needs a terminal on stdin"
+        );
+        crossterm::terminal::enable_raw_mode().context("cannot put the terminal in raw mode")?;
+        Ok(RawMode)
+    }
+
+    /// Applies the keys pressed since the last frame; `false` when the user quits.
+    fn keys(&self, cam: &mut host_cli::animate::CameraMove) -> Result<bool> {
+        use crossterm::event::{self, Event, KeyCode, KeyEventKind};
+        let step = 10f64.to_radians();
+        while event::poll(std::time::Duration::ZERO)? {
+            if let Event::Key(k) = event::read()? {
+                if k.kind == KeyEventKind::Release {
+                    continue;
+                }
+                match k.code {
+                    KeyCode::Left => cam.yaw -= step,
+                    KeyCode::Right => cam.yaw += step,
+                    KeyCode::Up => cam.pitch += step,
+                    KeyCode::Down => cam.pitch -= step,
+                    KeyCode::Char('+') | KeyCode::Char('=') => cam.zoom *= 0.9,
+                    KeyCode::Char('-') => cam.zoom /= 0.9,
+                    KeyCode::Char('q') | KeyCode::Esc => return Ok(false),
+                    KeyCode::Char('c') if k.modifiers.contains(event::KeyModifiers::CONTROL) => {
+                        return Ok(false)
+                    }
+                    _ => {}
+                }
+            }
+        }
+        Ok(true)
+    }
+}
+
+impl Drop for RawMode {
+    fn drop(&mut self) {
+        let _ = crossterm::terminal::disable_raw_mode();
+    }
 }
 
 fn animate(mut session: Session<Box<dyn Transport>>, a: &AnimateArgs) -> Result<()> {
@@ -426,10 +478,30 @@ fn animate(mut session: Session<Box<dyn Transport>>, a: &AnimateArgs) -> Result<
     session.timeout = std::time::Duration::from_secs(3600);
     let mut renderer = Renderer::new();
     let mut frames: Vec<image::RgbImage> = Vec::new();
+    anyhow::ensure!(
+        !a.interactive || script.kind() == Kind::Scene,
+        "--interactive moves the camera: it needs a scene script"
+    );
+    let raw = if a.interactive {
+        eprint!("← → orbit, ↑ ↓ tilt, + − zoom, q quits\r\n");
+        Some(RawMode::enter()?)
+    } else {
+        None
+    };
+    let mut camera = host_cli::animate::CameraMove::default();
+    let mut rendered = 0;
     let (mut total_payload, mut total_wire) = (0u64, 0u64);
     for f in 0..a.frames {
         let time = f64::from(f) / a.fps;
+        if let Some(raw) = &raw {
+            if !raw.keys(&mut camera)? {
+                break;
+            }
+        }
         let text = script.frame(f, time)?;
+        let text = camera
+            .apply(&text)
+            .map_err(|e| anyhow::anyhow!("{name} frame {f}: {e}"))?;
         let label = format!("{name} frame {f}");
         if let Some(pattern) = &a.save_frames {
             let path = Output::png_path(pattern, f);
@@ -468,10 +540,13 @@ fn animate(mut session: Session<Box<dyn Transport>>, a: &AnimateArgs) -> Result<
         let wire = session.traffic().sent - wire0;
         total_payload += payload;
         total_wire += wire;
-        println!(
-            "frame {f:>4}  t={time:>7.3} s  {what}  {payload:>7} B payload  {wire:>7} B on the wire  {:>8.1} ms",
-            started.elapsed().as_secs_f64() * 1e3
+        // Raw mode does not turn \n into \r\n.
+        print!(
+            "frame {f:>4}  t={time:>7.3} s  {what}  {payload:>7} B payload  {wire:>7} B on the wire  {:>8.1} ms{}",
+            started.elapsed().as_secs_f64() * 1e3,
+            if raw.is_some() { "\r\n" } else { "\n" }
         );
+        rendered += 1;
         match &output {
             Output::Pngs(pattern) => {
                 let path = Output::png_path(pattern, f);
@@ -482,15 +557,13 @@ fn animate(mut session: Session<Box<dyn Transport>>, a: &AnimateArgs) -> Result<
             Output::Gif(_) => frames.push(image),
         }
     }
-    println!(
-        "total {} frames: {total_payload} B payload, {total_wire} B host → target",
-        a.frames
-    );
+    drop(raw);
+    println!("total {rendered} frames: {total_payload} B payload, {total_wire} B host → target");
     if let Output::Gif(path) = &output {
         write_gif(path, &frames, a.fps)?;
         eprintln!("wrote {}", path.display());
     } else {
-        eprintln!("wrote {} frames", a.frames);
+        eprintln!("wrote {rendered} frames");
     }
     Ok(())
 }

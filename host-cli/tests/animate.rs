@@ -195,3 +195,130 @@ fn script_errors_name_the_script_frame_and_line() {
     ]);
     assert!(err.contains("frame-number placeholder"), "{err}");
 }
+
+/// `--interactive` on a real terminal (a pty as stdin): three → presses turn the camera
+/// 30° about look_at before frame 0, and q stops the run early.
+#[test]
+fn interactive_keys_orbit_the_camera_and_q_quits() {
+    use std::io::{BufRead, BufReader, Write};
+    use std::process::Stdio;
+    let (mut master, slave) = serialport::TTYPort::pair().expect("pty pair");
+    let tty = serialport::SerialPort::name(&slave).expect("pty path");
+    let stdin = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(&tty)
+        .expect("open the pty as a file");
+    drop(slave);
+    let script = format!("{}/examples/anim/viray.rhai", root());
+    let tomls = tmp("i-%02d.toml");
+    master.write_all(b"\x1b[C\x1b[C\x1b[C").expect("keys");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
+        .args([
+            "--port",
+            "builtin",
+            "animate",
+            &script,
+            "--interactive",
+            "--frames",
+            "50",
+        ])
+        .args([
+            "--size",
+            "32x18",
+            "-o",
+            &tmp("i-%02d.png"),
+            "--save-frames",
+            &tomls,
+        ])
+        .stdin(Stdio::from(stdin))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("fpgfx runs");
+    let mut out = BufReader::new(child.stdout.take().expect("stdout"));
+    let mut line = String::new();
+    while out.read_line(&mut line).expect("reads") > 0 && !line.contains("frame    1") {
+        line.clear();
+    }
+    master.write_all(b"q").expect("q");
+    let status = child.wait().expect("fpgfx ends");
+    assert!(status.success());
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut out, &mut rest).expect("reads");
+    let frames: u32 = rest
+        .lines()
+        .find_map(|l| l.strip_prefix("total "))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .expect("a total line");
+    assert!(frames < 50, "q did not stop the run ({frames} frames)");
+
+    let position = |path: &str| -> [f64; 3] {
+        let v: toml::Value =
+            toml::from_str(&std::fs::read_to_string(path).expect("toml")).expect("a scene");
+        let p = v["camera"]["position"]
+            .as_array()
+            .expect("position")
+            .clone();
+        [0, 1, 2].map(|i| p[i].as_float().expect("float"))
+    };
+    // The reference camera: eye (0, 2.2, 9) looking at (0, 0.3, 0).
+    let p = position(&tmp("i-00.toml"));
+    let (dx, dz) = (p[0], p[2]);
+    let yaw = dx.atan2(dz).to_degrees();
+    assert!((yaw - 30.0).abs() < 1e-6, "camera yaw {yaw}°, expected 30°");
+    let r = (dx * dx + (p[1] - 0.3).powi(2) + dz * dz).sqrt();
+    let r0 = (1.9f64.powi(2) + 81.0).sqrt();
+    assert!(
+        (r - r0).abs() < 1e-9,
+        "orbit changed the distance: {r} vs {r0}"
+    );
+}
+
+/// Over a serial line (`fpgfx-sim --pty`) the frames equal built-in mode's.
+#[test]
+fn animate_over_a_pty_matches_built_in() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
+        .arg("--pty")
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("fpgfx-sim starts");
+    let mut pty = String::new();
+    BufReader::new(sim.stdout.take().expect("stdout"))
+        .read_line(&mut pty)
+        .expect("pty path");
+    let script = format!("{}/examples/anim/viray.rhai", root());
+    let run = |port: &str, pattern: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
+            .args([
+                "--port", port, "animate", &script, "--frames", "2", "--size", "32x18",
+            ])
+            .args(["-o", pattern])
+            .output()
+            .expect("fpgfx runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    run(pty.trim(), &tmp("p-%d.png"));
+    run("builtin", &tmp("b-%d.png"));
+    let _ = sim.kill();
+    let _ = sim.wait();
+    for f in 0..2 {
+        let a = image::open(tmp(&format!("p-{f}.png")))
+            .expect("pty frame")
+            .to_rgb8();
+        let b = image::open(tmp(&format!("b-{f}.png")))
+            .expect("built-in frame")
+            .to_rgb8();
+        assert!(
+            a == b,
+            "frame {f} differs between the pty board and built-in"
+        );
+    }
+}
