@@ -7,3 +7,4 @@ pub mod raster_file;
 pub mod render;
 pub mod serial;
 pub mod session;
+pub mod stress;

@@ -436,7 +436,10 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
         background: V3::from_f64(scene.background),
         texmem,
         bias: S::from_f64(scene.bias),
-        maxd: S::from_f64(scene.max_distance),
+        // MAX_DISTANCE is "infinity": in a format whose range ends below it (f16: 65504 <
+        // 1e6) it would round to ∞ and let a root at t = ∞ count as a hit; the format's
+        // largest finite value is the same "infinity" without that.
+        maxd: S::from_f64(scene.max_distance.min(S::max_value().to_f64())),
         depth: plan.depth,
         m,
         by_match: dispatch == Dispatch::Match,
@@ -844,6 +847,41 @@ pub fn render_with_progress(
         reflected_rays: c.reflected,
         refracted_rays: c.refracted,
         seconds,
+        board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
+    };
+    Ok(Frame {
+        width,
+        height,
+        rgb8,
+        depth,
+        normal,
+        stats,
+        plan,
+    })
+}
+
+/// [`render`] in a number format chosen by the caller's type rather than by
+/// `opts.numeric` (which is ignored): `fpgfx stress` runs the unchanged kernel with a
+/// wrapper format that counts saturations and NaN, observing instead of instrumenting it.
+pub fn render_in<S: Scalar>(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
+    validate(scene)?;
+    let (width, height) = opts.size.unwrap_or((scene.width, scene.height));
+    if width == 0 || height == 0 {
+        return Err(RtError::InvalidScene(format!(
+            "frame size {width}x{height}"
+        )));
+    }
+    let spp = opts.spp.unwrap_or(scene.spp).max(1);
+    let plan = plan(scene);
+    let start = Instant::now();
+    let (rgb8, depth, normal, c) =
+        render_generic::<S>(scene, opts, width, height, spp, &plan, &|_, _| {});
+    let stats = Stats {
+        primary_rays: c.primary,
+        shadow_rays: c.shadow,
+        reflected_rays: c.reflected,
+        refracted_rays: c.refracted,
+        seconds: start.elapsed().as_secs_f64(),
         board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
     };
     Ok(Frame {
