@@ -346,6 +346,11 @@ fn case_rng(seed: u64, index: u64, cat: Category) -> SmallRng {
     SmallRng::seed_from_u64(x ^ (x >> 31))
 }
 
+thread_local! {
+    /// Where the last panic on this thread happened (filled by the run's panic hook).
+    static PANIC_AT: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
+}
+
 /// Runs one case, catching a panic.
 pub fn run_case(seed: u64, index: u64, only: Option<Category>) -> (Category, CaseResult) {
     let cat = category_of(index, only);
@@ -364,13 +369,14 @@ pub fn run_case(seed: u64, index: u64, only: Option<Category>) -> (Category, Cas
                 .map(|s| s.to_string())
                 .or_else(|| e.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "non-string panic".into());
+            let at = PANIC_AT.with(|p| std::mem::take(&mut *p.borrow_mut()));
             CaseResult {
                 counts: Counts {
                     panics: 1,
                     ..Counts::default()
                 },
                 formats: Default::default(),
-                failure: Some(format!("panic: {msg}")),
+                failure: Some(format!("panic: {msg}{at}")),
             }
         }
     };
@@ -404,7 +410,13 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
     });
     // A panicking case is counted, not printed: silence the default hook meanwhile.
     let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
+    std::panic::set_hook(Box::new(|info| {
+        let at = info
+            .location()
+            .map(|l| format!(" at {}:{}", l.file(), l.line()))
+            .unwrap_or_default();
+        PANIC_AT.with(|p| *p.borrow_mut() = at);
+    }));
     let pools: Result<Vec<rayon::ThreadPool>, StressError> = (0..threads)
         .map(|_| {
             rayon::ThreadPoolBuilder::new()
@@ -1355,7 +1367,8 @@ pub fn range_demand(scene: &Scene) -> f64 {
         far = far.max(len(o.translate));
         let smin = o.scale.iter().fold(f64::INFINITY, |a, s| a.min(*s));
         let smax = o.scale.iter().fold(0.0f64, |a, s| a.max(*s));
-        let reach = (2.0 * far + smax) / smin;
+        // The unit ray direction becomes d/s in object space: 1/s must fit as well.
+        let reach = (2.0 * far + smax).max(1.0) / smin;
         m = m.max(reach * reach).max(smax);
     }
     m.max(4.0 * far * far)
