@@ -134,9 +134,10 @@ struct StressArgs {
 fn stress(a: &StressArgs) -> Result<()> {
     use host_cli::stress;
     let only = match &a.only {
-        Some(name) => Some(stress::Category::parse(name).ok_or_else(|| {
-            anyhow::anyhow!("--only {name:?}: expected raster, rt or parse")
-        })?),
+        Some(name) => Some(
+            stress::Category::parse(name)
+                .ok_or_else(|| anyhow::anyhow!("--only {name:?}: expected raster, rt or parse"))?,
+        ),
         None => None,
     };
     let report = stress::run(&stress::Config {

@@ -24,9 +24,9 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use protocol::frame::{
-    Aa, AaPattern, Bezier, BezierPatch, Circle, Connectivity, Cull, Filter, FillRule, Line,
-    LineAlgo, Numeric, Pixel, Point, Polygon, RasterCmd, RasterSetup, Rgb, SeedFill, Shade,
-    TexRef, Traversal, Triangle, Wrap,
+    Aa, AaPattern, Bezier, BezierPatch, Circle, Connectivity, Cull, FillRule, Filter, Line,
+    LineAlgo, Numeric, Pixel, Point, Polygon, RasterCmd, RasterSetup, Rgb, SeedFill, Shade, TexRef,
+    Traversal, Triangle, Wrap,
 };
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
@@ -273,7 +273,14 @@ impl Report {
             let _ = writeln!(
                 s,
                 "\nrt by format  {:>8}{:>12}{:>10}{:>9}{:>8}{:>9}{:>8}{:>10}",
-                "renders", "saturated", "NaN(ovf)", "NaN/inf", "acne", "acne/of", "beyond", "NaN(bynd)"
+                "renders",
+                "saturated",
+                "NaN(ovf)",
+                "NaN/inf",
+                "acne",
+                "acne/of",
+                "beyond",
+                "NaN(bynd)"
             );
             for (n, f) in Numeric::ALL.iter().zip(&self.by_format) {
                 let _ = writeln!(
@@ -351,8 +358,24 @@ thread_local! {
     static PANIC_AT: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
 }
 
-/// Runs one case, catching a panic.
-pub fn run_case(seed: u64, index: u64, only: Option<Category>) -> (Category, CaseResult) {
+/// Runs one case, catching a panic, on a private one-thread pool (so that the probe's
+/// per-thread counts see the whole render and nothing else). Panics are caught but still
+/// reported by the current panic hook; [`run`] silences it.
+pub fn run_case(
+    seed: u64,
+    index: u64,
+    only: Option<Category>,
+) -> Result<(Category, CaseResult), StressError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| StressError::Pool(e.to_string()))?;
+    Ok(pool.install(|| case_on_this_thread(seed, index, only)))
+}
+
+/// [`run_case`] on the calling thread, which must be the only thread of the current rayon
+/// pool.
+fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Category, CaseResult) {
     let cat = category_of(index, only);
     let mut rng = case_rng(seed, index, cat);
     probe::take();
@@ -440,7 +463,7 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
                     loop {
                         let k = next.fetch_add(1, Ordering::Relaxed) as usize;
                         let Some(&index) = indices.get(k) else { break };
-                        let (cat, r) = run_case(cfg.seed, index, cfg.only);
+                        let (cat, r) = case_on_this_thread(cfg.seed, index, cfg.only);
                         local.by_category[cat as usize].add(&r.counts);
                         for (a, b) in local.by_format.iter_mut().zip(&r.formats) {
                             a.renders += b.renders;
@@ -627,7 +650,9 @@ fn fan(rng: &mut SmallRng, bits: u8, side: u32) -> Mesh {
         rng.gen_range(0..=side as i64 * unit),
     );
     let n = rng.gen_range(3..=10);
-    let mut angles: Vec<f64> = (0..n).map(|_| rng.gen_range(0.0..std::f64::consts::TAU)).collect();
+    let mut angles: Vec<f64> = (0..n)
+        .map(|_| rng.gen_range(0.0..std::f64::consts::TAU))
+        .collect();
     angles.sort_by(f64::total_cmp);
     let max_r = if huge {
         COORD_LIMIT as f64
@@ -648,7 +673,10 @@ fn fan(rng: &mut SmallRng, bits: u8, side: u32) -> Mesh {
         let k = rng.gen_range(0..pts.len());
         let (a, b) = (pts[k], pts[(k + 1) % pts.len()]);
         if (a.x + b.x) % 2 == 0 && (a.y + b.y) % 2 == 0 {
-            pts.insert(k + 1, pt((a.x as i64 + b.x as i64) / 2, (a.y as i64 + b.y as i64) / 2));
+            pts.insert(
+                k + 1,
+                pt((a.x as i64 + b.x as i64) / 2, (a.y as i64 + b.y as i64) / 2),
+            );
         }
     }
     let cp = pt(c.0, c.1);
@@ -714,7 +742,9 @@ fn grid(rng: &mut SmallRng, bits: u8, side: u32) -> Mesh {
     for r in 0..ny {
         for c in 0..nx {
             let q = [v[r][c], v[r][c + 1], v[r + 1][c + 1], v[r + 1][c]];
-            let s: Vec<i128> = (0..4).map(|k| cross(q[k], q[(k + 1) % 4], q[(k + 2) % 4])).collect();
+            let s: Vec<i128> = (0..4)
+                .map(|k| cross(q[k], q[(k + 1) % 4], q[(k + 2) % 4]))
+                .collect();
             if !(s.iter().all(|&x| x > 0) || s.iter().all(|&x| x < 0)) {
                 valid = false;
             }
@@ -737,7 +767,9 @@ fn grid(rng: &mut SmallRng, bits: u8, side: u32) -> Mesh {
     outline.extend((0..nx).rev().map(|c| v[ny][c]));
     outline.extend((1..ny).rev().map(|r| v[r][0]));
     // Clamping at the guard band can fold the outline: only then is it not a tiling.
-    if v.iter().flatten().any(|p| p.x.unsigned_abs() >= COORD_LIMIT as u32 || p.y.unsigned_abs() >= COORD_LIMIT as u32) {
+    if v.iter().flatten().any(|p| {
+        p.x.unsigned_abs() >= COORD_LIMIT as u32 || p.y.unsigned_abs() >= COORD_LIMIT as u32
+    }) {
         valid = false;
     }
     Mesh {
@@ -799,10 +831,11 @@ fn raster_mesh(rng: &mut SmallRng, w: u32, h: u32, bits: u8, r: &mut CaseResult)
     let Some(counts) = block.framebuffer().write_counts() else {
         return;
     };
-    let outline: Option<Vec<(i128, i128)>> = mesh
-        .outline
-        .as_ref()
-        .map(|o| o.iter().map(|p| (2 * p.x as i128, 2 * p.y as i128)).collect());
+    let outline: Option<Vec<(i128, i128)>> = mesh.outline.as_ref().map(|o| {
+        o.iter()
+            .map(|p| (2 * p.x as i128, 2 * p.y as i128))
+            .collect()
+    });
     let hh = 1i128 << bits;
     for y in 0..h {
         for x in 0..w {
@@ -850,7 +883,14 @@ fn adversarial_triangle(rng: &mut SmallRng, bits: u8, side: u32) -> [Point; 3] {
         // collinear: a + k(b − a) for small rational k
         0 => {
             let k = rng.gen_range(-2i64..=3);
-            [a, b, pt(a.x as i64 + k * (b.x as i64 - a.x as i64), a.y as i64 + k * (b.y as i64 - a.y as i64))]
+            [
+                a,
+                b,
+                pt(
+                    a.x as i64 + k * (b.x as i64 - a.x as i64),
+                    a.y as i64 + k * (b.y as i64 - a.y as i64),
+                ),
+            ]
         }
         // coincident vertices
         1 => [a, a, if rng.gen() { a } else { b }],
@@ -870,7 +910,10 @@ fn adversarial_triangle(rng: &mut SmallRng, bits: u8, side: u32) -> [Point; 3] {
             [
                 Point { x: x0, y: y0 },
                 Point { x: x1, y: y0 },
-                Point { x: if rng.gen() { x0 } else { x1 }, y: y1 },
+                Point {
+                    x: if rng.gen() { x0 } else { x1 },
+                    y: y1,
+                },
             ]
         }
         _ => [a, b, third],
@@ -892,7 +935,11 @@ fn raster_triangle(rng: &mut SmallRng, w: u32, h: u32, bits: u8, r: &mut CaseRes
                 AaPattern::Poisson,
                 AaPattern::Coverage,
             ][rng.gen_range(0..5)],
-            samples: if rng.gen_ratio(1, 4) { rng.gen() } else { rng.gen_range(1..=16) },
+            samples: if rng.gen_ratio(1, 4) {
+                rng.gen()
+            } else {
+                rng.gen_range(1..=16)
+            },
         };
     }
     let shade = if rng.gen() {
@@ -909,7 +956,9 @@ fn raster_triangle(rng: &mut SmallRng, w: u32, h: u32, bits: u8, r: &mut CaseRes
     let z = rng
         .gen_ratio(1, 4)
         .then(|| [0; 3].map(|_: u32| extreme_u32(rng) & 0xff_ffff));
-    let wv = rng.gen_ratio(1, 4).then(|| [0; 3].map(|_: u32| extreme_u32(rng)));
+    let wv = rng
+        .gen_ratio(1, 4)
+        .then(|| [0; 3].map(|_: u32| extreme_u32(rng)));
     let tex = rng.gen_ratio(1, 4).then(|| {
         let e = |rng: &mut SmallRng| match rng.gen_range(0..4) {
             0 => i32::MAX,
@@ -1008,7 +1057,11 @@ fn raster_prims(rng: &mut SmallRng, w: u32, h: u32, bits: u8, r: &mut CaseResult
                         _ => 0,
                     },
                     aa: rng.gen(),
-                    algo: if rng.gen() { LineAlgo::Dda } else { LineAlgo::Bresenham },
+                    algo: if rng.gen() {
+                        LineAlgo::Dda
+                    } else {
+                        LineAlgo::Bresenham
+                    },
                 })
             }
             2 => RasterCmd::Circle(Circle {
@@ -1029,7 +1082,11 @@ fn raster_prims(rng: &mut SmallRng, w: u32, h: u32, bits: u8, r: &mut CaseResult
                 }
                 RasterCmd::Polygon(Polygon {
                     points,
-                    rule: if rng.gen() { FillRule::EvenOdd } else { FillRule::NonZero },
+                    rule: if rng.gen() {
+                        FillRule::EvenOdd
+                    } else {
+                        FillRule::NonZero
+                    },
                     color: rgb(rng),
                 })
             }
@@ -1052,7 +1109,11 @@ fn raster_prims(rng: &mut SmallRng, w: u32, h: u32, bits: u8, r: &mut CaseResult
                 let points = core::array::from_fn(|_| p(rng));
                 RasterCmd::Patch(BezierPatch {
                     points,
-                    steps: if rng.gen_ratio(1, 8) { rng.gen() } else { rng.gen_range(0..6) },
+                    steps: if rng.gen_ratio(1, 8) {
+                        rng.gen()
+                    } else {
+                        rng.gen_range(0..6)
+                    },
                     color: rgb(rng),
                 })
             }
@@ -1080,8 +1141,8 @@ fn raster_prims(rng: &mut SmallRng, w: u32, h: u32, bits: u8, r: &mut CaseResult
 // ---------------------------------------------------------------------------------------
 
 use sim_target::rt::{
-    Camera, DiffuseModel, Filter as TexFilter, Light, Mapping, Material, Object, Reflection,
-    Shape, Specular, SpecularModel, Spot, Term, Texture, TextureKind,
+    Camera, DiffuseModel, Filter as TexFilter, Light, Mapping, Material, Object, Reflection, Shape,
+    Specular, SpecularModel, Spot, Term, Texture, TextureKind,
 };
 
 const SHAPES: [Shape; 7] = [
@@ -1141,7 +1202,11 @@ fn random_material(rng: &mut SmallRng) -> Material {
                     k: rng.gen_range(0.0..4.0),
                 }
             },
-            exponent: if rng.gen() { rng.gen_range(0..=1023) } else { rng.gen_range(0..64) },
+            exponent: if rng.gen() {
+                rng.gen_range(0..=1023)
+            } else {
+                rng.gen_range(0..64)
+            },
         });
     }
     m.reflection = match rng.gen_range(0..4) {
@@ -1171,7 +1236,11 @@ fn random_material(rng: &mut SmallRng) -> Material {
             scale: [log_uniform(rng, -3.0, 3.0), log_uniform(rng, -3.0, 3.0)],
             offset: [rng.gen_range(-1e3..1e3), rng.gen_range(-1e3..1e3)],
             color2: [rng.gen(), rng.gen(), rng.gen()],
-            filter: if rng.gen() { TexFilter::Nearest } else { TexFilter::Bilinear },
+            filter: if rng.gen() {
+                TexFilter::Nearest
+            } else {
+                TexFilter::Bilinear
+            },
         });
     }
     m
@@ -1243,7 +1312,12 @@ enum RtKind {
 
 fn rt_case(rng: &mut SmallRng) -> CaseResult {
     let mut r = CaseResult::default();
-    let kind = [RtKind::Acne, RtKind::Coincident, RtKind::Grazing, RtKind::Wild][rng.gen_range(0..4)];
+    let kind = [
+        RtKind::Acne,
+        RtKind::Coincident,
+        RtKind::Grazing,
+        RtKind::Wild,
+    ][rng.gen_range(0..4)];
     let scene = match kind {
         RtKind::Acne => acne_scene(rng),
         RtKind::Coincident => coincident_scene(rng),
@@ -1385,14 +1459,23 @@ fn look_at(rng: &mut SmallRng, target: [f64; 3], dist: f64) -> Camera {
     Camera {
         position: add(target, mul(dir, dist)),
         look_at: target,
-        up: if dir[1].abs() > 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] },
+        up: if dir[1].abs() > 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        },
         fov_y: rng.gen_range(5.0..120.0),
     }
 }
 
 fn acne_scene(rng: &mut SmallRng) -> Scene {
-    let shape = [Shape::Sphere, Shape::Cube, Shape::Plane, Shape::Disk, Shape::Square]
-        [rng.gen_range(0..5)];
+    let shape = [
+        Shape::Sphere,
+        Shape::Cube,
+        Shape::Plane,
+        Shape::Disk,
+        Shape::Square,
+    ][rng.gen_range(0..5)];
     let s = if rng.gen_ratio(1, 4) {
         log_uniform(rng, -4.0, 4.0)
     } else {
@@ -1418,7 +1501,11 @@ fn acne_scene(rng: &mut SmallRng) -> Scene {
         translate: centre,
         scale: [s, s, s],
         rotate: if rng.gen() {
-            [rng.gen_range(0.0..360.0), rng.gen_range(0.0..360.0), rng.gen_range(0.0..360.0)]
+            [
+                rng.gen_range(0.0..360.0),
+                rng.gen_range(0.0..360.0),
+                rng.gen_range(0.0..360.0),
+            ]
         } else {
             [0.0; 3]
         },
@@ -1431,7 +1518,11 @@ fn acne_scene(rng: &mut SmallRng) -> Scene {
         ld = mul(ld, -1.0);
     }
     if flat {
-        ld[1] = if rng.gen_ratio(1, 3) { 0.02 } else { ld[1].abs().max(0.05) };
+        ld[1] = if rng.gen_ratio(1, 3) {
+            0.02
+        } else {
+            ld[1].abs().max(0.05)
+        };
         ld = norm(ld);
     }
     let dl = s * rng.gen_range(2.0..20.0);
@@ -1447,7 +1538,11 @@ fn coincident_scene(rng: &mut SmallRng) -> Scene {
     let s = log_uniform(rng, -1.0, 2.0);
     let delta = [0.0, 1e-9, 1e-6, 0.00025][rng.gen_range(0..4)];
     let mut scene = base_scene(Camera {
-        position: [rng.gen_range(-1.0..1.0) * s, s * rng.gen_range(0.3..3.0), s * rng.gen_range(1.0..4.0)],
+        position: [
+            rng.gen_range(-1.0..1.0) * s,
+            s * rng.gen_range(0.3..3.0),
+            s * rng.gen_range(1.0..4.0),
+        ],
         look_at: [0.0, 0.0, 0.0],
         up: [0.0, 1.0, 0.0],
         fov_y: rng.gen_range(20.0..90.0),
@@ -1460,13 +1555,21 @@ fn coincident_scene(rng: &mut SmallRng) -> Scene {
         material: 0,
     });
     scene.objects.push(Object {
-        shape: if rng.gen() { Shape::Square } else { Shape::Disk },
+        shape: if rng.gen() {
+            Shape::Square
+        } else {
+            Shape::Disk
+        },
         translate: [0.0, delta, 0.0],
         scale: [s, s, s],
         rotate: [0.0; 3],
         material: 0,
     });
-    let l = [rng.gen_range(-1.0..1.0) * s, s * rng.gen_range(0.5..4.0), rng.gen_range(-1.0..1.0) * s];
+    let l = [
+        rng.gen_range(-1.0..1.0) * s,
+        s * rng.gen_range(0.5..4.0),
+        rng.gen_range(-1.0..1.0) * s,
+    ];
     let d = dot(l, l).sqrt();
     scene.lights.push(Light {
         position: l,
@@ -1479,10 +1582,20 @@ fn coincident_scene(rng: &mut SmallRng) -> Scene {
 fn grazing_scene(rng: &mut SmallRng) -> Scene {
     let s = log_uniform(rng, -3.0, 3.0);
     let h = [0.0, 1e-9, 1e-6, 1e-3, -1e-6][rng.gen_range(0..5)] * s;
-    let shape = [Shape::Plane, Shape::Square, Shape::Disk, Shape::Cube, Shape::Cylinder, Shape::Sphere]
-        [rng.gen_range(0..6)];
+    let shape = [
+        Shape::Plane,
+        Shape::Square,
+        Shape::Disk,
+        Shape::Cube,
+        Shape::Cylinder,
+        Shape::Sphere,
+    ][rng.gen_range(0..6)];
     // For a cube or cylinder the camera sits on the level of a face/cap (y = s).
-    let level = if matches!(shape, Shape::Cube | Shape::Cylinder | Shape::Sphere) { s } else { 0.0 };
+    let level = if matches!(shape, Shape::Cube | Shape::Cylinder | Shape::Sphere) {
+        s
+    } else {
+        0.0
+    };
     let cam = Camera {
         position: [0.0, level + h, s * rng.gen_range(1.5..10.0)],
         look_at: [rng.gen_range(-0.5..0.5) * s, level + h, 0.0],
@@ -1518,7 +1631,9 @@ fn wild_scene(rng: &mut SmallRng) -> Scene {
     scene.depth = rng.gen_range(1..=4);
     scene.ambient = [rng.gen(), rng.gen(), rng.gen()];
     scene.background = [rng.gen(), rng.gen(), rng.gen()];
-    scene.materials = (0..rng.gen_range(1..=3)).map(|_| random_material(rng)).collect();
+    scene.materials = (0..rng.gen_range(1..=3))
+        .map(|_| random_material(rng))
+        .collect();
     for _ in 0..rng.gen_range(1..=8) {
         let scale = |rng: &mut SmallRng| {
             if rng.gen_ratio(1, 3) {
@@ -1532,7 +1647,11 @@ fn wild_scene(rng: &mut SmallRng) -> Scene {
             translate: mul(unit_dir(rng), world * rng.gen_range(0.0..3.0)),
             scale: [scale(rng), scale(rng), scale(rng)],
             rotate: if rng.gen() {
-                [rng.gen_range(-720.0..720.0), rng.gen_range(-720.0..720.0), rng.gen_range(-720.0..720.0)]
+                [
+                    rng.gen_range(-720.0..720.0),
+                    rng.gen_range(-720.0..720.0),
+                    rng.gen_range(-720.0..720.0),
+                ]
             } else {
                 [0.0; 3]
             },
@@ -1546,12 +1665,19 @@ fn wild_scene(rng: &mut SmallRng) -> Scene {
             Spot {
                 direction: mul(unit_dir(rng), log_uniform(rng, -3.0, 3.0)),
                 cos_outer: outer,
-                cos_inner: if rng.gen_ratio(1, 4) { outer } else { rng.gen_range(outer..=1.0) },
+                cos_inner: if rng.gen_ratio(1, 4) {
+                    outer
+                } else {
+                    rng.gen_range(outer..=1.0)
+                },
             }
         });
         scene.lights.push(Light {
             position: pos,
-            color: mul([rng.gen(), rng.gen(), rng.gen()], log_uniform(rng, -3.0, 8.0)),
+            color: mul(
+                [rng.gen(), rng.gen(), rng.gen()],
+                log_uniform(rng, -3.0, 8.0),
+            ),
             spot,
         });
     }
@@ -1655,17 +1781,21 @@ fn float_literals(text: &str) -> Vec<(usize, usize)> {
             continue;
         }
         let starts = (c.is_ascii_digit() || c == b'-' || c == b'+')
-            && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.'));
+            && (i == 0
+                || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.'));
         if !in_comment && starts {
             let s = i;
             i += 1;
             while i < b.len()
-                && (b[i].is_ascii_digit() || matches!(b[i], b'.' | b'e' | b'E' | b'-' | b'+' | b'_'))
+                && (b[i].is_ascii_digit()
+                    || matches!(b[i], b'.' | b'e' | b'E' | b'-' | b'+' | b'_'))
             {
                 i += 1;
             }
             let lit = &text[s..i];
-            if (lit.contains('.') || lit.contains(['e', 'E'])) && lit.bytes().any(|d| d.is_ascii_digit()) {
+            if (lit.contains('.') || lit.contains(['e', 'E']))
+                && lit.bytes().any(|d| d.is_ascii_digit())
+            {
                 out.push((s, i));
             }
             continue;
@@ -1700,8 +1830,9 @@ fn parse_case(rng: &mut SmallRng) -> CaseResult {
             let lits = float_literals(&text);
             for _ in 0..rng.gen_range(1..4) {
                 if let Some(&(s, e)) = lits.get(rng.gen_range(0..lits.len().max(1))) {
-                    let v = ["1e308", "-1e308", "5e-324", "0.0", "-0.0", "1e38", "65505.0", "32768.0"]
-                        [rng.gen_range(0..8)];
+                    let v = [
+                        "1e308", "-1e308", "5e-324", "0.0", "-0.0", "1e38", "65505.0", "32768.0",
+                    ][rng.gen_range(0..8)];
                     if e <= text.len() && text.is_char_boundary(s) && text.is_char_boundary(e) {
                         text.replace_range(s..e, v);
                     }
@@ -1766,7 +1897,11 @@ fn parse_case(rng: &mut SmallRng) -> CaseResult {
         r.counts.accepted_nonfinite += 1;
         r.failure = Some(format!(
             "{} accepted a non-finite number ({what})",
-            if scene_file { "scene file" } else { "raster file" }
+            if scene_file {
+                "scene file"
+            } else {
+                "raster file"
+            }
         ));
     }
     r
@@ -1910,12 +2045,22 @@ pub mod probe {
                             (x << $frac) / y
                         }
                     };
-                    settle(exact, r.0.to_bits() as i128, <$bits>::MIN as i128, <$bits>::MAX as i128);
+                    settle(
+                        exact,
+                        r.0.to_bits() as i128,
+                        <$bits>::MIN as i128,
+                        <$bits>::MAX as i128,
+                    );
                 }
                 #[inline]
                 fn check_neg(a: Self, r: Self) {
                     let x = a.0.to_bits() as i128;
-                    settle(-x, r.0.to_bits() as i128, <$bits>::MIN as i128, <$bits>::MAX as i128);
+                    settle(
+                        -x,
+                        r.0.to_bits() as i128,
+                        <$bits>::MIN as i128,
+                        <$bits>::MAX as i128,
+                    );
                 }
                 #[inline]
                 fn check_from(x: f64, r: Self) {
@@ -1926,7 +2071,12 @@ pub mod probe {
                     let scaled = x * (1u64 << $frac) as f64;
                     // Round half away from zero, as the format documents; `as i128` saturates.
                     let exact = (scaled + 0.5f64.copysign(scaled)) as i128;
-                    settle(exact, r.0.to_bits() as i128, <$bits>::MIN as i128, <$bits>::MAX as i128);
+                    settle(
+                        exact,
+                        r.0.to_bits() as i128,
+                        <$bits>::MIN as i128,
+                        <$bits>::MAX as i128,
+                    );
                 }
             }
         };
