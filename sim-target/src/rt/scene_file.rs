@@ -345,7 +345,9 @@ fn check_finite(text: &str, file_name: &str) -> Result<(), SceneFileError> {
                 t == "nan"
                     || t == "inf"
                     || (t.starts_with(|c: char| c.is_ascii_digit())
-                        && t.replace('_', "").parse::<f64>().is_ok_and(|f| f.is_infinite()))
+                        && t.replace('_', "")
+                            .parse::<f64>()
+                            .is_ok_and(|f| f.is_infinite()))
             })
     };
     let mut line = None;
