@@ -699,12 +699,12 @@ fn fan(rng: &mut SmallRng, bits: u8, side: u32) -> Mesh {
     let total: f64 = (0..pts.len())
         .map(|k| {
             let (a, b) = (pts[k], pts[(k + 1) % pts.len()]);
-            let a0 = ((a.y as f64 - cp.y as f64).atan2(a.x as f64 - cp.x as f64)) as f64;
-            let b0 = ((b.y as f64 - cp.y as f64).atan2(b.x as f64 - cp.x as f64)) as f64;
+            let a0 = (a.y as f64 - cp.y as f64).atan2(a.x as f64 - cp.x as f64);
+            let b0 = (b.y as f64 - cp.y as f64).atan2(b.x as f64 - cp.x as f64);
             (b0 - a0).rem_euclid(std::f64::consts::TAU)
         })
         .sum();
-    if (total - std::f64::consts::TAU).abs() > 1e-6 || pts.iter().any(|p| *p == cp) {
+    if (total - std::f64::consts::TAU).abs() > 1e-6 || pts.contains(&cp) {
         valid = false;
     }
     Mesh {

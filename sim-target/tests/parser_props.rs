@@ -31,7 +31,8 @@ fn float_literals(text: &str) -> Vec<(usize, usize)> {
             }
             let starts = !in_str
                 && (b[i].is_ascii_digit() || b[i] == b'-')
-                && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.'));
+                && (i == 0
+                    || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.'));
             if starts {
                 let s = i;
                 while i < b.len() && (b[i].is_ascii_digit() || b"-+.eE_".contains(&b[i])) {
@@ -56,7 +57,10 @@ fn float_literals(text: &str) -> Vec<(usize, usize)> {
 fn every_non_finite_number_is_refused() {
     let mut tried = 0;
     for (e, text) in EXAMPLES.iter().enumerate() {
-        assert!(scene_file::parse(text, "ex.toml").is_ok(), "example {e} parses");
+        assert!(
+            scene_file::parse(text, "ex.toml").is_ok(),
+            "example {e} parses"
+        );
         let lits = float_literals(text);
         assert!(lits.len() > 5, "example {e} has floats");
         for &(s, t) in &lits {
