@@ -73,6 +73,11 @@ where
         }
     }
 
+    /// The host link, e.g. to plug a new connection into a socket-backed one.
+    pub fn host(&mut self) -> &mut H {
+        &mut self.host
+    }
+
     /// The engine, for inspection.
     pub fn engine(&mut self) -> &mut Engine<B> {
         &mut self.engine
@@ -88,9 +93,12 @@ where
                 self.engine.refuse(code, seq, 0);
             } else if let Some((seq, frame)) = self.inbox.pop_front() {
                 let link = self.link.counters();
-                self.engine
-                    .handle(seq, &frame, link)
-                    .map_err(ControllerError::Fpga)?;
+                if let Err(e) = self.engine.handle(seq, &frame, link) {
+                    // The host gets an answer (sent on the next poll) and the caller the
+                    // transport's error, to log it and decide whether to reset the FPGA.
+                    self.engine.refuse(ErrorCode::Device, seq, 0);
+                    return Err(ControllerError::Fpga(e));
+                }
             }
         }
         let free = (INBOX - self.inbox.len() - self.malformed.len()) as u8;
@@ -129,7 +137,8 @@ where
                         }
                     }
                 }
-                Some(Event::PeerReset { .. }) => {
+                Some(Event::PeerReset { discarded }) => {
+                    crate::log::log_info!("host link reset ({} frames discarded)", discarded);
                     // A new host session: nothing of the old one may leak into it.
                     self.inbox.clear();
                     self.malformed.clear();

@@ -9,8 +9,9 @@ use heapless::{Deque, Vec};
 
 use protocol::bus::{BusError, BusLayout, Kind, PackOptions};
 use protocol::frame::{
-    Block, Caps, DeviceCounters, DeviceFrame, ErrorCode, ErrorReport, Hello, HostFrame,
-    LinkCounters, RasterCmd, RasterSetup, ReadChunk, ReadDone, ReadRequest, Stats, READ_CHUNK,
+    Animation, Block, Caps, DeviceCounters, DeviceFrame, ErrorCode, ErrorReport, Hello, HostFrame,
+    LinkCounters, RasterCmd, RasterSetup, ReadChunk, ReadDone, ReadRequest, StartFrame, Stats,
+    READ_CHUNK,
 };
 
 use crate::fpga::FpgaBus;
@@ -24,6 +25,8 @@ const OUTBOX: usize = 4;
 /// A read-back in progress: streamed one chunk per poll so that it never needs a buffer
 /// the size of the framebuffer, and interleaves with other traffic.
 struct ReadJob {
+    /// The request that started it, for an error answer.
+    seq: u16,
     req: ReadRequest,
     offset: u32,
     len: u32,
@@ -41,7 +44,20 @@ pub struct Engine<B: FpgaBus> {
     outbox: Deque<DeviceFrame, OUTBOX>,
     read: Option<ReadJob>,
     counters: DeviceCounters,
+    /// What the ray tracer's registers hold, so an animation step can compute the next
+    /// value of a register without reading it back over the bus.
+    shadow: [u32; SHADOW_WORDS],
+    /// The frame to start again when one is done (ViRAY's auto-restart).
+    auto: Option<StartFrame>,
+    animation: Animation,
+    /// Frames started and not yet reported done: the FPGA is only asked about completion
+    /// while this is non-zero (over a serial FPGA link every question is a round trip).
+    running: u32,
 }
+
+/// Ray-tracer registers mirrored in the controller (2 KiB): the whole map for the
+/// default 8 objects and 2 lights, with room to spare.
+pub const SHADOW_WORDS: usize = 512;
 
 impl<B: FpgaBus> Engine<B> {
     /// An engine for a target with these capabilities whose raster block reads records in
@@ -57,6 +73,10 @@ impl<B: FpgaBus> Engine<B> {
             outbox: Deque::new(),
             read: None,
             counters: DeviceCounters::default(),
+            shadow: [0; SHADOW_WORDS],
+            auto: None,
+            animation: Animation::default(),
+            running: 0,
         }
     }
 
@@ -91,6 +111,7 @@ impl<B: FpgaBus> Engine<B> {
     }
 
     fn error(&mut self, code: ErrorCode, seq: u16, index: u32) {
+        crate::log::log_warn!("request {} refused: {} at {}", seq, code as u8, index);
         self.answer(DeviceFrame::Error(ErrorReport { code, seq, index }));
     }
 
@@ -134,15 +155,14 @@ impl<B: FpgaBus> Engine<B> {
                 let end = usize::from(r.offset) + r.words.len();
                 if !self.caps.ray_trace {
                     self.error(ErrorCode::Unsupported, seq, 0);
-                } else if end
-                    > protocol::scene::light::OFFSET
-                        + usize::from(self.caps.max_lights) * protocol::scene::light::WORDS
-                        + usize::from(self.caps.max_objects) * protocol::scene::obj::WORDS
-                {
+                } else if end > self.reg_words() {
                     self.error(ErrorCode::OutOfRange, seq, u32::from(r.offset));
                 } else {
                     self.bus.write_regs(r.offset, &r.words)?;
                     self.counters.bus_words += r.words.len() as u32;
+                    let start = usize::from(r.offset).min(SHADOW_WORDS);
+                    let end = (start + r.words.len()).min(SHADOW_WORDS);
+                    self.shadow[start..end].copy_from_slice(&r.words[..end - start]);
                 }
             }
             HostFrame::Start(s) => {
@@ -152,11 +172,29 @@ impl<B: FpgaBus> Engine<B> {
                 };
                 if ok {
                     self.bus.start(s)?;
+                    self.running += 1;
+                    self.auto = s.auto_restart.then_some(*s);
                 } else {
                     self.error(ErrorCode::Unsupported, seq, 0);
                 }
             }
-            HostFrame::Stop => self.bus.stop()?,
+            HostFrame::Stop => {
+                self.auto = None;
+                self.bus.stop()?
+            }
+            HostFrame::Animate(a) => {
+                let regs = self.reg_words();
+                let bad = a
+                    .ramps
+                    .iter()
+                    .map(|r| r.reg)
+                    .chain(a.orbits.iter().flat_map(|o| [o.x_reg, o.z_reg]))
+                    .position(|reg| usize::from(reg) >= regs);
+                match bad {
+                    Some(i) => self.error(ErrorCode::OutOfRange, seq, i as u32),
+                    None => self.animation = a.clone(),
+                }
+            }
             HostFrame::Sync(token) => {
                 // The raster block drains its FIFO at one record per cycle, so this wait
                 // is short; the link keeps its timers because the host sees no ACK delay
@@ -169,6 +207,7 @@ impl<B: FpgaBus> Engine<B> {
             HostFrame::Read(req) => match self.bus.read_len(req)? {
                 Some(len) if self.read.is_none() => {
                     self.read = Some(ReadJob {
+                        seq,
                         req: *req,
                         offset: 0,
                         len,
@@ -183,10 +222,46 @@ impl<B: FpgaBus> Engine<B> {
             }
             HostFrame::Reset => {
                 self.bus.reset()?;
+                self.auto = None;
+                self.animation = Animation::default();
+                self.running = 0;
+                self.shadow = [0; SHADOW_WORDS];
                 self.setup = None;
                 self.read = None;
                 self.outbox.clear();
                 self.counters = DeviceCounters::default();
+            }
+        }
+        Ok(())
+    }
+
+    /// Registers of the target's map (header, camera, its lights and objects).
+    fn reg_words(&self) -> usize {
+        protocol::scene::light::OFFSET
+            + usize::from(self.caps.max_lights) * protocol::scene::light::WORDS
+            + usize::from(self.caps.max_objects) * protocol::scene::obj::WORDS
+    }
+
+    /// One animation step: the next values of the animated registers, written to the
+    /// FPGA between two auto-restarted frames.
+    fn step_animation(&mut self) -> Result<(), B::Error> {
+        for i in 0..self.animation.ramps.len() {
+            let r = self.animation.ramps[i];
+            let reg = usize::from(r.reg);
+            if reg < SHADOW_WORDS {
+                self.shadow[reg] = r.apply(self.shadow[reg]);
+                self.bus.write_regs(r.reg, &[self.shadow[reg]])?;
+            }
+        }
+        for i in 0..self.animation.orbits.len() {
+            let o = self.animation.orbits[i];
+            let (xr, zr) = (usize::from(o.x_reg), usize::from(o.z_reg));
+            if xr < SHADOW_WORDS && zr < SHADOW_WORDS {
+                let (x, z) = o.apply(self.shadow[xr], self.shadow[zr]);
+                self.shadow[xr] = x;
+                self.shadow[zr] = z;
+                self.bus.write_regs(o.x_reg, &[x])?;
+                self.bus.write_regs(o.z_reg, &[z])?;
             }
         }
         Ok(())
@@ -215,7 +290,10 @@ impl<B: FpgaBus> Engine<B> {
         // both sides in its error message.
         self.answer(DeviceFrame::Hello(Hello::new(self.caps, self.ident)));
         match peer.check() {
-            Ok(()) => self.handshaken = true,
+            Ok(()) => {
+                crate::log::log_info!("host session: protocol {}", peer.protocol_version);
+                self.handshaken = true
+            }
             Err(_) => {
                 self.handshaken = false;
                 self.error(ErrorCode::Handshake, seq, 0);
@@ -306,15 +384,33 @@ impl<B: FpgaBus> Engine<B> {
             let mut data = Vec::<u8, READ_CHUNK>::new();
             // n ≤ READ_CHUNK, so the resize always succeeds.
             let _ = data.resize(n, 0);
-            let req = job.req;
-            let offset = job.offset;
-            self.bus.read(&req, offset, &mut data)?;
+            let (req, offset, seq) = (job.req, job.offset, job.seq);
+            if let Err(e) = self.bus.read(&req, offset, &mut data) {
+                // The host must hear why its read-back stops, not wait for the rest.
+                self.read = None;
+                self.error(ErrorCode::Device, seq, offset);
+                return Err(e);
+            }
             if let Some(job) = &mut self.read {
                 job.crc.update(&data);
                 job.offset += n as u32;
             }
             return Ok(Some(DeviceFrame::Chunk(ReadChunk { offset, data })));
         }
-        Ok(self.bus.poll_done()?.map(DeviceFrame::Done))
+        if self.running == 0 {
+            return Ok(None);
+        }
+        let Some(done) = self.bus.poll_done()? else {
+            return Ok(None);
+        };
+        self.running -= 1;
+        if let Some(mut next) = self.auto {
+            self.step_animation()?;
+            next.frame_id = next.frame_id.wrapping_add(1);
+            self.bus.start(&next)?;
+            self.running += 1;
+            self.auto = Some(next);
+        }
+        Ok(Some(DeviceFrame::Done(done)))
     }
 }

@@ -10,7 +10,10 @@
 pub mod controller;
 pub mod engine;
 pub mod fpga;
+pub mod fpga_link;
+mod log;
 
 pub use controller::{Controller, ControllerError};
 pub use engine::Engine;
 pub use fpga::FpgaBus;
+pub use fpga_link::{FpgaLink, FpgaLinkError};

@@ -6,25 +6,53 @@
 //! into bus records and executed by the FPGA model. Only the wire is missing, which is
 //! why built-in mode and a board must produce identical images.
 
-use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::convert::Infallible;
 use std::io;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use firmware::{Controller, ControllerError, FpgaBus};
+use firmware::{Controller, ControllerError, FpgaBus, FpgaLink};
 use protocol::bus::BusLayout;
 use protocol::frame::{Caps, DeviceCounters, FrameDone, RasterSetup, ReadRequest, StartFrame};
 
 use crate::session::Transport;
 
-type Queue = Rc<RefCell<VecDeque<u8>>>;
+/// One direction of an in-memory byte line. A mutex rather than a `RefCell` so that the
+/// line can join threads (the FPGA-link emulation runs its FPGA on one).
+#[derive(Clone, Default)]
+struct Queue(Arc<Mutex<VecDeque<u8>>>);
 
-/// The controller's end of the pipe.
+impl Queue {
+    fn lock(&self) -> MutexGuard<'_, VecDeque<u8>> {
+        // A poisoned line means the other end panicked; its bytes are still bytes.
+        self.0.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Whether the other end has gone (only this end holds the line).
+    fn orphaned(&self) -> bool {
+        Arc::strong_count(&self.0) == 1
+    }
+}
+
+/// An end of an in-memory, full-duplex byte line (`embedded_io`, never blocking).
 pub struct PipeEnd {
     rx: Queue,
     tx: Queue,
+}
+
+impl PipeEnd {
+    /// Two connected ends.
+    pub fn pair() -> (PipeEnd, PipeEnd) {
+        let (a, b) = (Queue::default(), Queue::default());
+        (
+            PipeEnd {
+                rx: a.clone(),
+                tx: b.clone(),
+            },
+            PipeEnd { rx: b, tx: a },
+        )
+    }
 }
 
 impl embedded_io::ErrorType for PipeEnd {
@@ -33,7 +61,7 @@ impl embedded_io::ErrorType for PipeEnd {
 
 impl embedded_io::Read for PipeEnd {
     fn read(&mut self, buf: &mut [u8]) -> Result<usize, Infallible> {
-        let mut rx = self.rx.borrow_mut();
+        let mut rx = self.rx.lock();
         let n = buf.len().min(rx.len());
         for (dst, src) in buf.iter_mut().zip(rx.drain(..n)) {
             *dst = src;
@@ -44,13 +72,13 @@ impl embedded_io::Read for PipeEnd {
 
 impl embedded_io::ReadReady for PipeEnd {
     fn read_ready(&mut self) -> Result<bool, Infallible> {
-        Ok(!self.rx.borrow().is_empty())
+        Ok(!self.rx.lock().is_empty())
     }
 }
 
 impl embedded_io::Write for PipeEnd {
     fn write(&mut self, buf: &[u8]) -> Result<usize, Infallible> {
-        self.tx.borrow_mut().extend(buf);
+        self.tx.lock().extend(buf);
         Ok(buf.len())
     }
 
@@ -70,8 +98,8 @@ pub struct BuiltIn<B: FpgaBus> {
 impl<B: FpgaBus> BuiltIn<B> {
     /// A controller with `caps` over `bus`, reading raster records in `layout`.
     pub fn new(bus: B, caps: Caps, layout: &'static BusLayout) -> Self {
-        let to_device: Queue = Rc::default();
-        let from_device: Queue = Rc::default();
+        let to_device = Queue::default();
+        let from_device = Queue::default();
         let end = PipeEnd {
             rx: to_device.clone(),
             tx: from_device.clone(),
@@ -100,7 +128,7 @@ impl<B: FpgaBus> BuiltIn<B> {
 
 impl<B: FpgaBus> Transport for BuiltIn<B> {
     fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
-        self.to_device.borrow_mut().extend(bytes);
+        self.to_device.lock().extend(bytes);
         Ok(())
     }
 
@@ -112,7 +140,7 @@ impl<B: FpgaBus> Transport for BuiltIn<B> {
             for _ in 0..8 {
                 self.run()?;
             }
-            let mut q = self.from_device.borrow_mut();
+            let mut q = self.from_device.lock();
             if !q.is_empty() {
                 let n = buf.len().min(q.len());
                 for (dst, src) in buf.iter_mut().zip(q.drain(..n)) {
@@ -192,4 +220,54 @@ pub fn sim_target_with(layout: &'static BusLayout) -> BuiltIn<SimBus> {
     let device = sim_target::device::Device::new(layout);
     let caps = device.caps();
     BuiltIn::new(SimBus(device), caps, layout)
+}
+
+/// Milliseconds since the line was made, as the firmware's link clock.
+pub struct StdClock(Instant);
+
+impl firmware::fpga_link::Clock for StdClock {
+    fn now_ms(&mut self) -> u64 {
+        self.0.elapsed().as_millis() as u64
+    }
+}
+
+/// The FPGA bus of [`sim_target_via_fpga_link`].
+pub type LinkBus = FpgaLink<PipeEnd, StdClock>;
+
+/// The built-in target with the FPGA behind the serial FPGA link, as on a QEMU board:
+/// the controller talks [`protocol::fpga`] over an in-memory line to an emulated FPGA on
+/// its own thread, which stops when the target is dropped. Images must equal
+/// [`sim_target`]'s; the difference is only the transport.
+pub fn sim_target_via_fpga_link() -> Result<BuiltIn<LinkBus>, firmware::FpgaLinkError<Infallible>> {
+    let (controller_end, fpga_end) = PipeEnd::pair();
+    std::thread::spawn(move || serve_fpga(fpga_end, &protocol::bus::WIDE));
+    let mut bus = FpgaLink::new(controller_end, StdClock(Instant::now()));
+    let id = bus.connect(1)?;
+    Ok(BuiltIn::new(bus, id.caps, id.layout.layout()))
+}
+
+/// Runs an emulated FPGA on `end` until the other end is dropped.
+fn serve_fpga(mut end: PipeEnd, layout: &'static BusLayout) {
+    use embedded_io::{Read, Write};
+    let mut server =
+        sim_target::fpga_link::FpgaServer::new(sim_target::device::Device::new(layout));
+    let epoch = Instant::now();
+    let mut buf = [0u8; 512];
+    let mut out = [0u8; protocol::link::MAX_FRAME];
+    while !end.rx.orphaned() {
+        let now = epoch.elapsed().as_millis() as u64;
+        let n = match end.read(&mut buf) {
+            Ok(n) => n,
+            Err(never) => match never {},
+        };
+        server.input(now, &buf[..n]);
+        let mut sent = false;
+        while let Some(m) = server.poll_transmit(now, &mut out) {
+            let _ = end.write(&out[..m]);
+            sent = true;
+        }
+        if n == 0 && !sent && !server.work() {
+            std::thread::sleep(Duration::from_micros(50));
+        }
+    }
 }

@@ -1,7 +1,12 @@
 //! The `fpgfx` tool's library: file formats the user writes, and the pipeline that carries
 //! them to a target. The binary (`main.rs`) only parses arguments and reports errors.
 
+pub mod animate;
+pub mod bench;
 pub mod builtin;
+pub mod connect;
+pub mod flash;
+pub mod ports;
 pub mod raster;
 pub mod raster_file;
 pub mod render;

@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
-use host_cli::builtin;
 use host_cli::raster_file;
 use host_cli::session::{Session, Transport};
 
@@ -17,26 +16,53 @@ use host_cli::session::{Session, Transport};
     about = "Drive an FPGA graphics accelerator, or its golden model"
 )]
 struct Cli {
-    /// Serial port of a board or of `fpgfx-sim --pty` (default: the built-in target).
-    #[arg(long, global = true, env = "FPGFX_PORT")]
-    port: Option<String>,
-    /// Line rate of --port.
-    #[arg(long, global = true, default_value_t = 115_200)]
-    baud: u32,
+    #[command(flatten)]
+    target: TargetArgs,
     #[command(subcommand)]
     command: Command,
 }
 
-/// The target: a serial port if one was named, else the built-in one.
-fn connect(port: Option<&str>, baud: u32) -> Result<Session<Box<dyn Transport>>> {
-    let transport: Box<dyn Transport> = match port {
-        Some(p) => Box::new(
-            host_cli::serial::SerialTransport::open(p, baud)
-                .with_context(|| format!("cannot open serial port {p} at {baud} baud"))?,
-        ),
-        None => Box::new(builtin::sim_target()),
+/// Options every command shares; each falls back to `fpgfx.toml` (see `fpgfx ports
+/// --help`), then to its default.
+#[derive(clap::Args)]
+struct TargetArgs {
+    /// Target: a serial port (a board, `fpgfx-sim --pty`, QEMU), `tcp:HOST:PORT`
+    /// (`fpgfx-sim --tcp`) or `builtin`. Default: the one known USB-serial adapter if
+    /// exactly one is plugged in, else the built-in target.
+    #[arg(long, global = true, env = "FPGFX_PORT")]
+    port: Option<String>,
+    /// Line rate of a serial --port [default: 115200].
+    #[arg(long, global = true)]
+    baud: Option<u32>,
+    /// Seconds to wait for the target to answer the handshake [default: 10].
+    #[arg(long, global = true)]
+    timeout: Option<f64>,
+}
+
+/// Opens the target the options, the environment and the config file name.
+fn connect(args: &TargetArgs) -> Result<Session<Box<dyn Transport>>> {
+    use host_cli::connect::{choose, load_config, open, Target};
+    let config = load_config()?.map(|(_, c)| c).unwrap_or_default();
+    let port = args.port.clone().or(config.port);
+    let baud = args.baud.or(config.baud).unwrap_or(115_200);
+    let timeout = args.timeout.or(config.timeout).unwrap_or(10.0);
+    anyhow::ensure!(
+        timeout.is_finite() && timeout > 0.0,
+        "--timeout {timeout}: must be a positive number of seconds"
+    );
+    // Listing ports only matters when none was named.
+    let ports = if port.is_none() {
+        host_cli::ports::list().unwrap_or_default()
+    } else {
+        Vec::new()
     };
-    Ok(Session::new(transport))
+    let (target, why) = choose(port.as_deref(), baud, &ports);
+    if target != Target::BuiltIn && port.is_none() {
+        eprintln!("using {why}");
+    }
+    let mut session = Session::new(open(&target)?);
+    session.timeout = std::time::Duration::from_secs_f64(timeout);
+    Ok(session)
 }
 
 #[derive(Subcommand)]
@@ -60,6 +86,25 @@ enum Command {
     /// Adversarial cases (SPEC §5) through the kernels; exits non-zero on any panic,
     /// NaN/∞, crack or wrap-around.
     Stress(StressArgs),
+    /// Animate a scene (or raster commands) with a Rhai script; write a GIF or PNGs.
+    ///
+    /// The script defines `fn scene(s, frame, time)` (gets the scene file as a map, returns
+    /// the frame's scene; base scene from `const SCENE = "file.toml";` or --scene) or
+    /// `fn raster(frame, time)` (returns a raster job map: size, background, cmd). Between
+    /// frames only the changed ray-tracer registers are sent; each frame's bytes are
+    /// printed.
+    Animate(AnimateArgs),
+    /// List serial ports with their USB identity; known adapters are marked.
+    ///
+    /// Defaults for --port, --baud and --timeout are read from the first of $FPGFX_CONFIG,
+    /// ./fpgfx.toml, $XDG_CONFIG_HOME/fpgfx/config.toml, ~/.config/fpgfx/config.toml
+    /// (keys: port, baud, timeout).
+    Ports,
+    /// Program the board's STM32F405 through its ROM bootloader (AN3155) on --port.
+    Flash(host_cli::flash::FlashArgs),
+    /// Sweep number formats × approximations (ray tracer) and sub-pixel bits × AA
+    /// (rasterizer): error, host time and hardware cost, with Pareto plots.
+    Bench(BenchArgs),
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -91,8 +136,6 @@ fn main() -> std::process::ExitCode {
 }
 
 fn run(cli: Cli) -> Result<()> {
-    let port = cli.port.as_deref();
-    let baud = cli.baud;
     match cli.command {
         Command::Raster {
             file,
@@ -100,13 +143,22 @@ fn run(cli: Cli) -> Result<()> {
             traversal,
             stats,
         } => raster(
-            connect(port, baud)?,
+            connect(&cli.target)?,
+            cli.target.baud,
             &file,
             &output,
             traversal.as_deref(),
             stats,
         ),
-        Command::Render(args) => render(connect(port, baud)?, &args),
+        Command::Render(args) => render(connect(&cli.target)?, &args),
+        Command::Ports => ports(),
+        Command::Animate(args) => animate(connect(&cli.target)?, &args),
+        Command::Flash(args) => {
+            host_cli::flash::run(cli.target.port.as_deref(), cli.target.baud, &args)
+                .map(|_| ())
+                .with_context(|| format!("flash {}", args.image.display()))
+        }
+        Command::Bench(args) => bench(&args),
         Command::Stress(args) => stress(&args),
     }
 }
@@ -152,6 +204,20 @@ fn stress(a: &StressArgs) -> Result<()> {
         !report.failed(),
         "stress found failures (panics, NaN/inf, cracks, double writes, coverage, wraps or accepted non-finite input)"
     );
+    Ok(())
+}
+
+fn ports() -> Result<()> {
+    let ports = host_cli::ports::list().context("cannot list serial ports")?;
+    if ports.is_empty() {
+        println!("no serial ports");
+    }
+    for p in &ports {
+        println!("{}", host_cli::ports::describe(p));
+    }
+    if let Some(one) = host_cli::ports::the_one_adapter(&ports) {
+        println!("without --port, fpgfx uses {}", one.path);
+    }
     Ok(())
 }
 
@@ -223,10 +289,10 @@ fn render(mut session: Session<Box<dyn Transport>>, a: &RenderArgs) -> Result<()
         }
     }
     let regs = sim_target::scene_regs::to_regs(&scene).with_context(|| name.clone())?;
+    session.handshake().context("handshake with the target")?;
     // The target renders a frame without answering in between: allow for a full-HD
     // frame in the slowest format.
     session.timeout = std::time::Duration::from_secs(3600);
-    session.handshake().context("handshake with the target")?;
     let started = std::time::Instant::now();
     let (out, words) = Renderer::new().frame(&mut session, &regs, numeric, packing, aovs)?;
     let elapsed = started.elapsed();
@@ -283,6 +349,7 @@ fn render(mut session: Session<Box<dyn Transport>>, a: &RenderArgs) -> Result<()
 
 fn raster(
     mut session: Session<Box<dyn Transport>>,
+    line_rate: Option<u32>,
     file: &Path,
     output: &Path,
     traversal: Option<&str>,
@@ -321,7 +388,208 @@ fn raster(
             l.sent, l.resent, l.delivered, l.crc_errors, l.duplicates
         );
         println!("host time     {:.1} ms", elapsed.as_secs_f64() * 1e3);
+        for (what, phase) in [("commands →", out.send), ("read-back ←", out.read_back)] {
+            let mut line = format!(
+                "{what:<13} {} B payload in {:.1} ms = {:.1} KB/s",
+                phase.payload_bytes,
+                phase.time.as_secs_f64() * 1e3,
+                phase.rate() / 1e3
+            );
+            if let Some(baud) = line_rate {
+                // 8N1: ten bit times per byte on the wire.
+                line.push_str(&format!(
+                    " = {:.1} % of {baud} baud",
+                    phase.rate() / (f64::from(baud) / 10.0) * 100.0
+                ));
+            }
+            println!("{line}");
+        }
     }
     eprintln!("wrote {}", output.display());
+    Ok(())
+}
+
+/// Arguments of `fpgfx animate`.
+#[derive(clap::Args)]
+struct AnimateArgs {
+    /// The Rhai script.
+    script: PathBuf,
+    /// Output: NAME.gif, or a PNG pattern such as frames/f-%04d.png.
+    #[arg(short, long)]
+    output: String,
+    /// Frames to render.
+    #[arg(long, default_value_t = 24)]
+    frames: u32,
+    /// Frames per second (the script's time is frame / fps; the GIF plays at this rate).
+    #[arg(long, default_value_t = 12.0)]
+    fps: f64,
+    /// Base scene (overrides the script's SCENE constant).
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Frame size WxH for scene scripts (overrides the scene).
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u32, u32)>,
+    /// Number format of the ray tracer.
+    #[arg(long, default_value = "f32")]
+    numeric: String,
+    /// Also write each frame's scene or command file (a pattern like the PNG one), to
+    /// check or replay a frame with `fpgfx render` / `fpgfx raster`.
+    #[arg(long, value_name = "PATTERN")]
+    save_frames: Option<String>,
+}
+
+fn animate(mut session: Session<Box<dyn Transport>>, a: &AnimateArgs) -> Result<()> {
+    use host_cli::animate::{Kind, Output, Script};
+    use host_cli::render::{Aovs, Packing, Renderer};
+    let output = Output::parse(&a.output).map_err(anyhow::Error::msg)?;
+    anyhow::ensure!(a.frames >= 1, "--frames must be at least 1");
+    anyhow::ensure!(
+        a.fps.is_finite() && a.fps > 0.0,
+        "--fps {} must be a positive number",
+        a.fps
+    );
+    let numeric = sim_target::rt::parse_numeric(&a.numeric).ok_or_else(|| {
+        anyhow::anyhow!(
+            "--numeric {:?}: expected f64, f32, f16, q16.16, q8.24, q24.8 or q32.32",
+            a.numeric
+        )
+    })?;
+    let mut script = Script::load(&a.script)?;
+    let name = a.script.display().to_string();
+    if script.kind() == Kind::Scene {
+        let file = a
+            .scene
+            .clone()
+            .or_else(|| script.scene_file.clone())
+            .ok_or_else(|| {
+                anyhow::anyhow!(
+                    "{name}: a scene script needs `const SCENE = \"file.toml\";` or --scene"
+                )
+            })?;
+        let text = std::fs::read_to_string(&file)
+            .with_context(|| format!("cannot read {}", file.display()))?;
+        script.set_base_scene(&text, &file.display().to_string())?;
+    }
+    session.handshake().context("handshake with the target")?;
+    session.timeout = std::time::Duration::from_secs(3600);
+    let mut renderer = Renderer::new();
+    let mut frames: Vec<image::RgbImage> = Vec::new();
+    let (mut total_payload, mut total_wire) = (0u64, 0u64);
+    for f in 0..a.frames {
+        let time = f64::from(f) / a.fps;
+        let text = script.frame(f, time)?;
+        let label = format!("{name} frame {f}");
+        if let Some(pattern) = &a.save_frames {
+            let path = Output::png_path(pattern, f);
+            std::fs::write(&path, &text)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+        }
+        let (payload0, wire0) = (session.traffic().payload_sent, session.traffic().sent);
+        let started = std::time::Instant::now();
+        let (image, what) = match script.kind() {
+            Kind::Scene => {
+                let mut scene = sim_target::rt::scene_file::parse(&text, &label)?;
+                if let Some((w, h)) = a.size {
+                    scene.width = w;
+                    scene.height = h;
+                }
+                let regs =
+                    sim_target::scene_regs::to_regs(&scene).with_context(|| label.clone())?;
+                let (out, words) = renderer
+                    .frame(
+                        &mut session,
+                        &regs,
+                        numeric,
+                        Packing::Rgb888,
+                        Aovs::default(),
+                    )
+                    .with_context(|| label.clone())?;
+                (out.image, format!("{words:>4} register words"))
+            }
+            Kind::Raster => {
+                let job = raster_file::parse(&text, &label)?;
+                let out = host_cli::raster::run(&mut session, &job, &label)?;
+                (out.image, format!("{:>4} commands", job.cmds.len()))
+            }
+        };
+        let payload = session.traffic().payload_sent - payload0;
+        let wire = session.traffic().sent - wire0;
+        total_payload += payload;
+        total_wire += wire;
+        println!(
+            "frame {f:>4}  t={time:>7.3} s  {what}  {payload:>7} B payload  {wire:>7} B on the wire  {:>8.1} ms",
+            started.elapsed().as_secs_f64() * 1e3
+        );
+        match &output {
+            Output::Pngs(pattern) => {
+                let path = Output::png_path(pattern, f);
+                image
+                    .save(&path)
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+            }
+            Output::Gif(_) => frames.push(image),
+        }
+    }
+    println!(
+        "total {} frames: {total_payload} B payload, {total_wire} B host → target",
+        a.frames
+    );
+    if let Output::Gif(path) = &output {
+        write_gif(path, &frames, a.fps)?;
+        eprintln!("wrote {}", path.display());
+    } else {
+        eprintln!("wrote {} frames", a.frames);
+    }
+    Ok(())
+}
+
+fn write_gif(path: &Path, frames: &[image::RgbImage], fps: f64) -> Result<()> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let file =
+        std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+    let mut enc = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
+    enc.set_repeat(Repeat::Infinite)?;
+    let delay = image::Delay::from_numer_denom_ms(1000, (fps.round() as u32).max(1));
+    for f in frames {
+        let rgba = image::DynamicImage::ImageRgb8(f.clone()).into_rgba8();
+        enc.encode_frame(image::Frame::from_parts(rgba, 0, 0, delay))
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// Arguments of `fpgfx bench`.
+#[derive(clap::Args)]
+struct BenchArgs {
+    /// Ray-trace scene files (default: examples/reference.toml and examples/rt/*).
+    #[arg(long = "scene")]
+    scenes: Vec<PathBuf>,
+    /// Raster command files (default: examples/raster/*.toml).
+    #[arg(long = "raster")]
+    raster: Vec<PathBuf>,
+    /// Small frames and a reduced sweep (what CI runs).
+    #[arg(long)]
+    quick: bool,
+    /// Timed runs per point; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Output directory (bench.csv, bench.md, pareto-rt.png, pareto-raster.png).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+fn bench(a: &BenchArgs) -> Result<()> {
+    use std::io::IsTerminal;
+    let cfg = host_cli::bench::BenchConfig {
+        scenes: a.scenes.clone(),
+        raster_files: a.raster.clone(),
+        quick: a.quick,
+        repeats: a.repeats,
+        root: PathBuf::from("."),
+        progress: std::io::stderr().is_terminal(),
+    };
+    let report = host_cli::bench::run(&cfg)?;
+    host_cli::bench::write(&report, &a.output)?;
+    print!("{}", host_cli::bench::to_markdown(&report));
     Ok(())
 }

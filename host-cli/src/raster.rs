@@ -15,6 +15,27 @@ pub struct RasterOutput {
     pub image: image::RgbImage,
     /// Both ends' counters after the frame.
     pub stats: Stats,
+    /// Sending the commands: from the set-up to the target's confirmation that every
+    /// command was executed.
+    pub send: Phase,
+    /// Reading the framebuffer back.
+    pub read_back: Phase,
+}
+
+/// Application bytes moved in one direction and how long it took, for throughput figures.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Phase {
+    /// Encoded messages (host → target) or pixel bytes (target → host).
+    pub payload_bytes: u64,
+    /// Wall time.
+    pub time: std::time::Duration,
+}
+
+impl Phase {
+    /// Payload bytes per second.
+    pub fn rate(&self) -> f64 {
+        self.payload_bytes as f64 / self.time.as_secs_f64().max(1e-9)
+    }
 }
 
 fn op_name(cmd: &RasterCmd) -> &'static str {
@@ -52,6 +73,8 @@ pub fn run<T: Transport>(
             )));
         }
     }
+    let started = std::time::Instant::now();
+    let payload_before = session.traffic().payload_sent;
     session.send(
         &HostFrame::RasterSetup(job.setup),
         Box::new(|_| "the raster setup (size, sub-pixel bits, AA)".into()),
@@ -90,14 +113,28 @@ pub fn run<T: Transport>(
         Box::new(|_| "start of the raster frame".into()),
     )?;
     session.sync()?;
+    let send = Phase {
+        payload_bytes: session.traffic().payload_sent - payload_before,
+        time: started.elapsed(),
+    };
+    let started = std::time::Instant::now();
     let (w, h) = (job.setup.width, job.setup.height);
     let data = session.read_back(ReadRequest {
         plane: Plane::Color,
         rect: Rect { x: 0, y: 0, w, h },
         format: PixelFormat::Rgb888,
     })?;
+    let read_back = Phase {
+        payload_bytes: data.len() as u64,
+        time: started.elapsed(),
+    };
     let image = image::RgbImage::from_raw(u32::from(w), u32::from(h), data)
         .ok_or_else(|| SessionError::ReadBack("read-back size does not match the frame".into()))?;
     let stats = session.stats()?;
-    Ok(RasterOutput { image, stats })
+    Ok(RasterOutput {
+        image,
+        stats,
+        send,
+        read_back,
+    })
 }

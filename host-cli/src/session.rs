@@ -34,6 +34,33 @@ pub enum SessionError {
     /// No progress for too long.
     #[error("the target did not answer within {0:?} (is the port right and the board running?)")]
     Timeout(Duration),
+    /// Nothing usable came back to the handshake: says what was sent and what, if
+    /// anything, arrived, which tells a dead line from a wrong baud rate or another
+    /// program on the port.
+    #[error(
+        "no answer to the handshake within {waited:?}: sent {sent} bytes (link reset + hello), \
+         received {received} bytes{sample}"
+    )]
+    NoAnswer {
+        /// How long we waited.
+        waited: Duration,
+        /// Bytes written.
+        sent: u64,
+        /// Bytes read.
+        received: u64,
+        /// The first bytes read, in hex, with a diagnosis, or empty.
+        sample: String,
+    },
+    /// The target stopped answering in the middle of a job.
+    #[error("the target stopped answering {during} ({progress}); no byte for {waited:?}")]
+    Stalled {
+        /// The job.
+        during: &'static str,
+        /// How far it got.
+        progress: String,
+        /// How long we waited.
+        waited: Duration,
+    },
     /// The handshake failed; the message names both sides' versions.
     #[error("handshake with {peer:?} failed: {source}")]
     Handshake {
@@ -80,6 +107,20 @@ pub struct Session<T: Transport> {
     pub timeout: Duration,
     next_token: u32,
     peer: Option<Hello>,
+    traffic: Traffic,
+}
+
+/// Bytes that crossed the transport, for throughput figures and error messages.
+#[derive(Debug, Clone, Default)]
+pub struct Traffic {
+    /// Bytes written.
+    pub sent: u64,
+    /// Bytes read.
+    pub received: u64,
+    /// Encoded request payload bytes the link accepted (what an application sent).
+    pub payload_sent: u64,
+    /// The first bytes read, for diagnosing a silent or garbled line.
+    pub first: Vec<u8>,
 }
 
 impl<T: Transport> Session<T> {
@@ -94,6 +135,7 @@ impl<T: Transport> Session<T> {
             timeout: Duration::from_secs(10),
             next_token: 1,
             peer: None,
+            traffic: Traffic::default(),
         }
     }
 
@@ -111,6 +153,17 @@ impl<T: Transport> Session<T> {
         self.peer.as_ref()
     }
 
+    /// Bytes moved so far.
+    pub fn traffic(&self) -> &Traffic {
+        &self.traffic
+    }
+
+    fn write(&mut self, bytes: &[u8]) -> Result<(), SessionError> {
+        self.transport.write_all(bytes)?;
+        self.traffic.sent += bytes.len() as u64;
+        Ok(())
+    }
+
     /// This end's link counters.
     pub fn link_counters(&self) -> protocol::frame::LinkCounters {
         self.link.counters()
@@ -122,10 +175,13 @@ impl<T: Transport> Session<T> {
         self.link.handle_timeout(now);
         let mut out = [0u8; MAX_FRAME];
         while let Some(n) = self.link.poll_transmit(now, &mut out) {
-            self.transport.write_all(&out[..n])?;
+            self.write(&out[..n])?;
         }
         let mut buf = [0u8; 4096];
         let n = self.transport.read(&mut buf, wait)?;
+        self.traffic.received += n as u64;
+        let room = 32usize.saturating_sub(self.traffic.first.len()).min(n);
+        self.traffic.first.extend_from_slice(&buf[..room]);
         let now = self.now();
         let mut input = &buf[..n];
         loop {
@@ -148,7 +204,7 @@ impl<T: Transport> Session<T> {
         }
         let now = self.now();
         while let Some(n) = self.link.poll_transmit(now, &mut out) {
-            self.transport.write_all(&out[..n])?;
+            self.write(&out[..n])?;
         }
         Ok(())
     }
@@ -168,6 +224,7 @@ impl<T: Transport> Session<T> {
             match self.link.send(self.now(), bytes) {
                 Ok(seq) => {
                     self.requests.insert(seq, describe);
+                    self.traffic.payload_sent += bytes.len() as u64;
                     return Ok(seq);
                 }
                 Err(LinkError::WindowFull) | Err(LinkError::NoCredit) => {
@@ -240,10 +297,14 @@ impl<T: Transport> Session<T> {
             Caps::default(),
             concat!("fpgfx ", env!("CARGO_PKG_VERSION")),
         );
-        self.send(&HostFrame::Hello(ours), Box::new(|_| "the hello".into()))?;
+        let start = Instant::now();
+        // The hello waits for the reset to be confirmed: silence shows up here first.
+        match self.send(&HostFrame::Hello(ours), Box::new(|_| "the hello".into())) {
+            Err(SessionError::Timeout(_)) => return Err(self.no_answer(start.elapsed())),
+            other => other?,
+        };
         // The target answers with its own hello even when it refuses ours, so the error
         // can name both sides; check it before looking at a refusal.
-        let start = Instant::now();
         loop {
             let pos = self
                 .inbox
@@ -259,9 +320,35 @@ impl<T: Transport> Session<T> {
                 return Ok(peer);
             }
             if start.elapsed() > self.timeout {
-                return Err(SessionError::Timeout(self.timeout));
+                return Err(self.no_answer(start.elapsed()));
             }
             self.pump(Duration::from_millis(5))?;
+        }
+    }
+
+    fn no_answer(&self, waited: Duration) -> SessionError {
+        let t = &self.traffic;
+        let sample = if t.first.is_empty() {
+            String::new()
+        } else {
+            let hex: Vec<String> = t.first.iter().map(|b| format!("{b:02x}")).collect();
+            let c = self.link.counters();
+            let why = if c.crc_errors + c.framing_errors > 0 {
+                format!(
+                    "; {} frames failed their CRC and {} did not decode: a wrong baud rate or \
+                     another protocol on the port",
+                    c.crc_errors, c.framing_errors
+                )
+            } else {
+                "; no complete frame: is this an fpgfx controller?".to_string()
+            };
+            format!(", starting {}{why}", hex.join(" "))
+        };
+        SessionError::NoAnswer {
+            waited,
+            sent: t.sent,
+            received: t.received,
+            sample,
         }
     }
 
@@ -292,7 +379,17 @@ impl<T: Transport> Session<T> {
         let expected = req.rect.area() as usize * req.format.bytes_per_pixel();
         let mut data = Vec::with_capacity(expected);
         loop {
-            match self.recv()? {
+            let answer = match self.recv() {
+                Err(SessionError::Timeout(waited)) => {
+                    return Err(SessionError::Stalled {
+                        during: "in a read-back",
+                        progress: format!("{} of {expected} bytes received", data.len()),
+                        waited,
+                    })
+                }
+                other => other?,
+            };
+            match answer {
                 DeviceFrame::Chunk(c) => {
                     if c.offset as usize != data.len() {
                         return Err(SessionError::ReadBack(format!(

@@ -1260,6 +1260,7 @@ fn base_scene(camera: Camera) -> Scene {
         lights: Vec::new(),
         materials: vec![matte()],
         objects: Vec::new(),
+        shadows: true,
     }
 }
 
@@ -1371,7 +1372,7 @@ fn rt_case(rng: &mut SmallRng) -> CaseResult {
     r.counts.saturations = seen.saturations;
     r.counts.overflow_nans = seen.overflow_nans;
     if matches!(kind, RtKind::Acne | RtKind::Coincident) {
-        if let Ok(reference) = rt::render_in::<f64>(&scene, &opts) {
+        if let Ok(reference) = rt::render_scalar::<f64>(&scene, &opts) {
             let (acne, checked) = count_acne(&scene, &reference, &frame);
             r.counts.acne = acne;
             r.counts.acne_checked = checked;
@@ -1399,13 +1400,13 @@ fn rt_case(rng: &mut SmallRng) -> CaseResult {
 
 fn render_probed(scene: &Scene, opts: &RenderOptions, n: Numeric) -> Result<Frame, rt::RtError> {
     match n {
-        Numeric::F64 => rt::render_in::<Probe<f64>>(scene, opts),
-        Numeric::F32 => rt::render_in::<Probe<f32>>(scene, opts),
-        Numeric::F16 => rt::render_in::<Probe<half::f16>>(scene, opts),
-        Numeric::Q16_16 => rt::render_in::<Probe<Q16_16>>(scene, opts),
-        Numeric::Q8_24 => rt::render_in::<Probe<Q8_24>>(scene, opts),
-        Numeric::Q24_8 => rt::render_in::<Probe<Q24_8>>(scene, opts),
-        Numeric::Q32_32 => rt::render_in::<Probe<Q32_32>>(scene, opts),
+        Numeric::F64 => rt::render_scalar::<Probe<f64>>(scene, opts),
+        Numeric::F32 => rt::render_scalar::<Probe<f32>>(scene, opts),
+        Numeric::F16 => rt::render_scalar::<Probe<half::f16>>(scene, opts),
+        Numeric::Q16_16 => rt::render_scalar::<Probe<Q16_16>>(scene, opts),
+        Numeric::Q8_24 => rt::render_scalar::<Probe<Q8_24>>(scene, opts),
+        Numeric::Q24_8 => rt::render_scalar::<Probe<Q24_8>>(scene, opts),
+        Numeric::Q32_32 => rt::render_scalar::<Probe<Q32_32>>(scene, opts),
     }
 }
 

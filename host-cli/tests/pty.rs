@@ -95,7 +95,195 @@ fn a_port_that_does_not_exist_is_a_clear_error() {
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("cannot open serial port /dev/fpgfx-no-such-port at 115200 baud"),
+        err.contains("serial port /dev/fpgfx-no-such-port does not exist"),
         "{err}"
     );
+}
+
+fn fpgfx_fails(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
+        .args(args)
+        .env_remove("FPGFX_PORT")
+        .env("FPGFX_CONFIG", "/dev/null")
+        .output()
+        .expect("fpgfx runs");
+    assert_eq!(out.status.code(), Some(1), "fpgfx {args:?} should fail");
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn gallery() -> String {
+    concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/raster/gallery.toml"
+    )
+    .to_string()
+}
+
+/// A port another program holds (serial ports are opened exclusively).
+#[test]
+fn a_busy_port_is_named_busy() {
+    let (_sim, pty) = start_sim();
+    let _holder = serialport::new(&pty, 115_200)
+        .open_native()
+        .expect("first open succeeds");
+    let err = fpgfx_fails(&["--port", &pty, "raster", &gallery()]);
+    assert!(err.contains(&format!("serial port {pty} is busy")), "{err}");
+}
+
+/// A line where nobody answers: the error says what was sent and that nothing came back.
+#[test]
+fn a_silent_port_says_what_was_sent_and_received() {
+    let (_master, slave) = serialport::TTYPort::pair().expect("pty pair");
+    let path = serialport::SerialPort::name(&slave).expect("pty path");
+    drop(slave);
+    let err = fpgfx_fails(&["--port", &path, "--timeout", "1", "raster", &gallery()]);
+    assert!(err.contains("no answer to the handshake"), "{err}");
+    assert!(err.contains("link reset + hello"), "{err}");
+    assert!(err.contains("received 0 bytes"), "{err}");
+}
+
+/// Something that is not an fpgfx controller answers: the first bytes are shown.
+#[test]
+fn a_foreign_device_is_shown_in_hex() {
+    use std::io::Write;
+    let (mut master, slave) = serialport::TTYPort::pair().expect("pty pair");
+    let path = serialport::SerialPort::name(&slave).expect("pty path");
+    drop(slave);
+    let talker = std::thread::spawn(move || {
+        for _ in 0..40 {
+            let _ = master.write_all(b"AT\r\nOK\r\n");
+            std::thread::sleep(std::time::Duration::from_millis(25));
+        }
+    });
+    let err = fpgfx_fails(&["--port", &path, "--timeout", "1", "raster", &gallery()]);
+    let _ = talker.join();
+    assert!(err.contains("starting 41 54 0d 0a 4f 4b"), "{err}");
+}
+
+/// The board over TCP: same images as built-in, for two clients one after the other.
+#[test]
+fn tcp_board_draws_what_built_in_draws() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
+        .args(["--tcp", "127.0.0.1:0"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("fpgfx-sim starts");
+    let stdout = child.stdout.take().expect("piped stdout");
+    let _sim = Sim(child);
+    let mut addr = String::new();
+    BufReader::new(stdout)
+        .read_line(&mut addr)
+        .expect("fpgfx-sim prints its address");
+    let port = format!("tcp:{}", addr.trim());
+    let root = env!("CARGO_MANIFEST_DIR");
+    let golden = rgb(&format!("{root}/../examples/raster/golden/gallery.png"));
+    for run in 0..2 {
+        let out = tmp(&format!("tcp{run}.png"));
+        fpgfx(&["--port", &port, "raster", &gallery(), "-o", &out]);
+        assert!(rgb(&out) == golden, "raster over TCP (run {run}) differs");
+    }
+}
+
+/// `--pace` holds the line to its baud rate: a 9 216-byte read-back at 115 200 baud (8N1)
+/// cannot arrive faster than the line carries it, less the 1 KiB the model lets run ahead
+/// (a UART's DMA buffers). A lower bound only: a loaded machine may take longer.
+#[test]
+fn pace_holds_the_line_rate() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
+        .args(["--pty", "--pace", "--baud", "115200"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("fpgfx-sim starts");
+    let stdout = child.stdout.take().expect("piped stdout");
+    let _sim = Sim(child);
+    let mut pty = String::new();
+    BufReader::new(stdout)
+        .read_line(&mut pty)
+        .expect("pty path");
+    let file = tmp("pace.toml");
+    std::fs::write(&file, "size = [64, 48]\n").expect("temp file");
+    let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
+        .args(["--port", pty.trim(), "--baud", "115200", "raster", &file])
+        .args(["-o", &tmp("pace.png"), "--stats"])
+        .output()
+        .expect("fpgfx runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stats = String::from_utf8_lossy(&out.stdout);
+    let line = stats
+        .lines()
+        .find(|l| l.starts_with("read-back"))
+        .expect("read-back line");
+    let ms: f64 = line
+        .split(" payload in ")
+        .nth(1)
+        .and_then(|r| r.split(" ms").next())
+        .and_then(|v| v.trim().parse().ok())
+        .expect("a time in ms");
+    let floor = (9216.0 - 1024.0) * 10.0 / 115_200.0 * 1e3;
+    assert!(
+        ms >= floor,
+        "read-back took {ms} ms, the line needs at least {floor:.0} ms"
+    );
+}
+
+/// A controller built from another message set: the handshake error names both schema
+/// hashes (and the peer), instead of exchanging garbage.
+#[test]
+fn a_schema_mismatch_names_both_sides() {
+    use protocol::frame::{decode, encode, Caps, DeviceFrame, Hello, HostFrame};
+    use protocol::link::{Event, Link, MAX_FRAME};
+    use std::io::{Read, Write};
+    let (mut master, slave) = serialport::TTYPort::pair().expect("pty pair");
+    let path = serialport::SerialPort::name(&slave).expect("pty path");
+    drop(slave);
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let stop_peer = stop.clone();
+    let peer = std::thread::spawn(move || {
+        let mut link: Link = Link::new(Default::default());
+        let epoch = std::time::Instant::now();
+        let mut buf = [0u8; 512];
+        let mut out = [0u8; MAX_FRAME];
+        while !stop_peer.load(std::sync::atomic::Ordering::Relaxed) {
+            let now = epoch.elapsed().as_millis() as u64;
+            let n = master.read(&mut buf).unwrap_or(0);
+            let mut input = &buf[..n];
+            let mut reply = None;
+            loop {
+                let (used, event) = link.handle_input(now, input);
+                input = &input[used..];
+                match event {
+                    Some(Event::Data(p)) => {
+                        if let Ok(HostFrame::Hello(_)) = decode::<HostFrame>(p) {
+                            let mut hello = Hello::new(Caps::default(), "old firmware 0.0.9");
+                            hello.schema_hash ^= 0xdead_beef;
+                            reply = Some(DeviceFrame::Hello(hello));
+                        }
+                    }
+                    None if input.is_empty() => break,
+                    _ => {}
+                }
+            }
+            if let Some(r) = reply {
+                let mut b = [0u8; 256];
+                let bytes = encode(&r, &mut b).expect("fits").to_vec();
+                let _ = link.send(now, &bytes);
+            }
+            link.handle_timeout(now);
+            while let Some(m) = link.poll_transmit(now, &mut out) {
+                let _ = master.write_all(&out[..m]);
+            }
+        }
+    });
+    let err = fpgfx_fails(&["--port", &path, "--timeout", "5", "raster", &gallery()]);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    let _ = peer.join();
+    assert!(err.contains("old firmware 0.0.9"), "{err}");
+    assert!(err.contains("message schema mismatch"), "{err}");
+    let ours = format!("{:#018x}", protocol::frame::SCHEMA_HASH);
+    let theirs = format!("{:#018x}", protocol::frame::SCHEMA_HASH ^ 0xdead_beef);
+    assert!(err.contains(&ours) && err.contains(&theirs), "{err}");
 }

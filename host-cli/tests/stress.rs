@@ -166,6 +166,7 @@ fn max_distance_beyond_f16_range_gives_no_infinite_hit() {
             rotate: [0.0; 3],
             material: 0,
         }],
+        shadows: true,
     };
     let f = render(
         &scene,

@@ -598,6 +598,80 @@ pub struct RegWrite {
     pub words: Vec<u32, REG_WRITE_WORDS>,
 }
 
+/// Register ramps in one [`Animation`].
+pub const MAX_RAMPS: usize = 8;
+/// Orbits in one [`Animation`].
+pub const MAX_ORBITS: usize = 2;
+
+/// A register that changes by a fixed step after every auto-restarted frame: a texture
+/// scrolling across the floor, an object growing (ViRAY's driver loop, seed 002 §3.6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct Ramp {
+    /// The register ([`crate::scene`] map).
+    pub reg: u16,
+    /// Added per frame, in the register's own units (Q16.16 for positions), wrapping.
+    pub step: i32,
+}
+
+impl Ramp {
+    /// The register's next value.
+    pub const fn apply(&self, value: u32) -> u32 {
+        (value as i32).wrapping_add(self.step) as u32
+    }
+}
+
+/// A point (two Q16.16 registers, e.g. a light's x and z) turning about a centre by a
+/// fixed angle after every auto-restarted frame: ViRAY's orbiting light.
+///
+/// The host supplies the angle as its cosine and sine in Q2.30 so that the controller
+/// needs no trigonometry (the MCU has no libm) and every implementation gets the same bits:
+/// integer multiply, round half up, shift.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct Orbit {
+    /// Register of the first coordinate (x).
+    pub x_reg: u16,
+    /// Register of the second coordinate (z).
+    pub z_reg: u16,
+    /// Centre of the circle, Q16.16, in the same two coordinates.
+    pub center: [i32; 2],
+    /// cos(angle per frame), Q2.30.
+    pub cos: i32,
+    /// sin(angle per frame), Q2.30.
+    pub sin: i32,
+}
+
+impl Orbit {
+    /// 1.0 in the Q2.30 format of [`Orbit::cos`] and [`Orbit::sin`].
+    pub const ONE: i64 = 1 << 30;
+
+    /// The point after one step. Rounding (not truncation) keeps the radius from
+    /// shrinking frame after frame; what drift remains is below 2⁻¹⁶ per frame.
+    pub const fn apply(&self, x: u32, z: u32) -> (u32, u32) {
+        let dx = (x as i32 as i64) - self.center[0] as i64;
+        let dz = (z as i32 as i64) - self.center[1] as i64;
+        let (c, s) = (self.cos as i64, self.sin as i64);
+        let half = 1i64 << 29;
+        let rx = (dx * c - dz * s + half) >> 30;
+        let rz = (dx * s + dz * c + half) >> 30;
+        (
+            (self.center[0] as i64 + rx) as i32 as u32,
+            (self.center[1] as i64 + rz) as i32 as u32,
+        )
+    }
+}
+
+/// What an auto-restarting ray tracer changes between frames, applied by the controller
+/// after each frame is done and before the next starts, so the host need not send
+/// anything while an animation runs (ViRAY's demo: light orbiting, floor texture
+/// scrolling). Replaces the previous animation; an empty one stops changing the scene.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize, Schema)]
+pub struct Animation {
+    /// Per-frame register steps.
+    pub ramps: Vec<Ramp, MAX_RAMPS>,
+    /// Per-frame rotations.
+    pub orbits: Vec<Orbit, MAX_ORBITS>,
+}
+
 /// Start a job on a block.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
 pub struct StartFrame {
@@ -664,6 +738,8 @@ pub enum HostFrame {
     GetStats,
     /// Drop queued work, clear counters and return to the state after the handshake.
     Reset,
+    /// Set what changes between auto-restarted frames.
+    Animate(Animation),
 }
 
 /// Counters kept by each end of a [`crate::link`].

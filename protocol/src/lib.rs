@@ -13,13 +13,19 @@
 //! * [`bus`] — the bit-packed words the controller pushes into the FPGA's input FIFO
 //!   (the FITkit raster block and richer layouts), and [`scene`] — the ray tracer's
 //!   32-bit AXI4-Lite register image.
+//! * [`bootloader`] — the STM32 ROM bootloader's UART protocol (ST AN3155) that
+//!   `fpgfx flash` speaks to the board and `fpgfx-sim --bootloader` emulates.
+//! * [`fpga`] — the same bus operations as messages, for an FPGA reached over a serial
+//!   line (the board's second UART when the FPGA is the `fpgfx-sim` emulator).
 //!
 //! The crate is `#![no_std]` without `alloc`: everything here must fit a Cortex-M4 with
 //! 128 KiB of RAM, so buffers are `heapless` and bounded by the named constants below.
 #![no_std]
 #![deny(missing_docs)]
 
+pub mod bootloader;
 pub mod bus;
+pub mod fpga;
 pub mod frame;
 pub mod link;
 pub mod scene;

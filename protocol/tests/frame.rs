@@ -364,7 +364,7 @@ fn schema_hash_is_pinned() {
     // by version rather than by hash.
     assert_eq!(SCHEMA_HASH, schema_hash());
     println!("schema hash {SCHEMA_HASH:#018x}");
-    assert_eq!(SCHEMA_HASH, 0xfac4eddf9b8da036);
+    assert_eq!(SCHEMA_HASH, 0x4f6e7cdbcf1659a2);
 }
 
 #[test]
@@ -478,6 +478,25 @@ fn worst_case_messages_fit_a_frame() {
             },
             &"é".repeat(IDENT_LEN),
         )),
+        HostFrame::Animate(protocol::frame::Animation {
+            ramps: Vec::from_slice(
+                &[protocol::frame::Ramp {
+                    reg: u16::MAX,
+                    step: i32::MIN,
+                }; protocol::frame::MAX_RAMPS],
+            )
+            .expect("cap"),
+            orbits: Vec::from_slice(
+                &[protocol::frame::Orbit {
+                    x_reg: u16::MAX,
+                    z_reg: u16::MAX,
+                    center: [i32::MIN; 2],
+                    cos: i32::MIN,
+                    sin: i32::MIN,
+                }; protocol::frame::MAX_ORBITS],
+            )
+            .expect("cap"),
+        }),
     ];
     for msg in big {
         assert!(encode(&msg, &mut buf).is_ok(), "{msg:?}");
@@ -959,5 +978,69 @@ proptest! {
         let bytes = postcard::to_slice(&msg, &mut buf).expect("big buffer");
         let cut = cut % bytes.len().max(1);
         prop_assert!(decode::<HostFrame>(&bytes[..cut]).is_err());
+    }
+}
+
+mod animation {
+    use protocol::frame::{Orbit, Ramp};
+
+    fn orbit(angle: f64, center: [f64; 2]) -> Orbit {
+        let q30 = |v: f64| (v * Orbit::ONE as f64).round() as i32;
+        Orbit {
+            x_reg: 0,
+            z_reg: 1,
+            center: center.map(|c| (c * 65536.0).round() as i32),
+            cos: q30(angle.cos()),
+            sin: q30(angle.sin()),
+        }
+    }
+
+    fn q16(v: f64) -> u32 {
+        (v * 65536.0).round() as i32 as u32
+    }
+
+    fn f(v: u32) -> f64 {
+        v as i32 as f64 / 65536.0
+    }
+
+    /// A quarter turn about (1, 2) takes (4, 2) to (1, 5), exactly.
+    #[test]
+    fn orbit_quarter_turn_is_exact() {
+        let o = orbit(std::f64::consts::FRAC_PI_2, [1.0, 2.0]);
+        assert_eq!(o.apply(q16(4.0), q16(2.0)), (q16(1.0), q16(5.0)));
+    }
+
+    /// 360 steps of one degree come back to the start within 2⁻¹⁶ per step, and the radius
+    /// stays within the same bound (rounding, not truncation, so it does not shrink).
+    #[test]
+    fn orbit_full_circle_drift_is_bounded() {
+        let o = orbit(1f64.to_radians(), [0.5, -3.0]);
+        let (x0, z0) = (q16(6.5), q16(-3.0));
+        let (mut x, mut z) = (x0, z0);
+        for _ in 0..360 {
+            (x, z) = o.apply(x, z);
+            let r = (f(x) - 0.5).hypot(f(z) + 3.0);
+            assert!((r - 6.0).abs() < 360.0 / 65536.0, "radius {r}");
+        }
+        assert!(
+            (f(x) - f(x0)).abs() < 0.01 && (f(z) - f(z0)).abs() < 0.01,
+            "{} {}",
+            f(x),
+            f(z)
+        );
+    }
+
+    #[test]
+    fn ramp_wraps_instead_of_overflowing() {
+        let r = Ramp { reg: 0, step: 1 };
+        assert_eq!(r.apply(i32::MAX as u32), i32::MIN as u32);
+        assert_eq!(
+            Ramp {
+                reg: 0,
+                step: -65536
+            }
+            .apply(q16(1.5)),
+            q16(0.5)
+        );
     }
 }

@@ -132,7 +132,9 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
         max_distance: scene.max_distance,
         background: scene.background,
         spp: scene.spp,
-        flags: regs::FLAG_SHADOWS | regs::FLAG_INTERNAL_SHADING | regs::FLAG_TEXTURES,
+        flags: if scene.shadows { regs::FLAG_SHADOWS } else { 0 }
+            | regs::FLAG_INTERNAL_SHADING
+            | regs::FLAG_TEXTURES,
         seed: 0,
     })?;
     let c = &scene.camera;
@@ -296,6 +298,7 @@ pub fn from_regs(r: &Regs) -> Result<Scene, SceneRegsError> {
         max_distance: render.max_distance,
         background: render.background,
         spp: render.spp,
+        shadows: render.flags & regs::FLAG_SHADOWS != 0,
         camera: Camera {
             position: cam.position,
             look_at: cam.look_at,

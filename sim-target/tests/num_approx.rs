@@ -266,3 +266,175 @@ mod exact_ops {
         }
     }
 }
+
+mod published {
+    //! The table of docs/bench.md ("Approximations"): every variant's worst case over a
+    //! dense sweep of its whole domain, in f64 arithmetic so that only the approximation
+    //! is measured. Each row asserts the published bound (the test fails if a variant gets
+    //! worse) and that the bound is tight (within 2× of what the sweep finds), so the table
+    //! cannot silently go stale in either direction. `--nocapture` prints the measured row.
+    use sim_target::num::{self, AcosKind, AtanKind, SqrtKind};
+    use std::f64::consts::PI;
+
+    fn check(name: &str, measured: f64, bound: f64) {
+        eprintln!("| {name} | {measured:.3e} | {bound:.1e} |");
+        assert!(
+            measured <= bound,
+            "{name}: {measured:e} > published {bound:e}"
+        );
+        assert!(
+            measured > bound / 2.0,
+            "{name}: {measured:e} ≪ published {bound:e}"
+        );
+    }
+
+    /// atan2 over the whole circle: 2·10⁶ angles (only y/x matters), plus the axes.
+    fn atan2_err(kind: AtanKind) -> f64 {
+        let n = 2_000_000;
+        let mut worst: f64 = 0.0;
+        for i in 0..n {
+            let a = -PI + 2.0 * PI * (i as f64 + 0.5) / n as f64;
+            let (y, x) = (a.sin(), a.cos());
+            let got = num::atan2(y, x, kind);
+            let mut e = (got - y.atan2(x)).abs();
+            if e > PI {
+                e = (e - 2.0 * PI).abs(); // ±π are the same angle
+            }
+            worst = worst.max(e);
+        }
+        for (y, x) in [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0), (1.0, 1.0)] {
+            worst = worst.max((num::atan2(y, x, kind) - f64::atan2(y, x)).abs());
+        }
+        worst
+    }
+
+    #[test]
+    fn atan2_variants() {
+        check("atan2 seed", atan2_err(AtanKind::Seed), 5.0e-3);
+        check("atan2 lut33", atan2_err(AtanKind::Lut33), 8.0e-5);
+        check("atan2 minimax11", atan2_err(AtanKind::Minimax11), 2.5e-6);
+    }
+
+    /// acos over [−1, 1]: 2·10⁶ uniform points plus 1 − 10⁻ᵏ/… near the cusps at ±1.
+    fn acos_err(kind: AcosKind) -> f64 {
+        let n = 2_000_000;
+        let uniform = (0..=n).map(|i| -1.0 + 2.0 * i as f64 / n as f64);
+        let cusp = (0..=200_000).flat_map(|i| {
+            let u = 10f64.powf(-12.0 + 12.0 * i as f64 / 200_000.0);
+            [1.0 - u, u - 1.0]
+        });
+        uniform
+            .chain(cusp)
+            .map(|x| (num::acos(x, kind) - x.acos()).abs())
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn acos_variants() {
+        check("acos seed lut33", acos_err(AcosKind::SeedLut33), 6.3e-2);
+        check("acos binade lut", acos_err(AcosKind::BinadeLut), 1.0e-3);
+        check("acos sqrt4", acos_err(AcosKind::Sqrt4), 7.0e-5);
+        check("acos sqrt8", acos_err(AcosKind::Sqrt8), 2.5e-8);
+    }
+
+    /// Relative error of √x and 1/√x over x ∈ [2⁻³², 2³²] (every bin edge hit: 64
+    /// binades × 2·10⁴ points, plus the exact powers of two).
+    fn sqrt_errs(kind: SqrtKind) -> (f64, f64) {
+        let mut s: f64 = 0.0;
+        let mut r: f64 = 0.0;
+        let per = 20_000;
+        for b in -32..32 {
+            for i in 0..=per {
+                let x = 2f64.powi(b) * (1.0 + i as f64 / per as f64);
+                s = s.max(((num::sqrt(x, kind) - x.sqrt()) / x.sqrt()).abs());
+                r = r.max(((num::rsqrt(x, kind) - 1.0 / x.sqrt()) * x.sqrt()).abs());
+            }
+        }
+        (s, r)
+    }
+
+    #[test]
+    fn sqrt_and_rsqrt_variants() {
+        for (name, kind, bound) in [
+            ("PRE_S+2NR (seed)", SqrtKind::PreS { iters: 2 }, 1.2e-1),
+            ("PRE_S+3NR", SqrtKind::PreS { iters: 3 }, 2.0e-2),
+            ("seamless+2NR", SqrtKind::Seamless { iters: 2 }, 4.8e-3),
+            ("lut16+1NR", SqrtKind::Lut16 { iters: 1 }, 1.5e-3),
+            ("lut16+2NR", SqrtKind::Lut16 { iters: 2 }, 3.5e-6),
+        ] {
+            let (s, r) = sqrt_errs(kind);
+            check(&format!("sqrt {name}"), s, bound);
+            check(&format!("rsqrt {name}"), r, bound);
+        }
+    }
+
+    /// Relative error of 1/b over |b| ∈ [2⁻²⁰, 2²⁰], both signs.
+    fn recip_err(f: impl Fn(f64) -> f64) -> f64 {
+        let per = 20_000;
+        let mut worst: f64 = 0.0;
+        for e in -20..20 {
+            for i in 0..=per {
+                let b = 2f64.powi(e) * (1.0 + i as f64 / per as f64);
+                for b in [b, -b] {
+                    worst = worst.max(((f(b) - 1.0 / b) * b).abs());
+                }
+            }
+        }
+        worst
+    }
+
+    #[test]
+    fn reciprocal_variants() {
+        check(
+            "recip PRE_D+2NR (seed)",
+            recip_err(|b| num::div_nr(1.0, b, 2)),
+            1.3e-5,
+        );
+        check(
+            "recip PRE_D+1NR",
+            recip_err(|b| num::div_nr(1.0, b, 1)),
+            3.5e-3,
+        );
+        check(
+            "recip lut32+1NR",
+            recip_err(|b| num::div_lut_nr(1.0, b, 1)),
+            2.5e-4,
+        );
+        check(
+            "recip lut32+2NR",
+            recip_err(|b| num::div_lut_nr(1.0, b, 2)),
+            6.5e-8,
+        );
+    }
+
+    #[test]
+    fn pow_by_repeated_squaring() {
+        // f64: relative error over x ∈ [0, 1] × every exponent 0..=1023 (relative to
+        // max(x^e, 1e-300) so underflow to 0 counts as exact)
+        let mut rel: f64 = 0.0;
+        for i in 0..=2_000 {
+            let x = i as f64 / 2_000.0;
+            for e in 0..=1023u32 {
+                let want = x.powi(e as i32);
+                let got = num::powi(x, e);
+                if want > 1e-300 {
+                    rel = rel.max(((got - want) / want).abs());
+                }
+            }
+        }
+        eprintln!("| pow f64 | {rel:.3e} |");
+        assert!(rel < 1.0e-12, "{rel}");
+        // Q16.16: absolute error (what a Blinn–Phong lobe sees), x ∈ [0, 1] on every
+        // representable value step 2⁻¹⁰, every exponent
+        use sim_target::num::{Scalar, Q16_16};
+        let mut abs: f64 = 0.0;
+        for i in 0..=1024 {
+            let x = Q16_16::from_f64(i as f64 / 1024.0);
+            for e in 0..=1023u32 {
+                let want = x.to_f64().powi(e as i32);
+                abs = abs.max((num::powi(x, e).to_f64() - want).abs());
+            }
+        }
+        check("pow Q16.16 abs", abs, 1.2e-3);
+    }
+}

@@ -90,3 +90,33 @@ fn garbage_never_panics() {
         assert!(scene_file::parse(text, "g.toml").is_err());
     }
 }
+
+/// Valid TOML that other tools write: a material defined only through dotted headers
+/// (`[material.clay.diffuse]`) or dotted keys. toml's `Spanned` cannot span such an
+/// implicit table, so the parser must not ask for one.
+#[test]
+fn materials_written_as_dotted_tables_parse() {
+    let camera = "[camera]\nposition = [0.0, 1.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\n\
+                  up = [0.0, 1.0, 0.0]\nfov_y = 45.0\n";
+    let object = "[[object]]\nshape = \"sphere\"\nmaterial = \"clay\"\n";
+    let headers =
+        format!("{camera}[material.clay.diffuse]\ncolor = [0.7, 0.35, 0.3]\nk = 0.9\n{object}");
+    let inline = format!(
+        "{camera}[material.clay]\ndiffuse = {{ color = [0.7, 0.35, 0.3], k = 0.9 }}\n{object}"
+    );
+    let dotted = format!(
+        "material.clay.diffuse.color = [0.7, 0.35, 0.3]\nmaterial.clay.diffuse.k = 0.9\n\
+         {camera}{object}"
+    );
+    let a = scene_file::parse(&headers, "headers.toml").expect("dotted headers parse");
+    let b = scene_file::parse(&inline, "inline.toml").expect("inline tables parse");
+    let c = scene_file::parse(&dotted, "dotted.toml").expect("dotted keys parse");
+    assert_eq!(a, b);
+    assert_eq!(a, c);
+    // An error inside such a material still names the file, line and key.
+    let bad = headers.replace("k = 0.9", "k = 0.9\nsigma2 = -1.0\nmodel = \"oren-nayar\"");
+    let e = scene_file::parse(&bad, "bad.toml").expect_err("negative sigma2");
+    let text = e.to_string();
+    assert!(text.starts_with("bad.toml:6:"), "{text}");
+    assert!(text.contains("sigma2"), "{text}");
+}

@@ -116,6 +116,25 @@ fn test() -> Result<()> {
         ],
     )?;
     run(&cargo, &["build", "-p", "protocol", "--target", MCU_TARGET])?;
+    // The board binary is behind a feature and a target, so the workspace clippy run
+    // above does not see it.
+    run(
+        &cargo,
+        &[
+            "clippy",
+            "-p",
+            "firmware",
+            "--features",
+            "board",
+            "--target",
+            MCU_TARGET,
+            "--profile",
+            "firmware",
+            "--",
+            "-D",
+            "warnings",
+        ],
+    )?;
     run(
         &cargo,
         &[
@@ -126,7 +145,8 @@ fn test() -> Result<()> {
             "board",
             "--target",
             MCU_TARGET,
-            "--release",
+            "--profile",
+            "firmware",
         ],
     )?;
     run(&cargo, &["test", "--workspace"])?;

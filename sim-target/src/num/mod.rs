@@ -119,6 +119,17 @@ pub trait Scalar:
     fn fract(self) -> Self {
         self - self.floor()
     }
+    /// arctan of a correctly rounded core (CORDIC in hardware), modelled through f64: a
+    /// method rather than a free function so that an op-counting format can see it.
+    #[inline(always)]
+    fn atan_core(self) -> Self {
+        Self::from_f64(self.to_f64().atan())
+    }
+    /// arccos of a correctly rounded core, modelled through f64 (see [`Scalar::atan_core`]).
+    #[inline(always)]
+    fn acos_core(self) -> Self {
+        Self::from_f64(self.to_f64().clamp(-1.0, 1.0).acos())
+    }
 }
 
 /// `f64::floor` without the libm call that baseline x86-64 (no SSE4.1 `roundsd`) makes:

@@ -2,17 +2,21 @@
 //!
 //! Entry point: [`render`]. The scene ([`Scene`], or a TOML file through
 //! [`scene_file::parse`]) is compiled once into a [`Plan`] and a format-specific
-//! `Prepared` scene whose objects, materials and lights carry function pointers for exactly
-//! the shapes and terms they use, so the per-pixel loop never tests a feature flag that the
-//! scene could not need. Rows are rendered in parallel with rayon.
+//! `Prepared` scene. The plan's feature set (shadows, textures, specular, reflection depth,
+//! spheres only) selects one of 32 monomorphised kernels (const generics), so a kernel's
+//! hot loop contains no test of a feature the scene does not use; the general kernel
+//! (everything compiled in, runtime checks) stays selectable through
+//! [`RenderOptions::kernel`] for comparison. Rows are rendered in parallel with rayon.
 
 pub mod output;
 pub mod scene;
 pub mod scene_file;
 pub mod shade;
 pub mod shapes;
+pub mod subset;
 pub mod texture;
 pub mod vec;
+pub mod wire;
 
 pub use output::{pack_kcu116, pack_rgb888, psnr, unpack_kcu116, unpack_rgb888, write_pfm};
 pub use protocol::frame::Numeric;
@@ -49,6 +53,34 @@ impl Math {
         atan: AtanKind::Seed,
         acos: AcosKind::SeedLut33,
     };
+
+    /// What `Math::default()` is, usable in const context: the format's √ and 1/√, the
+    /// stable quadratic, minimax-11 atan and A&S 4.4.46 acos.
+    pub const DEFAULT: Math = Math {
+        sqrt: SqrtKind::Exact,
+        quadratic: Quadratic::Stable,
+        atan: AtanKind::Minimax11,
+        acos: AcosKind::Sqrt8,
+    };
+
+    /// Correctly rounded cores for every function (√ and 1/√ of the format, atan/acos
+    /// through f64): the error floor of a format, `fpgfx bench`'s "exact" set.
+    pub const EXACT: Math = Math {
+        sqrt: SqrtKind::Exact,
+        quadratic: Quadratic::Stable,
+        atan: AtanKind::Exact,
+        acos: AcosKind::Exact,
+    };
+
+    /// The cheap-and-accurate set: at the seed's multiplier count, tables in place of its
+    /// constants (docs/bench.md): 16-entry 1/√ start + 2 Newton–Raphson steps, stable
+    /// quadratic, 33-entry atan table, binade-indexed acos table.
+    pub const BETTER: Math = Math {
+        sqrt: SqrtKind::Lut16 { iters: 2 },
+        quadratic: Quadratic::Stable,
+        atan: AtanKind::Lut33,
+        acos: AcosKind::BinadeLut,
+    };
 }
 
 /// Board clock of the performance reference (Hz).
@@ -76,6 +108,63 @@ pub struct RenderOptions {
     pub dispatch: Dispatch,
     /// How radiance becomes an 8-bit value.
     pub tone_map: ToneMap,
+    /// The plan's specialised kernel or the general one (bit-identical images; kept so
+    /// that the specialisation can be measured, `benches/rt.rs` group `plan`).
+    pub kernel: Kernel,
+}
+
+/// Which compiled kernel renders a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Kernel {
+    /// The kernel monomorphised for the plan's [`Features`]: code for unused features is
+    /// not compiled into it.
+    #[default]
+    Planned,
+    /// Every feature compiled in, each tested at run time against the scene (what one
+    /// fixed-function pipeline for all scenes would do).
+    General,
+}
+
+/// The feature set a kernel is compiled for, decided by the plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Features {
+    /// Shadow rays (point/spot lights present and SHADOW_ENABLE).
+    pub shadows: bool,
+    /// Texture lookups.
+    pub textures: bool,
+    /// Specular BRDF terms.
+    pub specular: bool,
+    /// Secondary (reflected/refracted) rays: traced depth > 1.
+    pub reflect: bool,
+    /// Only spheres: no shape dispatch, sphere normal = object-space hit point, and the
+    /// primary rays' c = |o′|² − 1 precomputed per object.
+    pub spheres_only: bool,
+}
+
+impl Features {
+    /// Everything on: the general kernel's set.
+    pub const ALL: Features = Features {
+        shadows: true,
+        textures: true,
+        specular: true,
+        reflect: true,
+        spheres_only: false,
+    };
+}
+
+impl std::fmt::Display for Features {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let b = |v: bool| if v { '1' } else { '0' };
+        write!(
+            f,
+            "sh{}-tx{}-sp{}-rf{}-so{}",
+            b(self.shadows),
+            b(self.textures),
+            b(self.specular),
+            b(self.reflect),
+            b(self.spheres_only)
+        )
+    }
 }
 
 /// Radiance → [0, 1] before ⌊255·c⌋.
@@ -111,6 +200,7 @@ impl Default for RenderOptions {
             size: None,
             dispatch: Dispatch::Match,
             tone_map: ToneMap::Clamp,
+            kernel: Kernel::Planned,
         }
     }
 }
@@ -195,6 +285,23 @@ pub struct Plan {
     pub specular: bool,
     /// Depth actually traced (1 if no material reflects).
     pub depth: u32,
+    /// Shadow rays are traced (lights present and the scene's SHADOW_ENABLE).
+    pub shadows: bool,
+    /// Every object is a sphere.
+    pub spheres_only: bool,
+}
+
+impl Plan {
+    /// The kernel feature set this plan compiles to.
+    pub fn features(&self) -> Features {
+        Features {
+            shadows: self.shadows,
+            textures: self.textures > 0,
+            specular: self.specular,
+            reflect: self.depth > 1,
+            spheres_only: self.spheres_only,
+        }
+    }
 }
 
 struct PObj<S> {
@@ -209,6 +316,8 @@ struct PObj<S> {
     /// transform is done once per object instead of once per pixel (same operations, same
     /// bits).
     eye: V3<S>,
+    /// |eye′|² − 1: a sphere's c for every primary ray (the spheres-only kernel's hoist).
+    eye_c: S,
     material: usize,
 }
 
@@ -248,9 +357,14 @@ struct Prepared<S> {
     bias: S,
     maxd: S,
     depth: u32,
+    /// The scene's SHADOW_ENABLE, tested at run time by the general kernel only.
+    shadows: bool,
     m: Math,
     by_match: bool,
 }
+
+/// One monomorphised kernel: radiance and first hit of a ray (see `Prepared::trace`).
+type TraceFn<S> = fn(&Prepared<S>, V3<S>, V3<S>, u32, bool, &mut Counts) -> (V3<S>, Option<Hit<S>>);
 
 fn validate(scene: &Scene) -> Result<(), RtError> {
     let bad = |s: String| Err(RtError::InvalidScene(s));
@@ -311,10 +425,19 @@ pub fn plan(scene: &Scene) -> Plan {
         texture_side: texture::side_for(textures),
         specular: scene.materials.iter().any(|m| m.specular.is_some()),
         depth: if reflects { scene.depth } else { 1 },
+        shadows: scene.shadows && !scene.lights.is_empty(),
+        spheres_only: !scene.objects.is_empty()
+            && scene.objects.iter().all(|o| o.shape == Shape::Sphere),
     }
 }
 
-fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -> Prepared<S> {
+fn prepare<S: Scalar>(
+    scene: &Scene,
+    plan: &Plan,
+    m: Math,
+    dispatch: Dispatch,
+    kernel: Kernel,
+) -> Prepared<S> {
     let eye = V3::<S>::from_f64(scene.camera.position);
     let objs = scene
         .objects
@@ -333,9 +456,11 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
                 nmat: M3::from_f64(f::transpose(minv)),
                 translate: V3::from_f64(o.translate),
                 eye: V3::zero(),
+                eye_c: S::zero(),
                 material: o.material,
             };
             ob.eye = ob.to_object(eye, V3::zero()).0;
+            ob.eye_c = ob.eye.dot(ob.eye) - S::one();
             ob
         })
         .collect();
@@ -440,7 +565,13 @@ fn prepare<S: Scalar>(scene: &Scene, plan: &Plan, m: Math, dispatch: Dispatch) -
         // 1e6) it would round to ∞ and let a root at t = ∞ count as a hit; the format's
         // largest finite value is the same "infinity" without that.
         maxd: S::from_f64(scene.max_distance.min(S::max_value().to_f64())),
-        depth: plan.depth,
+        // the general kernel does not use the plan's depth: a non-reflecting hit ends the
+        // ray by its own test, with the same result
+        depth: match kernel {
+            Kernel::Planned => plan.depth,
+            Kernel::General => scene.depth,
+        },
+        shadows: scene.shadows,
         m,
         by_match: dispatch == Dispatch::Match,
     }
@@ -484,42 +615,70 @@ impl<S: Scalar> Prepared<S> {
         }
     }
 
-    /// Nearest hit; `from_eye` says that o is the camera position, whose object-space
-    /// image each object has precomputed.
-    #[inline]
-    fn closest(&self, o: V3<S>, d: V3<S>, from_eye: bool) -> Option<(S, usize)> {
-        let mut best = self.maxd;
-        let mut idx = None;
-        for (i, ob) in self.objs.iter().enumerate() {
-            let (lo, ld) = if from_eye {
-                (ob.eye, ob.to_object(V3::zero(), d).1)
-            } else {
-                ob.to_object(o, d)
+    /// One object's intersection: the sphere directly in the spheres-only kernel (`c` is
+    /// |o′|² − 1 when the caller has it precomputed), otherwise the shape dispatch.
+    #[inline(always)]
+    fn hit<const SO: bool>(
+        &self,
+        ob: &PObj<S>,
+        o: V3<S>,
+        d: V3<S>,
+        c: Option<S>,
+        tmax: S,
+    ) -> Option<S> {
+        if SO {
+            let c = match c {
+                Some(c) => c,
+                None => o.dot(o) - S::one(),
             };
-            if let Some(t) = self.hit_object(ob, lo, ld, best) {
+            shapes::sphere_c(o, d, c, self.bias, tmax, &self.m)
+        } else {
+            self.hit_object(ob, o, d, tmax)
+        }
+    }
+
+    /// Nearest hit and the ray in that object's space; `from_eye` says that o is the
+    /// camera position, whose object-space image each object has precomputed.
+    #[inline]
+    fn closest<const SO: bool>(
+        &self,
+        o: V3<S>,
+        d: V3<S>,
+        from_eye: bool,
+    ) -> Option<(S, usize, V3<S>, V3<S>)> {
+        let mut best = self.maxd;
+        let mut found = None;
+        for (i, ob) in self.objs.iter().enumerate() {
+            let (lo, ld, c) = if from_eye {
+                (ob.eye, ob.to_object(V3::zero(), d).1, Some(ob.eye_c))
+            } else {
+                let (lo, ld) = ob.to_object(o, d);
+                (lo, ld, None)
+            };
+            if let Some(t) = self.hit::<SO>(ob, lo, ld, c, best) {
                 best = t;
-                idx = Some(i);
+                found = Some((i, lo, ld));
             }
         }
-        idx.map(|i| (best, i))
+        found.map(|(i, lo, ld)| (best, i, lo, ld))
     }
 
     #[inline(always)]
-    fn blocks(&self, ob: &PObj<S>, o: V3<S>, d: V3<S>, tmax: S) -> bool {
+    fn blocks<const SO: bool>(&self, ob: &PObj<S>, o: V3<S>, d: V3<S>, tmax: S) -> bool {
         let (lo, ld) = ob.to_object(o, d);
-        self.hit_object(ob, lo, ld, tmax).is_some()
+        self.hit::<SO>(ob, lo, ld, None, tmax).is_some()
     }
 
     #[inline]
-    fn occluded(&self, o: V3<S>, d: V3<S>, tmax: S, cache: &mut usize) -> bool {
+    fn occluded<const SO: bool>(&self, o: V3<S>, d: V3<S>, tmax: S, cache: &mut usize) -> bool {
         let first = *cache;
         if let Some(ob) = self.objs.get(first) {
-            if self.blocks(ob, o, d, tmax) {
+            if self.blocks::<SO>(ob, o, d, tmax) {
                 return true;
             }
         }
         for (i, ob) in self.objs.iter().enumerate() {
-            if i != first && self.blocks(ob, o, d, tmax) {
+            if i != first && self.blocks::<SO>(ob, o, d, tmax) {
                 *cache = i;
                 return true;
             }
@@ -527,10 +686,54 @@ impl<S: Scalar> Prepared<S> {
         false
     }
 
+    /// The kernel for a feature set, picked once per frame.
+    fn kernel(f: Features) -> TraceFn<S> {
+        fn so<S: Scalar, const SH: bool, const TX: bool, const SP: bool, const RF: bool>(
+            f: Features,
+        ) -> TraceFn<S> {
+            if f.spheres_only {
+                Prepared::<S>::trace::<SH, TX, SP, RF, true>
+            } else {
+                Prepared::<S>::trace::<SH, TX, SP, RF, false>
+            }
+        }
+        fn rf<S: Scalar, const SH: bool, const TX: bool, const SP: bool>(
+            f: Features,
+        ) -> TraceFn<S> {
+            if f.reflect {
+                so::<S, SH, TX, SP, true>(f)
+            } else {
+                so::<S, SH, TX, SP, false>(f)
+            }
+        }
+        fn sp<S: Scalar, const SH: bool, const TX: bool>(f: Features) -> TraceFn<S> {
+            if f.specular {
+                rf::<S, SH, TX, true>(f)
+            } else {
+                rf::<S, SH, TX, false>(f)
+            }
+        }
+        fn tx<S: Scalar, const SH: bool>(f: Features) -> TraceFn<S> {
+            if f.textures {
+                sp::<S, SH, true>(f)
+            } else {
+                sp::<S, SH, false>(f)
+            }
+        }
+        if f.shadows {
+            tx::<S, true>(f)
+        } else {
+            tx::<S, false>(f)
+        }
+    }
+
     /// Radiance along a ray (d unit) that starts at recursion level `start` (0 for a
     /// primary ray, which `refracted` = false counts as primary); returns colour and the
-    /// first hit.
-    fn trace(
+    /// first hit. The const parameters are the kernel's [`Features`] (shadows, textures,
+    /// specular, reflection, spheres only): a `false` removes the feature's code, a `true`
+    /// keeps it together with the per-material/per-scene runtime test.
+    #[allow(clippy::too_many_lines)]
+    fn trace<const SH: bool, const TX: bool, const SP: bool, const RF: bool, const SO: bool>(
         &self,
         o: V3<S>,
         d: V3<S>,
@@ -554,15 +757,15 @@ impl<S: Scalar> Prepared<S> {
                 cnt.reflected += 1;
             }
             let from_eye = level == 0 && !refracted && o == self.eye;
-            let Some((t, i)) = self.closest(o, d, from_eye) else {
+            let Some((t, i, lo, ld)) = self.closest::<SO>(o, d, from_eye) else {
                 color = color + self.background.scale(weight);
                 break;
             };
             let ob = &self.objs[i];
-            let (lo, ld) = ob.to_object(o, d);
             let lp = lo + ld.scale(t);
             let p = o + d.scale(t);
-            let mut n = ob.nmat.mul_v(shapes::normal(ob.shape, lp)).normalize(sq);
+            let on = if SO { lp } else { shapes::normal(ob.shape, lp) };
+            let mut n = ob.nmat.mul_v(on).normalize(sq);
             let inside = n.dot(d) >= zero;
             if inside {
                 n = -n; // INTERNAL_SHADING: both sides shade
@@ -573,9 +776,8 @@ impl<S: Scalar> Prepared<S> {
             let mat = &self.mats[ob.material];
             let wo = -d;
             // texture replaces the diffuse (and ambient) colour
-            let (cd, ca) = match &mat.tex {
-                None => (mat.cd, mat.ambient.as_ref().map(|a| a.1)),
-                Some((slot, c2)) => {
+            let (cd, ca) = match (TX, &mat.tex) {
+                (true, Some((slot, c2))) => {
                     let (u, v) = texture::map_uv(slot.mapping, lp, &self.m);
                     let tx = texture::sample(&self.texmem, slot, u, v);
                     let c = if slot.grey {
@@ -586,6 +788,7 @@ impl<S: Scalar> Prepared<S> {
                     };
                     (c, mat.ambient.as_ref().map(|_| c))
                 }
+                _ => (mat.cd, mat.ambient.as_ref().map(|a| a.1)),
             };
             let mut lk = V3::zero();
             if let (Some((ka, _)), Some(ca)) = (&mat.ambient, ca) {
@@ -615,20 +818,27 @@ impl<S: Scalar> Prepared<S> {
                 if scf <= zero {
                     continue;
                 }
-                cnt.shadow += 1;
-                let dist = dist2 * inv_dist;
-                if self.occluded(p_off, wi, dist, &mut cnt.occluder) {
-                    continue;
+                if SH && self.shadows {
+                    cnt.shadow += 1;
+                    let dist = dist2 * inv_dist;
+                    if self.occluded::<SO>(p_off, wi, dist, &mut cnt.occluder) {
+                        continue;
+                    }
                 }
                 let g = ndl / dist2 * scf;
                 let fd = (mat.diffuse)(n, wi, wo, &mat.dparams);
                 let mut brdf = kdcd.scale(fd);
-                if let Some((kscs, fs, sp)) = &mat.spec {
-                    brdf = brdf + kscs.scale(fs(n, wi, wo, sp));
+                if SP {
+                    if let Some((kscs, fs, sp)) = &mat.spec {
+                        brdf = brdf + kscs.scale(fs(n, wi, wo, sp));
+                    }
                 }
                 lk = lk + brdf.hadamard(l.color).scale(g);
             }
             color = color + lk.scale(weight);
+            if !RF {
+                break;
+            }
             let r = match mat.refl {
                 PRefl::None => break,
                 PRefl::Constant(r) => r,
@@ -643,8 +853,13 @@ impl<S: Scalar> Prepared<S> {
                         let sin2_t = ratio * ratio * (one - cos_i * cos_i);
                         let cos_t = crate::num::sqrt(one - sin2_t, sq);
                         let t_dir = (d.scale(ratio) + n.scale(ratio * cos_i - cos_t)).normalize(sq);
-                        let (lt, _) =
-                            self.trace(p - n.scale(self.bias), t_dir, level + 1, true, cnt);
+                        let (lt, _) = self.trace::<SH, TX, SP, RF, SO>(
+                            p - n.scale(self.bias),
+                            t_dir,
+                            level + 1,
+                            true,
+                            cnt,
+                        );
                         color = color + lt.scale(weight * (one - r));
                     }
                     r
@@ -699,7 +914,11 @@ fn render_generic<S: Scalar>(
     progress: &(dyn Fn(u32, u32) + Sync),
 ) -> Rendered {
     let rows_done = std::sync::atomic::AtomicU32::new(0);
-    let prep = prepare::<S>(scene, plan, opts.math, opts.dispatch);
+    let prep = prepare::<S>(scene, plan, opts.math, opts.dispatch, opts.kernel);
+    let trace = Prepared::<S>::kernel(match opts.kernel {
+        Kernel::Planned => plan.features(),
+        Kernel::General => Features::ALL,
+    });
     let cam = camera(&scene.camera, width, height);
     let eye = V3::<S>::from_f64(cam.eye);
     let (cu, cv, cw) = (
@@ -733,7 +952,7 @@ fn render_generic<S: Scalar>(
                     let y = (1.0 - 2.0 * (j as f64 + oy) / hf) * cam.s;
                     let d = (cu.scale(S::from_f64(x)) + cv.scale(S::from_f64(y)) - cw)
                         .normalize(opts.math.sqrt);
-                    let (c, hit) = prep.trace(eye, d, 0, false, &mut cnt);
+                    let (c, hit) = trace(&prep, eye, d, 0, false, &mut cnt);
                     acc = acc + c;
                     if aovs && s == 0 {
                         match hit {
@@ -840,30 +1059,20 @@ pub fn render_with_progress(
             render_generic::<Q32_32>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
         }
     };
-    let seconds = start.elapsed().as_secs_f64();
-    let stats = Stats {
-        primary_rays: c.primary,
-        shadow_rays: c.shadow,
-        reflected_rays: c.reflected,
-        refracted_rays: c.refracted,
-        seconds,
-        board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
-    };
-    Ok(Frame {
+    Ok(finish(
         width,
         height,
-        rgb8,
-        depth,
-        normal,
-        stats,
+        spp,
+        start,
         plan,
-    })
+        (rgb8, depth, normal, c),
+    ))
 }
 
-/// [`render`] in a number format chosen by the caller's type rather than by
-/// `opts.numeric` (which is ignored): `fpgfx stress` runs the unchanged kernel with a
-/// wrapper format that counts saturations and NaN, observing instead of instrumenting it.
-pub fn render_in<S: Scalar>(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
+/// [`render`] in any [`Scalar`] (`opts.numeric` is ignored): for formats outside
+/// [`Numeric`], e.g. an operation-counting wrapper that `fpgfx bench` uses for its
+/// hardware cost model.
+pub fn render_scalar<S: Scalar>(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
     validate(scene)?;
     let (width, height) = opts.size.unwrap_or((scene.width, scene.height));
     if width == 0 || height == 0 {
@@ -874,17 +1083,22 @@ pub fn render_in<S: Scalar>(scene: &Scene, opts: &RenderOptions) -> Result<Frame
     let spp = opts.spp.unwrap_or(scene.spp).max(1);
     let plan = plan(scene);
     let start = Instant::now();
-    let (rgb8, depth, normal, c) =
-        render_generic::<S>(scene, opts, width, height, spp, &plan, &|_, _| {});
+    let r = render_generic::<S>(scene, opts, width, height, spp, &plan, &|_, _| {});
+    Ok(finish(width, height, spp, start, plan, r))
+}
+
+fn finish(width: u32, height: u32, spp: u32, start: Instant, plan: Plan, r: Rendered) -> Frame {
+    let (rgb8, depth, normal, c) = r;
+    let seconds = start.elapsed().as_secs_f64();
     let stats = Stats {
         primary_rays: c.primary,
         shadow_rays: c.shadow,
         reflected_rays: c.reflected,
         refracted_rays: c.refracted,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds,
         board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
     };
-    Ok(Frame {
+    Frame {
         width,
         height,
         rgb8,
@@ -892,7 +1106,7 @@ pub fn render_in<S: Scalar>(scene: &Scene, opts: &RenderOptions) -> Result<Frame
         normal,
         stats,
         plan,
-    })
+    }
 }
 
 /// Parse a format name as the CLI spells it (`f64`, `f32`, `f16`, `q16.16`, `q8.24`,

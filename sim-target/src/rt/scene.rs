@@ -202,6 +202,9 @@ pub struct Scene {
     pub background: [f64; 3],
     /// Samples per pixel.
     pub spp: u32,
+    /// SHADOW_ENABLE: point/spot lights are tested for occluders (false: every light
+    /// reaches every surface facing it, and the plan drops shadow rays from the kernel).
+    pub shadows: bool,
     /// Camera.
     pub camera: Camera,
     /// Ambient light L_a (light 0).

@@ -48,7 +48,9 @@ struct FileToml {
     #[serde(default)]
     light: Vec<Spanned<LightToml>>,
     #[serde(default)]
-    material: BTreeMap<String, Spanned<MaterialToml>>,
+    // Not `Spanned`: toml cannot span a table that only exists implicitly (a material
+    // written as `[material.clay.diffuse]` headers), and refuses the file instead.
+    material: BTreeMap<String, MaterialToml>,
     #[serde(default)]
     object: Vec<Spanned<ObjectToml>>,
 }
@@ -93,6 +95,12 @@ struct RenderToml {
     background: [f64; 3],
     #[serde(default = "d_spp")]
     spp: Spanned<u32>,
+    #[serde(default = "d_shadows")]
+    shadows: bool,
+}
+
+fn d_shadows() -> bool {
+    true
 }
 
 #[derive(Deserialize)]
@@ -404,6 +412,7 @@ pub fn parse_with_limits(
         max_distance: d_maxd(),
         background: [0.0; 3],
         spp: d_spp(),
+        shadows: true,
     });
     let [width, height] = *r.size.get_ref();
     if width == 0 || height == 0 {
@@ -488,8 +497,8 @@ pub fn parse_with_limits(
     let mut names = Vec::new();
     let mut materials = Vec::new();
     for (name, m) in &f.material {
-        let pos = m.span().start;
-        let m = m.get_ref();
+        // Errors point at the material's first header or dotted key.
+        let pos = text.find(&format!("material.{name}")).unwrap_or(0);
         let diffuse_model = match m.diffuse.model.unwrap_or(DiffuseModelToml::Lambert) {
             DiffuseModelToml::Lambert => DiffuseModel::Lambert,
             DiffuseModelToml::OrenNayar => {
@@ -655,6 +664,7 @@ pub fn parse_with_limits(
         max_distance: r.max_distance,
         background: r.background,
         spp: *r.spp.get_ref(),
+        shadows: r.shadows,
         camera: Camera {
             position: f.camera.position,
             look_at: f.camera.look_at,

@@ -60,10 +60,17 @@ fn in_range<S: Scalar>(t: S, tmin: S, tmax: S) -> bool {
 }
 
 /// Unit sphere.
+#[inline]
 pub fn sphere<S: Scalar>(o: V3<S>, d: V3<S>, tmin: S, tmax: S, m: &Math) -> Option<S> {
+    sphere_c(o, d, o.dot(o) - S::one(), tmin, tmax, m)
+}
+
+/// Unit sphere with c = |o|² − 1 given: the same operations as [`sphere`], so that a
+/// kernel can compute c once for all rays from one origin (bit-identical result).
+#[inline(always)]
+pub fn sphere_c<S: Scalar>(o: V3<S>, d: V3<S>, c: S, tmin: S, tmax: S, m: &Math) -> Option<S> {
     let a = d.dot(d);
     let b = S::from_f64(2.0) * d.dot(o);
-    let c = o.dot(o) - S::one();
     let (t1, t2) = solve_quadratic(a, b, c, m)?;
     if in_range(t1, tmin, tmax) {
         Some(t1)

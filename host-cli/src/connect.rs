@@ -1,0 +1,260 @@
+//! Which target a command talks to, decided once: `--port` (or `FPGFX_PORT`, or the
+//! config file), else the one known USB-serial adapter plugged in, else the built-in
+//! target. Everything after [`open`] is transport-agnostic.
+
+use std::io::{self, Read, Write};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use serde::Deserialize;
+
+use crate::ports::PortInfo;
+use crate::session::Transport;
+
+/// `fpgfx.toml`: defaults for the options every command shares.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    /// Same as `--port`.
+    pub port: Option<String>,
+    /// Same as `--baud`.
+    pub baud: Option<u32>,
+    /// Same as `--timeout`, in seconds.
+    pub timeout: Option<f64>,
+}
+
+/// Problems with the config file.
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    /// It exists but cannot be read.
+    #[error("cannot read {path}: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: io::Error,
+    },
+    /// It is not valid TOML or has unknown keys; the parser's message has line and column.
+    #[error("{path}: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message.
+        message: String,
+    },
+}
+
+/// Where the config file is looked for, first match wins: `$FPGFX_CONFIG`, `./fpgfx.toml`,
+/// `$XDG_CONFIG_HOME/fpgfx/config.toml`, `~/.config/fpgfx/config.toml`.
+pub fn config_candidates() -> Vec<PathBuf> {
+    let mut c = Vec::new();
+    if let Some(p) = std::env::var_os("FPGFX_CONFIG") {
+        c.push(PathBuf::from(p));
+        return c;
+    }
+    c.push(PathBuf::from("fpgfx.toml"));
+    if let Some(x) = std::env::var_os("XDG_CONFIG_HOME") {
+        c.push(Path::new(&x).join("fpgfx/config.toml"));
+    }
+    if let Some(h) = std::env::var_os("HOME") {
+        c.push(Path::new(&h).join(".config/fpgfx/config.toml"));
+    }
+    c
+}
+
+/// Loads the first config file that exists (an explicit `$FPGFX_CONFIG` must exist).
+pub fn load_config() -> Result<Option<(PathBuf, Config)>, ConfigError> {
+    let explicit = std::env::var_os("FPGFX_CONFIG").is_some();
+    for path in config_candidates() {
+        match std::fs::read_to_string(&path) {
+            Ok(text) => {
+                let cfg = toml::from_str(&text).map_err(|e| ConfigError::Parse {
+                    path: path.clone(),
+                    message: e.to_string(),
+                })?;
+                return Ok(Some((path, cfg)));
+            }
+            Err(e) if e.kind() == io::ErrorKind::NotFound && !explicit => {}
+            Err(source) => return Err(ConfigError::Read { path, source }),
+        }
+    }
+    Ok(None)
+}
+
+/// A target to talk to.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Target {
+    /// The controller and FPGA model in this process.
+    BuiltIn,
+    /// A serial port (a board's USB-UART, `fpgfx-sim --pty`, QEMU's pty).
+    Serial {
+        /// Device path.
+        path: String,
+        /// Line rate.
+        baud: u32,
+    },
+    /// `fpgfx-sim --tcp` (written `tcp:HOST:PORT`).
+    Tcp(String),
+}
+
+impl Target {
+    /// Parses a `--port` value: `builtin`, `tcp:HOST:PORT` (or `tcp://HOST:PORT`), or a
+    /// serial device path.
+    pub fn parse(port: &str, baud: u32) -> Target {
+        if port == "builtin" {
+            Target::BuiltIn
+        } else if let Some(addr) = port
+            .strip_prefix("tcp://")
+            .or_else(|| port.strip_prefix("tcp:"))
+        {
+            Target::Tcp(addr.to_string())
+        } else {
+            Target::Serial {
+                path: port.to_string(),
+                baud,
+            }
+        }
+    }
+}
+
+/// Decides the target: an explicit port (flag, environment or config, already merged by
+/// the caller) wins; otherwise exactly one known USB-serial adapter among `ports` is used;
+/// otherwise the built-in target. The string says why, for the user.
+pub fn choose(port: Option<&str>, baud: u32, ports: &[PortInfo]) -> (Target, String) {
+    if let Some(p) = port {
+        return (Target::parse(p, baud), format!("--port {p}"));
+    }
+    match crate::ports::the_one_adapter(ports) {
+        Some(p) => (
+            Target::Serial {
+                path: p.path.clone(),
+                baud,
+            },
+            format!(
+                "the only known adapter: {} (use --port builtin for the built-in target)",
+                crate::ports::describe(p)
+            ),
+        ),
+        None => (Target::BuiltIn, "no --port: the built-in target".into()),
+    }
+}
+
+/// Why a target could not be opened.
+#[derive(Debug, thiserror::Error)]
+pub enum ConnectError {
+    /// No such device.
+    #[error("serial port {0} does not exist (`fpgfx ports` lists the ports of this machine)")]
+    Missing(String),
+    /// Another program has it open.
+    #[error("serial port {0} is busy: another program has it open (a terminal, another fpgfx, ModemManager?)")]
+    Busy(String),
+    /// No permission.
+    #[error("no permission to open serial port {0} (on Debian, join the `dialout` group)")]
+    Permission(String),
+    /// Anything else the port said.
+    #[error("cannot open serial port {path} at {baud} baud: {message}")]
+    Serial {
+        /// Device path.
+        path: String,
+        /// Line rate.
+        baud: u32,
+        /// The driver's message.
+        message: String,
+    },
+    /// TCP connection failed.
+    #[error("cannot connect to {addr}: {source}")]
+    Tcp {
+        /// Address.
+        addr: String,
+        /// Why.
+        source: io::Error,
+    },
+}
+
+/// Opens a serial or TCP target (the built-in one is made by the caller, which chooses
+/// its bus layout).
+pub fn open(target: &Target) -> Result<Box<dyn Transport>, ConnectError> {
+    match target {
+        Target::BuiltIn => Ok(Box::new(crate::builtin::sim_target())),
+        Target::Serial { path, baud } => {
+            if !Path::new(path).exists() {
+                return Err(ConnectError::Missing(path.clone()));
+            }
+            crate::serial::SerialTransport::open(path, *baud)
+                .map(|t| Box::new(t) as Box<dyn Transport>)
+                .map_err(|e| {
+                    // serialport reports EBUSY (TIOCEXCL held by another process) as
+                    // NoDevice; the path exists, so that is "busy".
+                    let busy = e.kind == serialport::ErrorKind::NoDevice
+                        || matches!(
+                            &e.kind,
+                            serialport::ErrorKind::Io(io::ErrorKind::ResourceBusy)
+                        )
+                        || e.description.contains("busy");
+                    let denied = matches!(
+                        &e.kind,
+                        serialport::ErrorKind::Io(io::ErrorKind::PermissionDenied)
+                    ) || e.description.contains("ermission denied");
+                    if busy {
+                        ConnectError::Busy(path.clone())
+                    } else if denied {
+                        ConnectError::Permission(path.clone())
+                    } else if e.kind == serialport::ErrorKind::Io(io::ErrorKind::NotFound) {
+                        ConnectError::Missing(path.clone())
+                    } else {
+                        ConnectError::Serial {
+                            path: path.clone(),
+                            baud: *baud,
+                            message: e.description,
+                        }
+                    }
+                })
+        }
+        Target::Tcp(addr) => TcpStream::connect(addr)
+            .and_then(TcpTransport::new)
+            .map(|t| Box::new(t) as Box<dyn Transport>)
+            .map_err(|source| ConnectError::Tcp {
+                addr: addr.clone(),
+                source,
+            }),
+    }
+}
+
+/// A TCP connection as a [`Transport`].
+pub struct TcpTransport(TcpStream);
+
+impl TcpTransport {
+    /// Wraps a connected stream (Nagle off: link frames and ACKs are small and latency-bound).
+    pub fn new(stream: TcpStream) -> io::Result<Self> {
+        stream.set_nodelay(true)?;
+        Ok(Self(stream))
+    }
+}
+
+impl Transport for TcpTransport {
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.0.write_all(bytes)
+    }
+
+    fn read(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        self.0
+            .set_read_timeout(Some(timeout.max(Duration::from_millis(1))))?;
+        match self.0.read(buf) {
+            Ok(0) => Err(io::Error::new(
+                io::ErrorKind::ConnectionAborted,
+                "the target closed the connection",
+            )),
+            Ok(n) => Ok(n),
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
+                ) =>
+            {
+                Ok(0)
+            }
+            Err(e) => Err(e),
+        }
+    }
+}

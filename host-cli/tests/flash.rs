@@ -1,0 +1,531 @@
+//! Flashing end to end over a real pseudo-terminal: `fpgfx-sim --pty --bootloader` plays an
+//! STM32F405 with BOOT0 high, and both the third-party `stm32flash` (Debian's) and
+//! `fpgfx flash` program it. The emulator's flash is persisted with `--flash-image`, which
+//! gives the tests an independent view of what actually landed.
+
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+
+use protocol::bootloader::{FLASH_BASE, FLASH_SIZE};
+
+struct Sim {
+    child: Child,
+    pty: String,
+}
+
+impl Drop for Sim {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn start_sim(extra: &[&str]) -> Sim {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
+        .args(["--pty", "--bootloader"])
+        .args(extra)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("fpgfx-sim starts");
+    let stdout = child.stdout.take().expect("piped stdout");
+    let mut line = String::new();
+    BufReader::new(stdout)
+        .read_line(&mut line)
+        .expect("fpgfx-sim prints its pty");
+    let pty = line.trim().to_string();
+    assert!(pty.starts_with("/dev/"), "unexpected pty path {pty:?}");
+    Sim { child, pty }
+}
+
+/// The sim's stderr after it ended (kill it first if it would not end by itself).
+fn sim_stderr(mut sim: Sim) -> String {
+    let _ = sim.child.kill();
+    let _ = sim.child.wait();
+    let mut s = String::new();
+    if let Some(mut e) = sim.child.stderr.take() {
+        let _ = e.read_to_string(&mut s);
+    }
+    s
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("fpgfx-flash-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name)
+}
+
+/// Deterministic bytes that are not 0xFF-heavy (xorshift32).
+fn random_bytes(n: usize, seed: u32) -> Vec<u8> {
+    let mut x = seed.max(1);
+    (0..n)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            (x >> 8) as u8
+        })
+        .collect()
+}
+
+fn fpgfx(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fpgfx"))
+        .args(args)
+        .output()
+        .expect("fpgfx runs")
+}
+
+fn ok(out: &Output, what: &str) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(
+        out.status.success(),
+        "{what} failed ({}):\nstdout: {}\nstderr: {err}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout)
+    );
+    err
+}
+
+fn failed(out: &Output, what: &str) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!out.status.success(), "{what} should have failed: {err}");
+    err
+}
+
+fn flash_file(path: &Path) -> Vec<u8> {
+    let f = std::fs::read(path).expect("flash image");
+    assert_eq!(f.len(), FLASH_SIZE as usize);
+    f
+}
+
+fn stm32flash() -> Command {
+    let found = Command::new("stm32flash")
+        .arg("-h")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok();
+    assert!(
+        found,
+        "stm32flash is not installed: run `cargo xtask setup` (it installs Debian's stm32flash)"
+    );
+    let mut c = Command::new("stm32flash");
+    // 8N1, not stm32flash's default 8E1: Linux's pty driver clears PARENB on every
+    // tcsetattr (a pty has no parity), and stm32flash re-reads its settings and gives up
+    // ("Failed to set terminal flags") when they differ. On a pty the bytes are the same
+    // either way; on a real port the chip needs 8E1.
+    c.args(["-m", "8n1"]);
+    c
+}
+
+#[test]
+fn stm32flash_identifies_writes_and_reads_back() {
+    let sim = start_sim(&[]);
+    let info = stm32flash()
+        .arg(&sim.pty)
+        .output()
+        .expect("stm32flash runs");
+    let text = String::from_utf8_lossy(&info.stdout).to_string()
+        + String::from_utf8_lossy(&info.stderr).as_ref();
+    assert!(info.status.success(), "stm32flash {}: {text}", sim.pty);
+    assert!(text.contains("0x0413"), "device id not reported:\n{text}");
+    assert!(
+        text.contains("0x31"),
+        "bootloader version not reported:\n{text}"
+    );
+
+    let image = random_bytes(40 * 1024, 0x5EED);
+    let bin = tmp("stm32flash-in.bin");
+    std::fs::write(&bin, &image).expect("write image");
+    let w = stm32flash()
+        .args([
+            "-w",
+            bin.to_str().unwrap_or_default(),
+            "-v",
+            "-S",
+            "0x08000000",
+        ])
+        .arg(&sim.pty)
+        .output()
+        .expect("stm32flash runs");
+    let wtext = String::from_utf8_lossy(&w.stdout).to_string()
+        + String::from_utf8_lossy(&w.stderr).as_ref();
+    assert!(w.status.success(), "stm32flash -w: {wtext}");
+
+    let back = tmp("stm32flash-out.bin");
+    let _ = std::fs::remove_file(&back);
+    let r = stm32flash()
+        .args([
+            "-r",
+            back.to_str().unwrap_or_default(),
+            "-S",
+            "0x08000000:40960",
+        ])
+        .arg(&sim.pty)
+        .output()
+        .expect("stm32flash runs");
+    let rtext = String::from_utf8_lossy(&r.stdout).to_string()
+        + String::from_utf8_lossy(&r.stderr).as_ref();
+    assert!(r.status.success(), "stm32flash -r: {rtext}");
+    let read = std::fs::read(&back).expect("read-back file");
+    assert_eq!(read.len(), image.len());
+    assert!(
+        read == image,
+        "stm32flash read back other bytes than it wrote"
+    );
+}
+
+/// Intel HEX with extended linear address records, 16 bytes a line.
+fn to_hex(address: u32, data: &[u8]) -> String {
+    let mut out = String::new();
+    let mut record = |kind: u8, offset: u16, bytes: &[u8]| {
+        let mut r = vec![bytes.len() as u8, (offset >> 8) as u8, offset as u8, kind];
+        r.extend_from_slice(bytes);
+        let sum = r.iter().fold(0u8, |a, b| a.wrapping_add(*b));
+        r.push(sum.wrapping_neg());
+        out.push(':');
+        for b in r {
+            out.push_str(&format!("{b:02X}"));
+        }
+        out.push('\n');
+    };
+    let mut upper = None;
+    for (i, chunk) in data.chunks(16).enumerate() {
+        let a = address + 16 * i as u32;
+        if upper != Some(a >> 16) {
+            upper = Some(a >> 16);
+            record(0x04, 0, &((a >> 16) as u16).to_be_bytes());
+        }
+        record(0x00, a as u16, chunk);
+    }
+    record(0x05, 0, &address.to_be_bytes());
+    record(0x01, 0, &[]);
+    out
+}
+
+/// A minimal ARM ELF32 executable: `.text` at `text_at`, `.data` loaded at `data_lma`
+/// (runs at 0x2000_0000), and a `.bss` segment with no file bytes.
+fn to_elf(text_at: u32, text: &[u8], data_lma: u32, data: &[u8]) -> Vec<u8> {
+    let phnum = 3u16;
+    let text_off = 52 + 32 * u32::from(phnum);
+    let data_off = text_off + text.len() as u32;
+    let mut f = Vec::new();
+    f.extend_from_slice(b"\x7FELF\x01\x01\x01\0\0\0\0\0\0\0\0\0");
+    let u16le = |f: &mut Vec<u8>, v: u16| f.extend_from_slice(&v.to_le_bytes());
+    let u32le = |f: &mut Vec<u8>, v: u32| f.extend_from_slice(&v.to_le_bytes());
+    u16le(&mut f, 2); // ET_EXEC
+    u16le(&mut f, 40); // EM_ARM
+    u32le(&mut f, 1);
+    u32le(&mut f, text_at | 1); // entry (Thumb)
+    u32le(&mut f, 52); // phoff
+    u32le(&mut f, 0); // shoff
+    u32le(&mut f, 0x0500_0400); // EABI5, hard float
+    u16le(&mut f, 52);
+    u16le(&mut f, 32);
+    u16le(&mut f, phnum);
+    u16le(&mut f, 40);
+    u16le(&mut f, 0);
+    u16le(&mut f, 0);
+    // (offset, vaddr, paddr, filesz, memsz, flags)
+    let phdrs = [
+        (
+            text_off,
+            text_at,
+            text_at,
+            text.len() as u32,
+            text.len() as u32,
+            5,
+        ),
+        (
+            data_off,
+            0x2000_0000,
+            data_lma,
+            data.len() as u32,
+            data.len() as u32,
+            6,
+        ),
+        (0, 0x2000_1000, 0x2000_1000, 0, 0x100, 6),
+    ];
+    for (off, vaddr, paddr, filesz, memsz, flags) in phdrs {
+        u32le(&mut f, 1); // PT_LOAD
+        u32le(&mut f, off);
+        u32le(&mut f, vaddr);
+        u32le(&mut f, paddr);
+        u32le(&mut f, filesz);
+        u32le(&mut f, memsz);
+        u32le(&mut f, flags);
+        u32le(&mut f, 4);
+    }
+    f.extend_from_slice(text);
+    f.extend_from_slice(data);
+    f
+}
+
+#[test]
+fn fpgfx_flashes_bin_hex_and_elf_and_erases_only_what_it_needs() {
+    let image_file = tmp("bin-hex-elf.flash");
+    let _ = std::fs::remove_file(&image_file);
+    let sim = start_sim(&["--flash-image", image_file.to_str().unwrap_or_default()]);
+
+    let bin_data = random_bytes(10 * 1024 + 6, 1);
+    let bin = tmp("fw.bin");
+    std::fs::write(&bin, &bin_data).expect("write");
+    let err = ok(
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+            "--go",
+        ]),
+        "fpgfx flash .bin",
+    );
+    assert!(err.contains("erased sectors [0]"), "{err}");
+    assert!(err.contains("verified"), "{err}");
+    assert!(err.contains("jumped to 0x08000000"), "{err}");
+
+    let hex_data = random_bytes(5000, 2);
+    let hex = tmp("fw.hex");
+    std::fs::write(&hex, to_hex(0x0802_0010, &hex_data)).expect("write");
+    let err = ok(
+        &fpgfx(&[
+            "flash",
+            hex.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
+        "fpgfx flash .hex",
+    );
+    assert!(err.contains("erased sectors [5]"), "{err}");
+
+    let (text, data) = (random_bytes(3000, 3), random_bytes(100, 4));
+    let elf = tmp("fw.elf");
+    std::fs::write(&elf, to_elf(0x0804_0000, &text, 0x0804_1000, &data)).expect("write");
+    let err = ok(
+        &fpgfx(&[
+            "flash",
+            elf.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+            "--go",
+        ]),
+        "fpgfx flash .elf",
+    );
+    assert!(err.contains("erased sectors [6]"), "{err}");
+    assert!(err.contains("jumped to 0x08040000"), "{err}");
+
+    let flash = flash_file(&image_file);
+    let at = |a: u32| (a - FLASH_BASE) as usize;
+    assert_eq!(&flash[..bin_data.len()], &bin_data[..]);
+    assert_eq!(
+        &flash[at(0x0802_0010)..at(0x0802_0010) + 5000],
+        &hex_data[..]
+    );
+    assert_eq!(&flash[at(0x0804_0000)..at(0x0804_0000) + 3000], &text[..]);
+    assert_eq!(&flash[at(0x0804_1000)..at(0x0804_1000) + 100], &data[..]);
+    // Everything else is still erased: no stray writes, no padding beyond the word.
+    let mut expected_ff = 0usize;
+    for (i, b) in flash.iter().enumerate() {
+        let a = FLASH_BASE + i as u32;
+        let in_image = (FLASH_BASE..FLASH_BASE + bin_data.len() as u32).contains(&a)
+            || (0x0802_0010..0x0802_0010 + 5000).contains(&a)
+            || (0x0804_0000..0x0804_0000 + 3000).contains(&a)
+            || (0x0804_1000..0x0804_1000 + 100).contains(&a);
+        if !in_image {
+            assert_eq!(*b, 0xFF, "flash at {a:#010x} was touched");
+            expected_ff += 1;
+        }
+    }
+    assert!(expected_ff > 1_000_000);
+
+    let log = sim_stderr(sim);
+    assert!(log.contains("Go 0x08000000"), "{log}");
+    assert!(log.contains("Go 0x08040000"), "{log}");
+}
+
+#[test]
+fn an_interrupted_flash_is_completed_by_a_second_run() {
+    let image_file = tmp("interrupted.flash");
+    let _ = std::fs::remove_file(&image_file);
+    let image = random_bytes(64 * 1024, 9);
+    let bin = tmp("interrupted.bin");
+    std::fs::write(&bin, &image).expect("write");
+
+    // The board dies after the 40th block.
+    let sim = start_sim(&[
+        "--flash-image",
+        image_file.to_str().unwrap_or_default(),
+        "--exit-after-writes",
+        "40",
+    ]);
+    let err = failed(
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
+        "flash into a board that dies",
+    );
+    assert!(err.contains("error: flash"), "{err}");
+    let log = sim_stderr(sim);
+    assert!(log.contains("exiting after 40 writes"), "{log}");
+    let half = flash_file(&image_file);
+    assert_eq!(&half[..40 * 256], &image[..40 * 256]);
+    assert!(half[40 * 256..].iter().all(|&b| b == 0xFF));
+
+    // Power back on: the second run erases again, writes everything and verifies.
+    let sim = start_sim(&["--flash-image", image_file.to_str().unwrap_or_default()]);
+    let err = ok(
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
+        "second flash",
+    );
+    assert!(err.contains("erased sectors [0, 1, 2, 3]"), "{err}");
+    assert!(err.contains("256 blocks, verified"), "{err}");
+    let full = flash_file(&image_file);
+    assert!(full[..image.len()] == image[..]);
+}
+
+/// `fpgfx flash` killed while it writes (the user pulls the plug on the host side): the
+/// same running board is flashed completely by the next run.
+#[test]
+fn a_killed_flash_is_completed_by_a_second_run_on_the_same_board() {
+    let image_file = tmp("killed.flash");
+    let _ = std::fs::remove_file(&image_file);
+    let image = random_bytes(960 * 1024, 11);
+    let bin = tmp("killed.bin");
+    std::fs::write(&bin, &image).expect("write");
+    let sim = start_sim(&["--flash-image", image_file.to_str().unwrap_or_default()]);
+
+    let mut first = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
+        .args([
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ])
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("fpgfx runs");
+    // Kill it once the first block has landed (the sim writes the flash through).
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(15);
+    loop {
+        let mut head = [0u8; 4];
+        let landed = std::fs::File::open(&image_file)
+            .and_then(|mut f| f.read_exact(&mut head))
+            .is_ok()
+            && head[..] == image[..4];
+        if landed {
+            break;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the first run never wrote"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    first.kill().expect("kill fpgfx");
+    let status = first.wait().expect("fpgfx ends");
+    assert!(
+        !status.success(),
+        "the first run finished before it could be killed: the test proves nothing"
+    );
+    let partial = flash_file(&image_file);
+    assert!(partial[..4] == image[..4]);
+
+    let err = ok(
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
+        "flash after a killed one",
+    );
+    assert!(err.contains("verified"), "{err}");
+    let full = flash_file(&image_file);
+    assert!(full[..image.len()] == image[..]);
+}
+
+#[test]
+fn a_missing_port_is_a_clear_error() {
+    let bin = tmp("missing-port.bin");
+    std::fs::write(&bin, [0u8; 16]).expect("write");
+    let out = fpgfx(&[
+        "flash",
+        bin.to_str().unwrap_or_default(),
+        "--port",
+        "/dev/fpgfx-no-such-port",
+    ]);
+    let err = failed(&out, "flash to a missing port");
+    assert!(
+        err.contains("cannot open serial port /dev/fpgfx-no-such-port"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_port_nobody_answers_on_says_what_was_sent() {
+    let (master, slave) = serialport::TTYPort::pair().expect("pty pair");
+    let path = serialport::SerialPort::name(&slave).expect("pty path");
+    drop(slave);
+    let bin = tmp("deaf.bin");
+    std::fs::write(&bin, [0u8; 16]).expect("write");
+    let out = fpgfx(&["flash", bin.to_str().unwrap_or_default(), "--port", &path]);
+    drop(master);
+    let err = failed(&out, "flash to a silent pty");
+    assert!(
+        err.contains(
+            "no answer from the bootloader: sent 0x7F 4 times (and one burst of 258 to end a \
+             half-received command) at 115200 baud 8E1, got nothing"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_busy_port_is_a_clear_error() {
+    let sim = start_sim(&[]);
+    let _holder = serialport::new(&sim.pty, 115_200)
+        .open_native()
+        .expect("the test opens the pty first");
+    let bin = tmp("busy.bin");
+    std::fs::write(&bin, [0u8; 16]).expect("write");
+    let err = failed(
+        &fpgfx(&[
+            "flash",
+            bin.to_str().unwrap_or_default(),
+            "--port",
+            &sim.pty,
+        ]),
+        "flash to a busy port",
+    );
+    assert!(err.contains("cannot open serial port"), "{err}");
+    assert!(err.contains("busy"), "{err}");
+}
+
+#[test]
+fn the_emulator_refuses_to_program_unerased_flash() {
+    use host_cli::flash::{BootPort, Client, FlashError};
+    let sim = start_sim(&[]);
+    let mut c = Client::new(BootPort::open(&sim.pty, 115_200).expect("open"), 115_200);
+    c.sync(4).expect("sync");
+    c.erase(&[0]).expect("erase sector 0");
+    c.write_block(FLASH_BASE, &[1, 2, 3, 4])
+        .expect("first write");
+    let e = c
+        .write_block(FLASH_BASE, &[5, 6, 7, 8])
+        .expect_err("second write over the same word");
+    assert!(matches!(e, FlashError::Nack { .. }), "{e}");
+    assert_eq!(
+        e.to_string(),
+        "Write Memory: the chip answered NACK to the 4 bytes for 0x08000000"
+    );
+    assert_eq!(c.read_block(FLASH_BASE, 4).expect("read"), [1, 2, 3, 4]);
+}

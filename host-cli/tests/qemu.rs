@@ -1,0 +1,288 @@
+//! The real board binary in QEMU (`netduinoplus2`, STM32F405): USART1 is the host link,
+//! USART2 the FPGA link served by `fpgfx-sim --fpga-link`. `fpgfx raster` and `fpgfx
+//! render` against USART1 must give images identical to built-in mode, and the board's
+//! defmt log (semihosting, decoded with the ELF's format table) is printed into the test
+//! log. `cargo test qemu` runs just this. QEMU comes from Debian (`cargo xtask setup`).
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+const TARGET: &str = "thumbv7em-none-eabihf";
+
+/// Kills a child process when the test ends, passed or not.
+struct Killed(Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace root")
+        .to_path_buf()
+}
+
+/// Builds the board binary (a no-op when `cargo xtask test` already did) and returns it.
+fn firmware_elf() -> PathBuf {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let status = Command::new(cargo)
+        .current_dir(workspace())
+        .args(["build", "-q", "-p", "firmware", "--features", "board"])
+        .args(["--target", TARGET, "--profile", "firmware"])
+        .status()
+        .expect("cargo runs");
+    assert!(status.success(), "building the board binary failed");
+    let target_dir = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| workspace().join("target"));
+    target_dir
+        .join(TARGET)
+        .join("firmware")
+        .join("fpgfx-firmware")
+}
+
+/// QEMU's stdout: first its "char device redirected to /dev/pts/N (label serialK)"
+/// lines, then the semihosting bytes (defmt frames).
+struct Qemu {
+    _child: Killed,
+    out: Arc<Mutex<Vec<u8>>>,
+}
+
+impl Qemu {
+    fn start(elf: &Path) -> (Self, String, String) {
+        let found = Command::new("qemu-system-arm").arg("--version").output();
+        assert!(
+            found.is_ok_and(|o| o.status.success()),
+            "qemu-system-arm is not installed: run `cargo xtask setup` (Debian package \
+             qemu-system-arm)"
+        );
+        let mut child = Command::new("qemu-system-arm")
+            .args([
+                "-M",
+                "netduinoplus2",
+                "-display",
+                "none",
+                "-monitor",
+                "none",
+            ])
+            .args(["-semihosting-config", "enable=on,target=native"])
+            .args(["-serial", "pty", "-serial", "pty", "-kernel"])
+            .arg(elf)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("qemu-system-arm starts");
+        let mut stdout = child.stdout.take().expect("piped");
+        let out = Arc::new(Mutex::new(Vec::new()));
+        let sink = out.clone();
+        std::thread::spawn(move || {
+            let mut buf = [0u8; 4096];
+            while let Ok(n) = stdout.read(&mut buf) {
+                if n == 0 {
+                    break;
+                }
+                sink.lock().expect("log lock").extend_from_slice(&buf[..n]);
+            }
+        });
+        let qemu = Qemu {
+            _child: Killed(child),
+            out,
+        };
+        let started = Instant::now();
+        loop {
+            let ptys = qemu.ptys();
+            if ptys.len() == 2 {
+                return (qemu, ptys[0].clone(), ptys[1].clone());
+            }
+            assert!(
+                started.elapsed() < Duration::from_secs(20),
+                "QEMU did not report two ptys: {:?}",
+                String::from_utf8_lossy(&qemu.out.lock().expect("lock"))
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    fn ptys(&self) -> Vec<String> {
+        let out = self.out.lock().expect("lock");
+        String::from_utf8_lossy(&out)
+            .lines()
+            .filter_map(|l| l.strip_prefix("char device redirected to "))
+            .filter_map(|l| l.split_whitespace().next())
+            .map(str::to_string)
+            .collect()
+    }
+
+    /// The board's log so far, decoded.
+    fn log(&self, elf: &Path) -> Vec<String> {
+        let out = self.out.lock().expect("lock").clone();
+        // Skip QEMU's own text lines; everything after them is defmt.
+        let mut start = 0;
+        while out[start..].starts_with(b"char device redirected") {
+            match out[start..].iter().position(|&b| b == b'\n') {
+                Some(nl) => start += nl + 1,
+                None => break,
+            }
+        }
+        let bytes = std::fs::read(elf).expect("ELF readable");
+        let table = defmt_decoder::Table::parse(&bytes)
+            .expect("defmt table parses")
+            .expect("the ELF has defmt data");
+        let mut decoder = table.new_stream_decoder();
+        decoder.received(&out[start..]);
+        let mut lines = Vec::new();
+        loop {
+            match decoder.decode() {
+                Ok(frame) => lines.push(format!(
+                    "{} {}",
+                    frame
+                        .level()
+                        .map(|l| l.as_str().to_uppercase())
+                        .unwrap_or_default(),
+                    frame.display_message()
+                )),
+                Err(defmt_decoder::DecodeError::UnexpectedEof) => break,
+                Err(defmt_decoder::DecodeError::Malformed) => {
+                    lines.push("(malformed defmt frame)".into());
+                    break;
+                }
+            }
+        }
+        lines
+    }
+}
+
+fn fpgfx(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
+        .args(args)
+        .output()
+        .expect("fpgfx runs");
+    assert!(
+        out.status.success(),
+        "fpgfx {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn tmp(name: &str) -> String {
+    std::env::temp_dir()
+        .join(format!("fpgfx-qemu-{}-{name}", std::process::id()))
+        .display()
+        .to_string()
+}
+
+fn rgb(path: &str) -> image::RgbImage {
+    image::open(path).expect("PNG written").to_rgb8()
+}
+
+/// A raster job with every primitive, small enough that its read-back (QEMU delivers
+/// UART bytes one per main-loop turn, ~6 KB/s) takes a few seconds.
+const RASTER: &str = r##"
+size = [96, 64]
+background = "#102030"
+[aa]
+pattern = "rotated"
+samples = 4
+[[cmd]]
+op = "triangle"
+v = [[4.5, 6.25], [90.0, 10.0], [30.0, 60.75]]
+colors = ["#ff0000", "#00ff00", "#0000ff"]
+[[cmd]]
+op = "line"
+from = [2.0, 3.0]
+to = [94.0, 60.0]
+color = "#ffffff"
+[[cmd]]
+op = "circle"
+center = [64.0, 32.0]
+radius = 18.5
+color = "#00ff00"
+fill = true
+[[cmd]]
+op = "fill"
+seed = [1, 62]
+color = "#808000"
+connectivity = 8
+[[cmd]]
+op = "bezier"
+points = [[5.0, 60.0], [30.0, 5.0], [60.0, 62.0], [94.0, 8.0]]
+color = "#ffff00"
+"##;
+
+#[test]
+fn qemu_board_draws_and_renders_like_built_in() {
+    let elf = firmware_elf();
+    let (qemu, host_pty, fpga_pty) = Qemu::start(&elf);
+    let _fpga = Killed(
+        Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
+            .args(["--fpga-link", &fpga_pty])
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("fpgfx-sim starts"),
+    );
+
+    let file = tmp("raster.toml");
+    std::fs::write(&file, RASTER).expect("temp file");
+    let (board, built_in) = (tmp("board.png"), tmp("built-in.png"));
+    let started = Instant::now();
+    let stats = fpgfx(&[
+        "--port", &host_pty, "raster", &file, "-o", &board, "--stats",
+    ]);
+    let raster_time = started.elapsed();
+    fpgfx(&["raster", &file, "-o", &built_in]);
+    assert_eq!(
+        rgb(&board),
+        rgb(&built_in),
+        "raster image differs from built-in"
+    );
+    println!("raster over QEMU in {raster_time:?}:\n{stats}");
+
+    let scene = format!("{}/examples/reference.toml", workspace().display());
+    let (board, built_in) = (tmp("board-rt.png"), tmp("built-in-rt.png"));
+    let started = Instant::now();
+    let stats = fpgfx(&[
+        "--port",
+        &host_pty,
+        "render",
+        &scene,
+        "--size",
+        "48x27",
+        "--numeric",
+        "q16.16",
+        "-o",
+        &board,
+        "--stats",
+    ]);
+    let render_time = started.elapsed();
+    fpgfx(&[
+        "render",
+        &scene,
+        "--size",
+        "48x27",
+        "--numeric",
+        "q16.16",
+        "-o",
+        &built_in,
+    ]);
+    assert_eq!(rgb(&board), rgb(&built_in), "render differs from built-in");
+    println!("render over QEMU in {render_time:?}:\n{stats}");
+
+    let log = qemu.log(&elf);
+    println!("--- board log (defmt over semihosting) ---");
+    for line in &log {
+        println!("{line}");
+    }
+    let has = |s: &str| log.iter().any(|l| l.contains(s));
+    assert!(has("fpgfx-firmware"), "no boot line in the board log");
+    assert!(has("FPGA up"), "the board never reached the FPGA");
+    assert!(has("host session"), "the board never saw a host session");
+    assert!(!has("panic"), "the board panicked");
+}
