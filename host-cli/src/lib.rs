@@ -12,3 +12,4 @@ pub mod raster_file;
 pub mod render;
 pub mod serial;
 pub mod session;
+pub mod stress;

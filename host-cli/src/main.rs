@@ -83,6 +83,9 @@ enum Command {
     },
     /// Ray-trace a scene file (SPEC-RT's TOML) and write the frame as PNG.
     Render(RenderArgs),
+    /// Adversarial cases (SPEC §5) through the kernels; exits non-zero on any panic,
+    /// NaN/∞, crack or wrap-around.
+    Stress(StressArgs),
     /// Animate a scene (or raster commands) with a Rhai script; write a GIF or PNGs.
     ///
     /// The script defines `fn scene(s, frame, time)` (gets the scene file as a map, returns
@@ -156,7 +159,52 @@ fn run(cli: Cli) -> Result<()> {
                 .with_context(|| format!("flash {}", args.image.display()))
         }
         Command::Bench(args) => bench(&args),
+        Command::Stress(args) => stress(&args),
     }
+}
+
+/// Arguments of `fpgfx stress`.
+#[derive(clap::Args)]
+struct StressArgs {
+    /// Number of cases.
+    #[arg(long, default_value_t = 100_000)]
+    cases: u64,
+    /// Generator seed: a case is a function of (seed, index).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Only one category: raster, rt or parse.
+    #[arg(long)]
+    only: Option<String>,
+    /// Run only case K (as printed by a failure, with the same --seed and --only).
+    #[arg(long)]
+    case: Option<u64>,
+    /// Worker threads (0 = all cores).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+}
+
+fn stress(a: &StressArgs) -> Result<()> {
+    use host_cli::stress;
+    let only = match &a.only {
+        Some(name) => Some(
+            stress::Category::parse(name)
+                .ok_or_else(|| anyhow::anyhow!("--only {name:?}: expected raster, rt or parse"))?,
+        ),
+        None => None,
+    };
+    let report = stress::run(&stress::Config {
+        cases: a.cases,
+        seed: a.seed,
+        only,
+        case: a.case,
+        threads: a.threads,
+    })?;
+    print!("{}", report.table());
+    anyhow::ensure!(
+        !report.failed(),
+        "stress found failures (panics, NaN/inf, cracks, double writes, coverage, wraps or accepted non-finite input)"
+    );
+    Ok(())
 }
 
 fn ports() -> Result<()> {

@@ -512,7 +512,10 @@ impl<'a> Shader<'a> {
             let interp = |k: usize| -> i64 {
                 let num: i128 = (0..3).map(|v| tx.uv[v][k] as i128 * q[v] as i128).sum();
                 let d = den as i128;
-                (2 * num + d).div_euclid(2 * d) as i64
+                // ⌊num/d + ½⌋ without doubling num: |num| < 2^127 (i32 × the 96 kept
+                // bits), so 2·num could overflow i128; for integer d, ⌊(2n + d)/2d⌋ =
+                // ⌊(n + ⌊d/2⌋)/d⌋ (for odd d, 2n + d is odd and never a multiple of 2d).
+                (num + d / 2).div_euclid(d) as i64
             };
             tex::sample(self.texture, tx, interp(0), interp(1), *lod)
         } else {

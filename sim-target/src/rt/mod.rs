@@ -561,7 +561,10 @@ fn prepare<S: Scalar>(
         background: V3::from_f64(scene.background),
         texmem,
         bias: S::from_f64(scene.bias),
-        maxd: S::from_f64(scene.max_distance),
+        // MAX_DISTANCE is "infinity": in a format whose range ends below it (f16: 65504 <
+        // 1e6) it would round to ∞ and let a root at t = ∞ count as a hit; the format's
+        // largest finite value is the same "infinity" without that.
+        maxd: S::from_f64(scene.max_distance.min(S::max_value().to_f64())),
         // the general kernel does not use the plan's depth: a non-reflecting hit ends the
         // ray by its own test, with the same result
         depth: match kernel {

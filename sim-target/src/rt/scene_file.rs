@@ -295,6 +295,87 @@ fn key_from_message(msg: &str, text: &str, span: Option<core::ops::Range<usize>>
     String::from("?")
 }
 
+/// Every number of a scene must be finite: TOML spells `nan` and `inf`, and an
+/// overflowing literal such as `1e999` reads as ∞; any of them would reach the kernel as
+/// a NaN position, colour or distance and poison every pixel it touches. The whole
+/// document is walked once (not field by field, so that a field added later is covered);
+/// the error names the key path and the line of the first such literal.
+fn check_finite(text: &str, file_name: &str) -> Result<(), SceneFileError> {
+    fn walk(v: &toml::Value, path: &mut String) -> bool {
+        match v {
+            toml::Value::Float(f) => !f.is_finite(),
+            toml::Value::Array(a) => a.iter().enumerate().any(|(i, x)| {
+                let n = path.len();
+                path.push_str(&format!("[{i}]"));
+                let bad = walk(x, path);
+                if !bad {
+                    path.truncate(n);
+                }
+                bad
+            }),
+            toml::Value::Table(t) => t.iter().any(|(k, x)| {
+                let n = path.len();
+                if !path.is_empty() {
+                    path.push('.');
+                }
+                path.push_str(k);
+                let bad = walk(x, path);
+                if !bad {
+                    path.truncate(n);
+                }
+                bad
+            }),
+            _ => false,
+        }
+    }
+    let Ok(doc) = text.parse::<toml::Table>() else {
+        return Ok(());
+    };
+    let mut path = String::new();
+    if !walk(&toml::Value::Table(doc), &mut path) {
+        return Ok(());
+    }
+    // The line: the first one holding a non-finite literal, preferring one that names the
+    // key's last component.
+    let last: String = path
+        .rsplit('.')
+        .next()
+        .unwrap_or("")
+        .split('[')
+        .next()
+        .unwrap_or("")
+        .to_string();
+    let non_finite = |line: &str| {
+        let code = line.split('#').next().unwrap_or("");
+        code.split(|c: char| !(c.is_ascii_alphanumeric() || "+-._".contains(c)))
+            .any(|tok| {
+                let t = tok.trim_start_matches(['+', '-']);
+                t == "nan"
+                    || t == "inf"
+                    || (t.starts_with(|c: char| c.is_ascii_digit())
+                        && t.replace('_', "")
+                            .parse::<f64>()
+                            .is_ok_and(|f| f.is_infinite()))
+            })
+    };
+    let mut line = None;
+    for (i, l) in text.lines().enumerate() {
+        if non_finite(l) {
+            if l.contains(last.as_str()) {
+                line = Some(i + 1);
+                break;
+            }
+            line.get_or_insert(i + 1);
+        }
+    }
+    Err(SceneFileError {
+        file: file_name.to_string(),
+        line: line.unwrap_or(1),
+        key: path,
+        message: "not a finite number (NaN and infinity are not allowed)".into(),
+    })
+}
+
 /// Parse a scene file with the seed's default limits.
 pub fn parse(text: &str, file_name: &str) -> Result<Scene, SceneFileError> {
     parse_with_limits(text, file_name, Limits::default())
@@ -322,6 +403,7 @@ pub fn parse_with_limits(
             message: msg,
         }
     })?;
+    check_finite(text, file_name)?;
 
     let r = f.render.unwrap_or(RenderToml {
         size: d_size(),

@@ -1,0 +1,141 @@
+//! The raster command file parser against hostile input: any text (TOML or JSON) gives a
+//! job or an error, never a panic; every non-finite number is refused; whatever parses
+//! draws on the raster block without a panic.
+
+use host_cli::raster_file;
+use proptest::prelude::*;
+use sim_target::raster::Raster;
+
+const EXAMPLES: [&str; 3] = [
+    include_str!("../../examples/raster/aa.toml"),
+    include_str!("../../examples/raster/fitkit.toml"),
+    include_str!("../../examples/raster/gallery.toml"),
+];
+
+/// Byte ranges of float literals outside strings and comments.
+fn float_literals(text: &str) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let code = line.split('#').next().unwrap_or("");
+        // `#rrggbb` colours live inside strings; a `#` in a string cuts `code` short,
+        // which only loses literals, never invents one.
+        let b = code.as_bytes();
+        let mut i = 0;
+        let mut in_str = false;
+        while i < b.len() {
+            if b[i] == b'"' {
+                in_str = !in_str;
+                i += 1;
+                continue;
+            }
+            let starts = !in_str
+                && (b[i].is_ascii_digit() || b[i] == b'-')
+                && (i == 0
+                    || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.'));
+            if starts {
+                let s = i;
+                while i < b.len() && (b[i].is_ascii_digit() || b"-+.eE_".contains(&b[i])) {
+                    i += 1;
+                }
+                let lit = &code[s..i];
+                if lit.contains(['.', 'e', 'E']) && lit.bytes().any(|d| d.is_ascii_digit()) {
+                    out.push((offset + s, offset + i));
+                }
+                continue;
+            }
+            i += 1;
+        }
+        offset += line.len();
+    }
+    out
+}
+
+fn to_json(text: &str) -> String {
+    let v: toml::Value = toml::from_str(text).expect("example is TOML");
+    serde_json::to_string(&v).expect("JSON")
+}
+
+/// Draws a parsed job on the block (clipped to 64 × 64 to keep it quick).
+fn draw(job: &raster_file::RasterJob) {
+    let w = u32::from(job.setup.width).min(64);
+    let h = u32::from(job.setup.height).min(64);
+    if let Ok(mut block) = Raster::new(w, h, &job.setup) {
+        for c in &job.cmds {
+            let _ = block.draw(c);
+        }
+    }
+}
+
+/// Every float of every example, replaced by every non-finite spelling, is refused
+/// (exhaustive); in JSON, an overflowing literal is refused too.
+#[test]
+fn every_non_finite_number_is_refused() {
+    let mut tried = 0;
+    for (e, text) in EXAMPLES.iter().enumerate() {
+        assert!(raster_file::parse(text, "ex.toml").is_ok(), "example {e}");
+        let lits = float_literals(text);
+        assert!(!lits.is_empty(), "example {e} has floats");
+        for &(s, t) in &lits {
+            for bad in ["nan", "-nan", "+inf", "-inf", "inf", "1e999"] {
+                let mut damaged = text.to_string();
+                damaged.replace_range(s..t, bad);
+                assert!(
+                    raster_file::parse(&damaged, "bad.toml").is_err(),
+                    "example {e}: {} -> {bad} accepted",
+                    &text[s..t]
+                );
+                tried += 1;
+            }
+        }
+        let json = to_json(text);
+        assert!(
+            raster_file::parse(&json, "ex.json").is_ok(),
+            "example {e} as JSON"
+        );
+        for &(s, t) in &float_literals(&json) {
+            let mut damaged = json.clone();
+            damaged.replace_range(s..t, "1e999");
+            assert!(raster_file::parse(&damaged, "bad.json").is_err());
+            tried += 1;
+        }
+    }
+    assert!(tried > 100, "{tried}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 3000, ..ProptestConfig::default() })]
+
+    /// Any text, read as TOML and as JSON: a job or an error.
+    #[test]
+    fn any_text_parses_or_fails(text in "\\PC{0,300}") {
+        for name in ["any.toml", "any.json"] {
+            if let Ok(job) = raster_file::parse(&text, name) {
+                draw(&job);
+            }
+        }
+    }
+
+    /// Damaged examples (TOML and JSON): a job that draws, or an error.
+    #[test]
+    fn damaged_examples_parse_or_fail(
+        ex in 0usize..EXAMPLES.len(),
+        json in any::<bool>(),
+        edits in proptest::collection::vec((any::<usize>(), 0u8..3, prop::sample::select(b"[]{}=\",.:\n0-9e#a ".to_vec())), 1..8),
+    ) {
+        let base = if json { to_json(EXAMPLES[ex]) } else { EXAMPLES[ex].to_string() };
+        let mut b = base.into_bytes();
+        for (i, op, v) in edits {
+            let n = b.len().max(1);
+            match op {
+                0 => { if let Some(x) = b.get_mut(i % n) { *x = v; } }
+                1 => b.insert(i % (b.len() + 1), v),
+                _ => { if !b.is_empty() { b.remove(i % n); } }
+            }
+        }
+        let text = String::from_utf8_lossy(&b);
+        if let Ok(job) = raster_file::parse(&text, if json { "d.json" } else { "d.toml" }) {
+            draw(&job);
+        }
+    }
+}
