@@ -180,6 +180,20 @@ pub struct FormatCounts {
     pub acne_checked: u64,
 }
 
+impl FormatCounts {
+    /// Adds another run's counts.
+    pub fn add(&mut self, o: &FormatCounts) {
+        self.renders += o.renders;
+        self.saturations += o.saturations;
+        self.overflow_nans += o.overflow_nans;
+        self.out_of_range += o.out_of_range;
+        self.nonfinite_out_of_range += o.nonfinite_out_of_range;
+        self.nonfinite += o.nonfinite;
+        self.acne += o.acne;
+        self.acne_checked += o.acne_checked;
+    }
+}
+
 /// One failing case, enough to run it again.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Failure {
@@ -466,14 +480,7 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
                         let (cat, r) = case_on_this_thread(cfg.seed, index, cfg.only);
                         local.by_category[cat as usize].add(&r.counts);
                         for (a, b) in local.by_format.iter_mut().zip(&r.formats) {
-                            a.renders += b.renders;
-                            a.saturations += b.saturations;
-                            a.overflow_nans += b.overflow_nans;
-                            a.out_of_range += b.out_of_range;
-                            a.nonfinite_out_of_range += b.nonfinite_out_of_range;
-                            a.nonfinite += b.nonfinite;
-                            a.acne += b.acne;
-                            a.acne_checked += b.acne_checked;
+                            a.add(b);
                         }
                         if let Some(what) = r.failure {
                             local.failures.push(Failure {
@@ -488,14 +495,7 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
                         a.add(b);
                     }
                     for (a, b) in t.by_format.iter_mut().zip(&local.by_format) {
-                        a.renders += b.renders;
-                        a.saturations += b.saturations;
-                        a.overflow_nans += b.overflow_nans;
-                        a.out_of_range += b.out_of_range;
-                        a.nonfinite_out_of_range += b.nonfinite_out_of_range;
-                        a.nonfinite += b.nonfinite;
-                        a.acne += b.acne;
-                        a.acne_checked += b.acne_checked;
+                        a.add(b);
                     }
                     t.failures.extend(local.failures);
                 });

@@ -440,6 +440,14 @@ pub fn pre_d<S: Scalar>(b: S) -> S {
 /// a/b by Newton–Raphson on 1/b, y ← y(2 − b y), `iters` steps from PRE_D. b = 0 gives
 /// the format's signed maximum.
 pub fn div_nr<S: Scalar>(a: S, b: S, iters: u8) -> S {
+    div_newton(a, b, iters, pre_d)
+}
+
+/// a/b by `iters` Newton–Raphson steps y ← y(2 − b y) from `start(b)` ≈ 1/b; b = 0 gives
+/// the format's signed maximum. The start estimate is the only difference between the
+/// seed's divider and the better one.
+#[inline(always)] // the start function is a constant at each call site: no indirect call
+fn div_newton<S: Scalar>(a: S, b: S, iters: u8, start: fn(S) -> S) -> S {
     if b == S::zero() {
         return if a >= S::zero() {
             S::max_value()
@@ -448,7 +456,7 @@ pub fn div_nr<S: Scalar>(a: S, b: S, iters: u8) -> S {
         };
     }
     let two = c::<S>(2.0);
-    let mut y = pre_d(b);
+    let mut y = start(b);
     for _ in 0..iters {
         y = y * (two - b * y);
     }
@@ -478,19 +486,7 @@ pub fn pre_d_lut<S: Scalar>(b: S) -> S {
 
 /// a/b by Newton–Raphson from the [`pre_d_lut`] table; b = 0 gives the signed maximum.
 pub fn div_lut_nr<S: Scalar>(a: S, b: S, iters: u8) -> S {
-    if b == S::zero() {
-        return if a >= S::zero() {
-            S::max_value()
-        } else {
-            -S::max_value()
-        };
-    }
-    let two = c::<S>(2.0);
-    let mut y = pre_d_lut(b);
-    for _ in 0..iters {
-        y = y * (two - b * y);
-    }
-    a * y
+    div_newton(a, b, iters, pre_d_lut)
 }
 
 /// Largest exponent `powi` handles: MAX_POWER_LOOP_ITER = 10 squarings.
