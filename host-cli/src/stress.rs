@@ -2170,6 +2170,9 @@ pub mod probe {
         fn max_value() -> Self {
             Probe(S::max_value())
         }
+        fn rounding() -> Option<(f64, f64)> {
+            S::rounding()
+        }
         #[inline]
         fn floor(self) -> Self {
             Probe(self.0.floor())

@@ -66,6 +66,25 @@ pub enum SqrtKind {
     },
 }
 
+impl SqrtKind {
+    /// A bound on the relative error of 1/√x (and so of √x) in exact arithmetic: the start
+    /// estimate's worst case pushed through the Newton–Raphson error recurrence
+    /// e′ = 1.5e² + 0.5|e|³. The planned kernel culls only when this is small: an
+    /// inaccurate √Δ can put a root of an object *behind* a ray in front of it, and the
+    /// golden model must then report that (wrong) hit as the datapath would.
+    pub fn max_rel_error(self) -> f64 {
+        let (start, iters) = match self {
+            SqrtKind::Exact => return 0.0,
+            // 29 % high / 41 % low at the bin edges (docs/rt.md, precision case 1)
+            SqrtKind::PreS { iters } => (0.42, iters),
+            // the chord 7/6 − m/6 of 1/√m on [1, 4)
+            SqrtKind::Seamless { iters } => (0.2, iters),
+            SqrtKind::Lut16 { iters } => (0.032, iters),
+        };
+        (0..iters).fold(start, |e: f64, _| 1.5 * e * e + 0.5 * e.abs().powi(3))
+    }
+}
+
 #[inline(always)]
 fn c<S: Scalar>(x: f64) -> S {
     S::from_f64(x)

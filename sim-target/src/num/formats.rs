@@ -135,6 +135,9 @@ macro_rules! fixed_scalar {
             fn max_value() -> Self {
                 Self(<$inner>::MAX)
             }
+            fn rounding() -> Option<(f64, f64)> {
+                Some((0.0, <$inner>::DELTA.to_num::<f64>()))
+            }
             #[inline(always)]
             fn floor(self) -> Self {
                 Self(self.0.saturating_floor())

@@ -60,6 +60,14 @@ pub trait Scalar:
     }
     /// Largest finite value: the kernel's "infinity" for formats without one.
     fn max_value() -> Self;
+    /// The format's rounding as (relative, absolute): one operation's result near
+    /// magnitude m is off by about relative·m + absolute. The planned kernel sizes and
+    /// admits its culling with it (`rt::cull`); `None`, the default, turns culling off, so
+    /// a format that does not declare it (e.g. an instrumented wrapper) is always tested
+    /// exhaustively, like the board.
+    fn rounding() -> Option<(f64, f64)> {
+        None
+    }
     /// Largest integer not above `self`.
     fn floor(self) -> Self {
         Self::from_f64(self.to_f64().floor())
@@ -179,6 +187,9 @@ impl Scalar for f64 {
     fn max_value() -> Self {
         f64::MAX
     }
+    fn rounding() -> Option<(f64, f64)> {
+        Some((f64::EPSILON / 2.0, f64::MIN_POSITIVE))
+    }
     #[inline(always)]
     fn floor(self) -> Self {
         floor_f64(self)
@@ -206,6 +217,9 @@ impl Scalar for f32 {
     fn max_value() -> Self {
         f32::MAX
     }
+    fn rounding() -> Option<(f64, f64)> {
+        Some((f32::EPSILON as f64 / 2.0, f32::MIN_POSITIVE as f64))
+    }
     #[inline(always)]
     fn floor(self) -> Self {
         floor_f32(self)
@@ -230,5 +244,11 @@ impl Scalar for half::f16 {
     }
     fn max_value() -> Self {
         half::f16::MAX
+    }
+    fn rounding() -> Option<(f64, f64)> {
+        Some((
+            half::f16::EPSILON.to_f64() / 2.0,
+            half::f16::MIN_POSITIVE.to_f64(),
+        ))
     }
 }
