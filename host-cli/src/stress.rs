@@ -125,6 +125,9 @@ pub struct Counts {
     pub rejected: u64,
     /// Files with NaN/∞ a parser accepted.
     pub accepted_nonfinite: u64,
+    /// Ray-trace renders whose image or AOVs changed when the plan's culling was turned
+    /// off: culling must be invisible.
+    pub cull_mismatches: u64,
 }
 
 impl Counts {
@@ -144,6 +147,7 @@ impl Counts {
         self.acne_checked += o.acne_checked;
         self.rejected += o.rejected;
         self.accepted_nonfinite += o.accepted_nonfinite;
+        self.cull_mismatches += o.cull_mismatches;
     }
 
     /// Whether these counts fail a run.
@@ -155,6 +159,7 @@ impl Counts {
             + self.double_writes
             + self.coverage
             + self.accepted_nonfinite
+            + self.cull_mismatches
             > 0
     }
 }
@@ -245,7 +250,7 @@ impl Report {
         let row = |s: &mut String, name: &str, c: &Counts| {
             let _ = writeln!(
                 s,
-                "{name:<8}{:>9}{:>7}{:>8}{:>11}{:>7}{:>7}{:>8}{:>9}{:>7}{:>10}{:>9}{:>9}",
+                "{name:<8}{:>9}{:>7}{:>8}{:>11}{:>7}{:>7}{:>8}{:>9}{:>7}{:>10}{:>9}{:>9}{:>8}",
                 c.cases,
                 c.panics,
                 c.nonfinite,
@@ -257,12 +262,13 @@ impl Report {
                 c.acne,
                 c.acne_checked,
                 c.rejected,
-                c.accepted_nonfinite
+                c.accepted_nonfinite,
+                c.cull_mismatches
             );
         };
         let _ = writeln!(
             s,
-            "{:<8}{:>9}{:>7}{:>8}{:>11}{:>7}{:>7}{:>8}{:>9}{:>7}{:>10}{:>9}{:>9}",
+            "{:<8}{:>9}{:>7}{:>8}{:>11}{:>7}{:>7}{:>8}{:>9}{:>7}{:>10}{:>9}{:>9}{:>8}",
             "kind",
             "cases",
             "panic",
@@ -275,7 +281,8 @@ impl Report {
             "acne",
             "acne/of",
             "rejected",
-            "accepted"
+            "accepted",
+            "culled≠"
         );
         for (k, c) in Category::ALL.iter().zip(&self.by_category) {
             if c.cases > 0 {
@@ -1331,8 +1338,35 @@ fn rt_case(rng: &mut SmallRng) -> CaseResult {
         ..RenderOptions::default()
     };
     let numeric = Numeric::ALL[fmt];
+    // the same render with the plan's culling off: must match bit for bit (its probe
+    // counts are dropped, the culled render's are kept)
+    let unculled = render_probed(
+        &scene,
+        &RenderOptions {
+            cull: false,
+            ..opts
+        },
+        numeric,
+    );
+    let _ = probe::take();
     let frame = render_probed(&scene, &opts, numeric);
     let seen = probe::take();
+    if let (Ok(a), Ok(b)) = (&frame, &unculled) {
+        let bits = |v: &Option<Vec<f32>>| -> Vec<u32> {
+            v.iter().flatten().map(|x| x.to_bits()).collect()
+        };
+        if a.rgb8 != b.rgb8
+            || bits(&a.depth) != bits(&b.depth)
+            || bits(&a.normal) != bits(&b.normal)
+        {
+            r.counts.cull_mismatches = 1;
+            r.failure = Some(format!(
+                "{kind:?} scene in {}: culling changed the render; scene {scene:?}",
+                numeric_name(numeric)
+            ));
+            return r;
+        }
+    }
     let frame = match frame {
         Ok(f) => f,
         Err(_) => {

@@ -68,32 +68,75 @@ pub struct Bound {
 /// errors stay far below the slack: f64, f32, Q16.16, Q8.24 and Q32.32 are admitted, f16
 /// (2⁻¹¹) and Q24.8 (2⁻⁸) are always tested exhaustively.
 pub fn bounds<S: Scalar>(scene: &Scene) -> Vec<Option<Bound>> {
-    let admitted = match S::rounding() {
-        Some((rel, abs)) => rel <= 2f64.powi(-20) && abs <= 2f64.powi(-14),
-        None => false,
+    let rounding = match S::rounding() {
+        Some((rel, abs)) if rel <= 2f64.powi(-20) && abs <= 2f64.powi(-14) => Some((rel, abs)),
+        _ => None,
     };
     let range = S::max_value().to_f64();
     scene
         .objects
         .iter()
         .map(|o| {
-            if !admitted {
-                return None;
-            }
+            let (rel, abs) = rounding?;
             let (centre, r) = world_bound(o)?;
             let smin = o.scale.iter().fold(f64::INFINITY, |m, v| m.min(v.abs()));
-            let dmax = 1.0 / smin;
-            // the quadratics' b² = 4(d′·o′)² and 4ac stay below range/2 for
-            // (1 + |o′|)(1 + |d′|) ≤ L, and |o′| ≤ |o − centre|/smin
-            let l = (range / 8.0).sqrt() / (1.0 + dmax) - 1.0;
-            let safe_distance = if l.is_finite() { l * smin } else { f64::MAX };
-            (safe_distance > 0.0).then_some(Bound {
+            let smax = o.scale.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if !(smin > 0.0 && smax / smin <= MAX_ANISOTROPY) {
+                return None;
+            }
+            // every product of the test rounds to `abs`: a = |d′|² ≥ 1/smax² must stay
+            // far above it
+            if abs > 0.0 && smax * smax * abs > BUDGET {
+                return None;
+            }
+            // origins closer than this keep the object-space terms in range and accurate,
+            // and (for a fixed format) their own world coordinates unsaturated
+            let cmax = centre.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let safe_distance =
+                (safe_object_distance(rel, abs, range, smin, smax) * smin).min(range / 2.0 - cmax);
+            (safe_distance.is_finite() && safe_distance > 0.0).then_some(Bound {
                 centre,
                 radius: r * (1.0 + RADIUS_SLACK),
                 safe_distance,
             })
         })
         .collect()
+}
+
+/// The discriminant's margin at a miss by the slack (≈ 0.16a) over the error constant
+/// (16) and a factor 4 to spare, as a fraction of a = |d′|².
+const BUDGET: f64 = 0.16 / 16.0 / 4.0;
+
+/// Largest ratio of an object's scale factors for which it is culled: a strongly
+/// anisotropic transform makes the object-space ray ill-conditioned (large |o′| along
+/// the thin axis), and the datapath's answer is then no longer the geometry's.
+pub const MAX_ANISOTROPY: f64 = 16.0;
+
+/// The largest object-space origin distance |o′| at which a ray (unit direction) that
+/// misses the widened bound still gets "no hit" from the format's arithmetic, with a
+/// factor 4 to spare.
+/// A miss by the slack leaves the unit shape's discriminant at −4a·((1 + slack)² − 1) ≈
+/// −0.16a, a = |d′|² ≥ 1/smax²; the discriminant's rounding error is about 16·rel·a·|o′|²
+/// in floating point and 16·abs·|d′||o′|(|d′| + |o′|) in fixed point (each of b², 4ac
+/// carries the input roundings through two products). Saturation: b² and 4ac must stay
+/// below range/2.
+fn safe_object_distance(rel: f64, abs: f64, range: f64, smin: f64, smax: f64) -> f64 {
+    let budget = BUDGET;
+    let dmax = 1.0 / smin;
+    let by_rel = if rel > 0.0 {
+        (budget / rel).sqrt()
+    } else {
+        f64::INFINITY
+    };
+    // abs·|o′|(|o′| + dmax) ≤ budget·|d′|min = budget/smax
+    let by_abs = if abs > 0.0 {
+        let k = budget / (abs * smax);
+        (-dmax + (dmax * dmax + 4.0 * k).sqrt()) / 2.0
+    } else {
+        f64::INFINITY
+    };
+    let by_range = (range / 8.0).sqrt() / (1.0 + dmax) - 1.0;
+    by_rel.min(by_abs).min(by_range)
 }
 
 /// Per-tile lists of the objects a primary ray of the tile can hit, in object order (the

@@ -675,6 +675,11 @@ impl<S: Scalar> PObj<S> {
         if oc2 > b.safe2 {
             return true;
         }
+        // the error analysis behind the bound (`cull::bounds`) assumes a unit direction;
+        // a degenerate one (e.g. the normalisation of a zero vector) is tested in full
+        if !(r.dd > 0.25 && r.dd < 4.0) {
+            return true;
+        }
         let tca = oc[0] * r.d[0] + oc[1] * r.d[1] + oc[2] * r.d[2];
         // the centre behind the origin and the origin outside: every point of the
         // sphere has t < 0
