@@ -224,8 +224,10 @@ fn culling_removes_work_where_it_is_admitted() {
     // of primary rays tests fewer than half of them on average
     let f32_mean = rt::primary_candidates::<f32>(&scene, 1920, 1080, &d);
     assert!(f32_mean < 0.5 * n, "f32: {f32_mean} of {n}");
+    // Q16.16's 2⁻¹⁶ step admits the spheres, floor and disk from the camera's distance,
+    // not the cylinder, cone and cube (their |o′| is beyond the rounding budget)
     let q_mean = rt::primary_candidates::<sim_target::num::Q16_16>(&scene, 1920, 1080, &d);
-    assert_eq!(q_mean, f32_mean, "Q16.16 is admitted on this scene");
+    assert!(q_mean < n && q_mean >= f32_mean, "Q16.16: {q_mean} of {n}");
     // f16 and Q24.8 are too coarse: every object is tested
     assert_eq!(
         rt::primary_candidates::<half::f16>(&scene, 1920, 1080, &d),
