@@ -175,11 +175,14 @@ fn main() {
         m.texture = None;
     }
     variants.push(("no textures".into(), s));
+    // one texture made constant (not removed: the texture count sets the texel side)
     for (i, m) in scene.materials.iter().enumerate() {
-        if m.texture.is_some() {
+        if let Some(t) = &m.texture {
             let mut s = scene.clone();
-            s.materials[i].texture = None;
-            variants.push((format!("without texture of {}", m.name), s));
+            let mut flat = t.clone();
+            flat.kind = rt::TextureKind::Checkerboard { cell: 1 << 20 };
+            s.materials[i].texture = Some(flat);
+            variants.push((format!("texture of {} constant", m.name), s));
         }
     }
     let mut s = scene.clone();

@@ -132,6 +132,25 @@ macro_rules! fixed_scalar {
                     Self::from_f64(1.0 / self.to_f64().sqrt())
                 }
             }
+            #[inline(always)]
+            fn mul_rn(self, o: Self) -> Self {
+                let p = self.0.to_bits() as $wide * o.0.to_bits() as $wide;
+                let p = (p + (1 << ($frac - 1))) >> $frac;
+                Self(<$inner>::from_bits(
+                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
+                ))
+            }
+            #[inline(always)]
+            fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self {
+                // each product of two $bits fits $wide with two bits to spare, so the sum
+                // of three cannot overflow the accumulator
+                let w = |x: Self| x.0.to_bits() as $wide;
+                let p = w(a) * w(b) + w(c) * w(d) + w(e) * w(f);
+                let p = (p + (1 << ($frac - 1))) >> $frac;
+                Self(<$inner>::from_bits(
+                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
+                ))
+            }
             fn max_value() -> Self {
                 Self(<$inner>::MAX)
             }

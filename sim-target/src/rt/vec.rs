@@ -36,7 +36,7 @@ impl<S: Scalar> V3<S> {
     /// Dot product.
     #[inline(always)]
     pub fn dot(self, o: Self) -> S {
-        self.x * o.x + self.y * o.y + self.z * o.z
+        S::dot3(self.x, o.x, self.y, o.y, self.z, o.z)
     }
     /// Cross product.
     #[inline(always)]
@@ -55,7 +55,7 @@ impl<S: Scalar> V3<S> {
     /// Scale by a scalar.
     #[inline(always)]
     pub fn scale(self, s: S) -> Self {
-        Self::new(self.x * s, self.y * s, self.z * s)
+        Self::new(self.x.mul_rn(s), self.y.mul_rn(s), self.z.mul_rn(s))
     }
     /// Unit vector by 1/√(v·v) with the chosen square root (zero stays zero).
     #[inline(always)]
@@ -116,9 +116,9 @@ impl<S: Scalar> M3<S> {
     pub fn mul_v(&self, v: V3<S>) -> V3<S> {
         let m = &self.0;
         V3::new(
-            m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-            m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
-            m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z,
+            S::dot3(m[0][0], v.x, m[0][1], v.y, m[0][2], v.z),
+            S::dot3(m[1][0], v.x, m[1][1], v.y, m[1][2], v.z),
+            S::dot3(m[2][0], v.x, m[2][1], v.y, m[2][2], v.z),
         )
     }
 }
