@@ -475,6 +475,14 @@ mod rounded_ops {
             prop_assert!((got.0.to_bits() as i128 * 65536 - exact).abs() <= 32768);
         }
 
+        /// The two-term form (cross products, the cones' Lagrange terms) likewise.
+        #[test]
+        fn q16_16_dot2_rounds_once(v in prop::array::uniform4(-(1i32 << 23)..(1i32 << 23))) {
+            let exact = v[0] as i128 * v[1] as i128 + v[2] as i128 * v[3] as i128;
+            let got = Q16_16::dot2(q(v[0]), q(v[1]), q(v[2]), q(v[3]));
+            prop_assert!((got.0.to_bits() as i128 * 65536 - exact).abs() <= 32768);
+        }
+
         /// Q32.32 (64-bit words, 128-bit products) the same way.
         #[test]
         fn q32_32_dot3_rounds_once(v in prop::array::uniform6(-(1i64 << 40)..(1i64 << 40))) {

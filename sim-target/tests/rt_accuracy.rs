@@ -57,21 +57,36 @@ fn worst_hit_error(shape: Shape, o: [f64; 3], from: [f64; 3], to: [f64; 3]) -> (
     (worst, hits)
 }
 
-/// Fix 1: the curved shapes solve their quadric from the ray point nearest the shape.
-/// From 12 radii away the old origin gave c ≈ 140 and an absolute error of ≈ 0.02 in Δ,
-/// so hits near the silhouette (Δ → 0) moved along the ray by up to 0.024–0.030 in
-/// Q16.16 (measured before the fix: sphere 0.029, cylinder 0.030, cone 0.024); from the
-/// nearest point Δ is O(1) and the worst is 2–3·10⁻⁴. The bound, 2·10⁻³, is 7× above
-/// the new worst and 12× below the old.
+/// Fix 1: the curved shapes form the discriminant by Lagrange's identity
+/// (`shapes::solve_lagrange`). From 12 radii away b² − 4ac gave c ≈ 140 and an absolute
+/// error of ≈ 0.02 in Δ, so hits near the silhouette (Δ → 0) moved along the ray by up to
+/// 0.024–0.030 in Q16.16 (measured before the fix: sphere 0.029, cylinder 0.030, cone
+/// 0.024); with the identity the worst is 1–3·10⁻⁴. The bound, 2·10⁻³, is 7× above the
+/// new worst and 12× below the old.
 #[test]
 fn silhouette_hits_from_afar_are_accurate_in_q16_16() {
     let cases = [
         // sphere: rays from z = 12 sweeping across the rim at x = 1
-        (Shape::Sphere, [0.3, 0.4, 12.0], [0.6, 0.4, 0.0], [1.2, 0.4, 0.0]),
+        (
+            Shape::Sphere,
+            [0.3, 0.4, 12.0],
+            [0.6, 0.4, 0.0],
+            [1.2, 0.4, 0.0],
+        ),
         // cylinder: across its side silhouette at x = 1
-        (Shape::Cylinder, [0.2, 0.3, 12.0], [0.6, 0.1, 0.0], [1.2, 0.1, 0.0]),
+        (
+            Shape::Cylinder,
+            [0.2, 0.3, 12.0],
+            [0.6, 0.1, 0.0],
+            [1.2, 0.1, 0.0],
+        ),
         // cone: across the apex region and a side
-        (Shape::Cone, [-3.7, 1.45, 11.3], [0.0, 0.2, 0.0], [0.9, 0.95, 0.0]),
+        (
+            Shape::Cone,
+            [-3.7, 1.45, 11.3],
+            [0.0, 0.2, 0.0],
+            [0.9, 0.95, 0.0],
+        ),
     ];
     for (shape, o, from, to) in cases {
         let (worst, hits) = worst_hit_error(shape, o, from, to);

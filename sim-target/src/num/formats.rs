@@ -142,6 +142,15 @@ macro_rules! fixed_scalar {
                 ))
             }
             #[inline(always)]
+            fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
+                let w = |x: Self| x.0.to_bits() as $wide;
+                let p = (w(a) * w(b)).saturating_add(w(c) * w(d));
+                let p = p.saturating_add(1 << ($frac - 1)) >> $frac;
+                Self(<$inner>::from_bits(
+                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
+                ))
+            }
+            #[inline(always)]
             fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self {
                 // A product of two $bits needs at most 2·bits − 1 bits of $wide; the sum of
                 // three fits for the 32-bit formats (|p| ≤ 3·2⁶²) and saturates the

@@ -67,6 +67,11 @@ pub trait Scalar:
     fn mul_rn(self, o: Self) -> Self {
         self * o
     }
+    /// a·b + c·d, with the same contract as [`Scalar::dot3`] (one rounding in fixed point).
+    #[inline(always)]
+    fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
+        a * b + c * d
+    }
     /// a·b + c·d + e·f (a 3-term dot product). The default is the plain expression (what
     /// floats do); the fixed formats override it with the exact sum of the double-width
     /// products and one rounding at the end, as a DSP cascade with a wide accumulator

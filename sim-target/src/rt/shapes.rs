@@ -11,8 +11,8 @@ use crate::num::{self, Scalar};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Quadratic {
     /// q = −½(b + sign(b)√Δ), t₁ = q/a, t₂ = c/q: no cancellation in the roots; and the
-    /// curved shapes solve their quadric from the ray point nearest the shape's centre
-    /// ([`centred`]), so that Δ = b² − 4ac is not a small difference of large numbers.
+    /// curved shapes form Δ by Lagrange's identity ([`solve_lagrange`]), so that it is
+    /// not a small difference of large numbers.
     #[default]
     Stable,
     /// (−b ± √Δ)/2a as the seed: loses digits when b² ≫ 4ac.
@@ -67,40 +67,51 @@ pub fn sphere<S: Scalar>(o: V3<S>, d: V3<S>, tmin: S, tmax: S, m: &Math) -> Opti
     sphere_c(o, d, o.dot(o) - S::one(), tmin, tmax, m)
 }
 
-/// The ray parameter t₀ = −((o − m)·d)/(d·d) of the point nearest `m`, and that point
-/// o + t₀·d: the origin from which [`Quadratic::Stable`] solves a curved shape's quadric.
+/// Roots of a t² + 2h t + c = 0 (h = b/2) given its quarter discriminant Δ′ = h² − ac,
+/// stable form: q = −(h + sign(h)√Δ′), t₁ = q/a, t₂ = c/q.
 ///
-/// Why: with the eye ten object radii away, c = |o|² − 1 ≈ 100 and Δ = b² − 4ac is the
-/// difference of two numbers near 400·a whose rounding (≈ 2⁻¹⁶ relative each in Q16.16)
-/// leaves an absolute error of ≈ 0.02 in Δ; √Δ then misplaces the hit by up to 10⁻² near
-/// a silhouette, where Δ → 0, which flips texture lookups (the dots at the cone's edges
-/// and apex) and bends reflections (the rim of the gold sphere). From the nearest point,
-/// |o₂| ≤ the shape's size, so c₂ and Δ are O(1) with errors of a few LSB. Any t₀ gives
-/// the same roots in exact arithmetic (t = t₀ + t₂), so a rounded t₀ costs nothing; the
-/// price is one divide per curved shape. The seed's textbook formula keeps its origin.
+/// Why Δ′ is an argument: the curved shapes compute it by Lagrange's identity instead of
+/// h² − ac. With the eye ten object radii away, c = |o|² − 1 ≈ 100 and h² − ac is the
+/// difference of two numbers near 100·a whose rounding (≈ 2⁻¹⁶ relative each in Q16.16)
+/// leaves an absolute error of ≈ 0.005 in Δ′; near a silhouette, where Δ′ → 0, √Δ′ then
+/// moves the hit by up to 0.03 along the ray, which flips texture lookups (the dots at the
+/// cone's edges and apex) and bends reflections (the rim of the gold sphere). For a sphere
+/// h² − ac = |d|² − |d × o|² exactly, and |d × o| is |d| times the distance of the centre
+/// from the ray, O(1) for any ray near the sphere: Δ′ comes out of O(1) terms with errors
+/// of a few LSB, for nine more products and no divide. (Cylinder and cone: the same
+/// identity in the x–z plane and in the cone's indefinite metric.)
 #[inline(always)]
-pub fn centred<S: Scalar>(o: V3<S>, d: V3<S>, centre: V3<S>) -> (S, V3<S>) {
-    let a = d.dot(d);
-    if a <= S::zero() {
-        return (S::zero(), o);
+pub fn solve_lagrange<S: Scalar>(a: S, h: S, c: S, disc: S, m: &Math) -> Option<(S, S)> {
+    let zero = S::zero();
+    if a == zero {
+        if h == zero {
+            return None;
+        }
+        let t = -c / (h + h);
+        return Some((t, t));
     }
-    let t0 = -((o - centre).dot(d) / a);
-    (t0, o + d.scale(t0))
+    if disc < zero {
+        return None;
+    }
+    let sq = num::sqrt(disc, m.sqrt);
+    let q = if h < zero { sq - h } else { -(h + sq) };
+    let (t1, t2) = if q == zero {
+        (zero, zero)
+    } else {
+        (q / a, c / q)
+    };
+    Some(if t1 <= t2 { (t1, t2) } else { (t2, t1) })
 }
 
 /// Unit sphere with c = |o|² − 1 given: the same operations as [`sphere`], so that a
-/// kernel can compute c once for all rays from one origin (bit-identical result). With
-/// [`Quadratic::Stable`] the quadric is solved from the ray point nearest the centre
-/// ([`centred`]) and `c` is not used.
+/// kernel can compute c once for all rays from one origin (bit-identical result).
 #[inline(always)]
 pub fn sphere_c<S: Scalar>(o: V3<S>, d: V3<S>, c: S, tmin: S, tmax: S, m: &Math) -> Option<S> {
     let a = d.dot(d);
     let (t1, t2) = if m.quadratic == Quadratic::Stable {
-        let (t0, o2) = centred(o, d, V3::zero());
-        let b = S::from_f64(2.0) * d.dot(o2);
-        let c2 = o2.dot(o2) - S::one();
-        let (t1, t2) = solve_quadratic(a, b, c2, m)?;
-        (t0 + t1, t0 + t2)
+        let h = d.dot(o);
+        let x = d.cross2(o);
+        solve_lagrange(a, h, c, a - x.dot(x), m)?
     } else {
         let b = S::from_f64(2.0) * d.dot(o);
         solve_quadratic(a, b, c, m)?
@@ -171,34 +182,39 @@ pub fn cylinder<S: Scalar>(o: V3<S>, d: V3<S>, tmin: S, tmax: S, m: &Math) -> Op
     if a == S::zero() {
         return None; // parallel to the axis: the open tube is never crossed
     }
-    let two = S::from_f64(2.0);
-    let (t0, o2) = if m.quadratic == Quadratic::Stable {
-        // nearest approach to the axis (in x, z only): the centred origin of `centred`
-        let t0 = -((d.x * o.x + d.z * o.z) / a);
-        (t0, o + d.scale(t0))
+    let c = o.x * o.x + o.z * o.z - S::one();
+    let r = if m.quadratic == Quadratic::Stable {
+        let h = S::dot2(d.x, o.x, d.z, o.z);
+        // 2-D Lagrange: h² − ac = a − (dx·oz − dz·ox)²
+        let x = S::dot2(d.x, o.z, -d.z, o.x);
+        solve_lagrange(a, h, c, a - x * x, m)?
     } else {
-        (S::zero(), o)
+        let b = S::from_f64(2.0) * (d.x * o.x + d.z * o.z);
+        solve_quadratic(a, b, c, m)?
     };
-    let b = two * (d.x * o2.x + d.z * o2.z);
-    let c = o2.x * o2.x + o2.z * o2.z - S::one();
-    let (t1, t2) = solve_quadratic(a, b, c, m)?;
-    pick_in_height((t0 + t1, t0 + t2), o, d, tmin, tmax, -S::one(), S::one())
+    pick_in_height(r, o, d, tmin, tmax, -S::one(), S::one())
 }
 
 /// Open cone x² − (y − 1)² + z² = 0, y ∈ [0, 1].
 pub fn cone<S: Scalar>(o: V3<S>, d: V3<S>, tmin: S, tmax: S, m: &Math) -> Option<S> {
     let two = S::from_f64(2.0);
-    let (t0, o2) = if m.quadratic == Quadratic::Stable {
-        // from the ray point nearest the middle of the axis (see `centred`)
-        centred(o, d, V3::new(S::zero(), S::from_f64(0.5), S::zero()))
-    } else {
-        (S::zero(), o)
-    };
     let a = d.x * d.x - d.y * d.y + d.z * d.z;
-    let b = two * (d.x * o2.x - d.y * o2.y + d.y + d.z * o2.z);
-    let c = o2.x * o2.x - o2.y * o2.y + two * o2.y - S::one() + o2.z * o2.z;
-    let (t1, t2) = solve_quadratic(a, b, c, m)?;
-    pick_in_height((t0 + t1, t0 + t2), o, d, tmin, tmax, S::zero(), S::one())
+    let r = if m.quadratic == Quadratic::Stable {
+        // from the apex: p = o − (0, 1, 0), metric diag(1, −1, 1)
+        let p = V3::new(o.x, o.y - S::one(), o.z);
+        let h = S::dot3(d.x, p.x, -d.y, p.y, d.z, p.z);
+        let c = S::dot3(p.x, p.x, -p.y, p.y, p.z, p.z);
+        // Lagrange in the indefinite metric: h² − ac = Σ −εᵢεⱼ(dᵢpⱼ − dⱼpᵢ)², ε = (1, −1, 1)
+        let xy = S::dot2(d.x, p.y, -d.y, p.x);
+        let yz = S::dot2(d.y, p.z, -d.z, p.y);
+        let xz = S::dot2(d.x, p.z, -d.z, p.x);
+        solve_lagrange(a, h, c, S::dot3(xy, xy, yz, yz, -xz, xz), m)?
+    } else {
+        let b = two * (d.x * o.x - d.y * o.y + d.y + d.z * o.z);
+        let c = o.x * o.x - o.y * o.y + two * o.y - S::one() + o.z * o.z;
+        solve_quadratic(a, b, c, m)?
+    };
+    pick_in_height(r, o, d, tmin, tmax, S::zero(), S::one())
 }
 
 /// Cube [−1, 1]³ by the slab test; from inside, the exit face.

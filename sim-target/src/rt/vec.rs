@@ -47,6 +47,17 @@ impl<S: Scalar> V3<S> {
             self.x * o.y - self.y * o.x,
         )
     }
+    /// Cross product with each component one fused two-term sum ([`Scalar::dot2`]): the
+    /// components of d × o are differences of products near |d||o| whose result is small
+    /// for rays near an object, where the kernel needs them exact to the last bit.
+    #[inline(always)]
+    pub fn cross2(self, o: Self) -> Self {
+        Self::new(
+            S::dot2(self.y, o.z, -self.z, o.y),
+            S::dot2(self.z, o.x, -self.x, o.z),
+            S::dot2(self.x, o.y, -self.y, o.x),
+        )
+    }
     /// Per-component product.
     #[inline(always)]
     pub fn hadamard(self, o: Self) -> Self {
