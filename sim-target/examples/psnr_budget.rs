@@ -4,6 +4,8 @@
 //! removed), per error size — plus a heat-map PNG of the per-pixel error.
 //!
 //! `cargo run --release -p sim-target --example psnr_budget -- [W H] [format] [scene] [heat.png]`
+//! (`PSNR_ONLY=1`: only the PSNR line; `HEAT_CROP=x,y,w,h,zoom`: enlarge a window of the
+//! heat map).
 //!
 //! A measuring tool for docs/rt.md, not a shipped command.
 
@@ -104,6 +106,11 @@ fn main() {
         db(total / denom),
         total / denom
     );
+
+    // PSNR_ONLY=1: just the figure (for the per-format table)
+    if std::env::var_os("PSNR_ONLY").is_some() {
+        return;
+    }
 
     // per object of the primary hit
     let id = ids(&scene, w, h);

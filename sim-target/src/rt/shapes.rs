@@ -103,6 +103,19 @@ pub fn solve_lagrange<S: Scalar>(a: S, h: S, c: S, disc: S, m: &Math) -> Option<
     Some(if t1 <= t2 { (t1, t2) } else { (t2, t1) })
 }
 
+/// True when the plain quarter discriminant h² − ac is so negative that the ray misses in
+/// any format: below −2⁻⁸·(h² + |ac|) − 2⁻⁶, far beyond its rounding (a few ulp relative
+/// in the floats, f16 included; a few LSB of |h|, |a|, |c| in the fixed formats, whose
+/// saturation can only push a saturated a·c further down). Why: the Lagrange form costs
+/// nine products more; with this test only rays passing near the shape pay them, and the
+/// result is bit for bit the Lagrange form's (a rejected ray misses either way).
+#[inline(always)]
+fn clearly_misses<S: Scalar>(a: S, h: S, c: S) -> bool {
+    let hh = h * h;
+    let ac = a * c;
+    hh - ac < -((hh + ac.abs()) * S::from_f64(1.0 / 256.0) + S::from_f64(1.0 / 64.0))
+}
+
 /// Unit sphere with c = |o|² − 1 given: the same operations as [`sphere`], so that a
 /// kernel can compute c once for all rays from one origin (bit-identical result).
 #[inline(always)]
@@ -110,6 +123,9 @@ pub fn sphere_c<S: Scalar>(o: V3<S>, d: V3<S>, c: S, tmin: S, tmax: S, m: &Math)
     let a = d.dot(d);
     let (t1, t2) = if m.quadratic == Quadratic::Stable {
         let h = d.dot(o);
+        if clearly_misses(a, h, c) {
+            return None;
+        }
         let x = d.cross2(o);
         solve_lagrange(a, h, c, a - x.dot(x), m)?
     } else {
@@ -185,6 +201,9 @@ pub fn cylinder<S: Scalar>(o: V3<S>, d: V3<S>, tmin: S, tmax: S, m: &Math) -> Op
     let c = o.x * o.x + o.z * o.z - S::one();
     let r = if m.quadratic == Quadratic::Stable {
         let h = S::dot2(d.x, o.x, d.z, o.z);
+        if clearly_misses(a, h, c) {
+            return None;
+        }
         // 2-D Lagrange: h² − ac = a − (dx·oz − dz·ox)²
         let x = S::dot2(d.x, o.z, -d.z, o.x);
         solve_lagrange(a, h, c, a - x * x, m)?
@@ -204,6 +223,9 @@ pub fn cone<S: Scalar>(o: V3<S>, d: V3<S>, tmin: S, tmax: S, m: &Math) -> Option
         let p = V3::new(o.x, o.y - S::one(), o.z);
         let h = S::dot3(d.x, p.x, -d.y, p.y, d.z, p.z);
         let c = S::dot3(p.x, p.x, -p.y, p.y, p.z, p.z);
+        if clearly_misses(a, h, c) {
+            return None;
+        }
         // Lagrange in the indefinite metric: h² − ac = Σ −εᵢεⱼ(dᵢpⱼ − dⱼpᵢ)², ε = (1, −1, 1)
         let xy = S::dot2(d.x, p.y, -d.y, p.x);
         let yz = S::dot2(d.y, p.z, -d.z, p.y);
