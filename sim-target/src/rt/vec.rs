@@ -61,7 +61,7 @@ impl<S: Scalar> V3<S> {
     /// Per-component product.
     #[inline(always)]
     pub fn hadamard(self, o: Self) -> Self {
-        Self::new(self.x * o.x, self.y * o.y, self.z * o.z)
+        Self::new(self.x.mul_rn(o.x), self.y.mul_rn(o.y), self.z.mul_rn(o.z))
     }
     /// Scale by a scalar.
     #[inline(always)]
