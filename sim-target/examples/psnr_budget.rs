@@ -125,14 +125,13 @@ fn main() {
         .chain([("background".to_string(), 0.0, 0, 0)])
         .collect();
     let bg = per.len() - 1;
-    for (i, (ei, idi)) in e.iter().zip(&id).enumerate() {
+    for (ei, idi) in e.iter().zip(&id) {
         let k = idi.unwrap_or(bg);
         per[k].1 += ei;
         per[k].2 += 1;
         if *ei > 0.0 {
             per[k].3 += 1;
         }
-        let _ = i;
     }
     per.sort_by(|a, b| b.1.total_cmp(&a.1));
     println!("\nper primary-hit object: share of squared error, pixels, pixels differing");
