@@ -438,3 +438,82 @@ mod published {
         check("pow Q16.16 abs", abs, 1.2e-3);
     }
 }
+
+mod rounded_ops {
+    //! `Scalar::mul_rn` and `Scalar::dot3` of the fixed formats round once to nearest
+    //! (the kernel's vector operations rely on it, docs/rt.md "Where the Q16.16 error came
+    //! from"); the floats' defaults are the plain expressions, bit for bit.
+    use proptest::prelude::*;
+    use sim_target::num::{Scalar, Q16_16, Q32_32};
+
+    fn q(bits: i32) -> Q16_16 {
+        Q16_16(fixed::types::I16F16::from_bits(bits))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        /// Within half an LSB of the exact product (the truncating `*` is off by up to
+        /// one LSB, always downwards), and never further than one LSB from `*`.
+        #[test]
+        fn q16_16_mul_rn_rounds_to_nearest(a in any::<i32>(), b in any::<i32>(), sh in 0u32..31) {
+            for (a, b) in [(a, b), (a >> sh, b >> sh), (a >> sh, b)] {
+                let exact = a as i128 * b as i128; // in units of 2⁻³²
+                let got = q(a).mul_rn(q(b)).0.to_bits() as i128;
+                if got != i32::MAX as i128 && got != i32::MIN as i128 {
+                    prop_assert!((got * 65536 - exact).abs() <= 32768, "{a} {b}");
+                }
+                let trunc = (q(a) * q(b)).0.to_bits() as i128;
+                prop_assert!(got - trunc == 0 || got - trunc == 1);
+            }
+        }
+
+        /// One rounding of the exact sum of three products (not five roundings).
+        #[test]
+        fn q16_16_dot3_rounds_once(v in prop::array::uniform6(-(1i32 << 22)..(1i32 << 22))) {
+            let exact: i128 = (0..3).map(|i| v[2 * i] as i128 * v[2 * i + 1] as i128).sum();
+            let got = Q16_16::dot3(q(v[0]), q(v[1]), q(v[2]), q(v[3]), q(v[4]), q(v[5]));
+            prop_assert!((got.0.to_bits() as i128 * 65536 - exact).abs() <= 32768);
+        }
+
+        /// The two-term form (cross products, the cones' Lagrange terms) likewise.
+        #[test]
+        fn q16_16_dot2_rounds_once(v in prop::array::uniform4(-(1i32 << 23)..(1i32 << 23))) {
+            let exact = v[0] as i128 * v[1] as i128 + v[2] as i128 * v[3] as i128;
+            let got = Q16_16::dot2(q(v[0]), q(v[1]), q(v[2]), q(v[3]));
+            prop_assert!((got.0.to_bits() as i128 * 65536 - exact).abs() <= 32768);
+        }
+
+        /// Q32.32 (64-bit words, 128-bit products) the same way.
+        #[test]
+        fn q32_32_dot3_rounds_once(v in prop::array::uniform6(-(1i64 << 40)..(1i64 << 40))) {
+            let x = |b: i64| Q32_32(fixed::types::I32F32::from_bits(b));
+            let exact: i128 = (0..3).map(|i| v[2 * i] as i128 * v[2 * i + 1] as i128).sum();
+            let got = Q32_32::dot3(x(v[0]), x(v[1]), x(v[2]), x(v[3]), x(v[4]), x(v[5]));
+            let err = got.0.to_bits() as i128 * (1i128 << 32) - exact;
+            prop_assert!(err.abs() <= 1i128 << 31);
+        }
+
+        /// Floats keep their own arithmetic (f32/f64 images do not change).
+        #[test]
+        fn float_defaults_are_the_plain_expressions(v in prop::array::uniform6(-1e3f64..1e3)) {
+            prop_assert_eq!(f64::dot3(v[0], v[1], v[2], v[3], v[4], v[5]).to_bits(),
+                (v[0] * v[1] + v[2] * v[3] + v[4] * v[5]).to_bits());
+            prop_assert_eq!(v[0].mul_rn(v[1]).to_bits(), (v[0] * v[1]).to_bits());
+            let w = v.map(|x| x as f32);
+            prop_assert_eq!(f32::dot3(w[0], w[1], w[2], w[3], w[4], w[5]).to_bits(),
+                (w[0] * w[1] + w[2] * w[3] + w[4] * w[5]).to_bits());
+        }
+    }
+
+    #[test]
+    fn saturation_at_the_extremes() {
+        let max = q(i32::MAX);
+        let min = q(i32::MIN);
+        assert_eq!(max.mul_rn(max), max);
+        assert_eq!(min.mul_rn(max), min);
+        assert_eq!(Q16_16::dot3(max, max, max, max, max, max), max);
+        assert_eq!(Q16_16::dot3(min, max, min, max, min, max), min);
+        let xm = Q32_32(fixed::types::I32F32::MAX);
+        assert_eq!(Q32_32::dot3(xm, xm, xm, xm, xm, xm), xm);
+    }
+}

@@ -94,7 +94,7 @@ fn c<S: Scalar>(x: f64) -> S {
 fn horner<S: Scalar>(x: S, coeffs: &[f64]) -> S {
     let mut acc = S::zero();
     for &k in coeffs.iter().rev() {
-        acc = acc * x + c(k);
+        acc = acc.mul_rn(x) + c(k);
     }
     acc
 }
@@ -123,8 +123,8 @@ fn atan_unit<S: Scalar>(z: S, kind: AtanKind) -> S {
             z * (c::<S>(0.9724) - c::<S>(0.1919) * z2)
         }
         AtanKind::Minimax11 => {
-            let z2 = z * z;
-            z * horner(
+            let z2 = z.mul_rn(z);
+            z.mul_rn(horner(
                 z2,
                 &[
                     0.999_977_26,
@@ -134,7 +134,7 @@ fn atan_unit<S: Scalar>(z: S, kind: AtanKind) -> S {
                     0.052_653_32,
                     -0.011_721_20,
                 ],
-            )
+            ))
         }
     }
 }

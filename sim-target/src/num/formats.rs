@@ -132,6 +132,38 @@ macro_rules! fixed_scalar {
                     Self::from_f64(1.0 / self.to_f64().sqrt())
                 }
             }
+            #[inline(always)]
+            fn mul_rn(self, o: Self) -> Self {
+                // round half up: add half an LSB of the result before the floor shift
+                let p = self.0.to_bits() as $wide * o.0.to_bits() as $wide;
+                let p = p.saturating_add(1 << ($frac - 1)) >> $frac;
+                Self(<$inner>::from_bits(
+                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
+                ))
+            }
+            #[inline(always)]
+            fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
+                let w = |x: Self| x.0.to_bits() as $wide;
+                let p = (w(a) * w(b)).saturating_add(w(c) * w(d));
+                let p = p.saturating_add(1 << ($frac - 1)) >> $frac;
+                Self(<$inner>::from_bits(
+                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
+                ))
+            }
+            #[inline(always)]
+            fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self {
+                // A product of two $bits needs at most 2·bits − 1 bits of $wide; the sum of
+                // three fits for the 32-bit formats (|p| ≤ 3·2⁶²) and saturates the
+                // accumulator only for Q32.32 operands beyond ±2³⁰, whose result clips anyway.
+                let w = |x: Self| x.0.to_bits() as $wide;
+                let p = (w(a) * w(b))
+                    .saturating_add(w(c) * w(d))
+                    .saturating_add(w(e) * w(f));
+                let p = p.saturating_add(1 << ($frac - 1)) >> $frac;
+                Self(<$inner>::from_bits(
+                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
+                ))
+            }
             fn max_value() -> Self {
                 Self(<$inner>::MAX)
             }

@@ -58,6 +58,28 @@ pub trait Scalar:
             Self::max_value()
         }
     }
+    /// x·y rounded to nearest. Floats already round every product, so the default is
+    /// `*`; the fixed formats override it because their `*` truncates (floor, `ap_fixed`'s
+    /// default AP_TRN): a biased error of up to one LSB per product that the vector
+    /// operations accumulate (ray directions, hit points). Rounding is one more adder on
+    /// the product's first discarded bit (AP_RND).
+    #[inline(always)]
+    fn mul_rn(self, o: Self) -> Self {
+        self * o
+    }
+    /// a·b + c·d, with the same contract as [`Scalar::dot3`] (one rounding in fixed point).
+    #[inline(always)]
+    fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
+        a * b + c * d
+    }
+    /// a·b + c·d + e·f (a 3-term dot product). The default is the plain expression (what
+    /// floats do); the fixed formats override it with the exact sum of the double-width
+    /// products and one rounding at the end, as a DSP cascade with a wide accumulator
+    /// computes it: one rounding error instead of five.
+    #[inline(always)]
+    fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self {
+        a * b + c * d + e * f
+    }
     /// Largest finite value: the kernel's "infinity" for formats without one.
     fn max_value() -> Self;
     /// The format's rounding as (relative, absolute): one operation's result near

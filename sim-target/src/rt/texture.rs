@@ -105,7 +105,7 @@ pub fn map_uv<S: Scalar>(mapping: Mapping, p: V3<S>, m: &Math) -> (S, S) {
     let half = S::from_f64(0.5);
     let one = S::one();
     let around = || {
-        let a = num::atan2(p.x, p.z, m.atan) * S::from_f64(1.0 / (2.0 * PI));
+        let a = num::atan2(p.x, p.z, m.atan).mul_rn(S::from_f64(1.0 / (2.0 * PI)));
         if a < S::zero() {
             a + one
         } else {
@@ -113,11 +113,11 @@ pub fn map_uv<S: Scalar>(mapping: Mapping, p: V3<S>, m: &Math) -> (S, S) {
         }
     };
     match mapping {
-        Mapping::Planar => ((p.x + one) * half, (p.z + one) * half),
-        Mapping::Cylindrical => (around(), (p.y + one) * half),
+        Mapping::Planar => ((p.x + one).mul_rn(half), (p.z + one).mul_rn(half)),
+        Mapping::Cylindrical => (around(), (p.y + one).mul_rn(half)),
         Mapping::Spherical => (
             around(),
-            one - num::acos(p.y, m.acos) * S::from_f64(1.0 / PI),
+            one - num::acos(p.y, m.acos).mul_rn(S::from_f64(1.0 / PI)),
         ),
     }
 }
@@ -163,8 +163,8 @@ fn unpack<S: Scalar>(w: u32, levels: &[S; 256]) -> V3<S> {
 /// colour (for grey textures every channel is the mix factor).
 #[inline]
 pub fn sample<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> V3<S> {
-    let u = (u * slot.scale.0 + slot.offset.0).fract();
-    let v = (v * slot.scale.1 + slot.offset.1).fract();
+    let u = (u.mul_rn(slot.scale.0) + slot.offset.0).fract();
+    let v = (v.mul_rn(slot.scale.1) + slot.offset.1).fract();
     let side = slot.side as i64;
     let sidef = S::from_f64(slot.side as f64);
     // sides are powers of two (`side_for`): the wrap is a mask, as in hardware

@@ -36,7 +36,7 @@ impl<S: Scalar> V3<S> {
     /// Dot product.
     #[inline(always)]
     pub fn dot(self, o: Self) -> S {
-        self.x * o.x + self.y * o.y + self.z * o.z
+        S::dot3(self.x, o.x, self.y, o.y, self.z, o.z)
     }
     /// Cross product.
     #[inline(always)]
@@ -47,15 +47,26 @@ impl<S: Scalar> V3<S> {
             self.x * o.y - self.y * o.x,
         )
     }
+    /// Cross product with each component one fused two-term sum ([`Scalar::dot2`]): the
+    /// components of d × o are differences of products near |d||o| whose result is small
+    /// for rays near an object, where the kernel needs them exact to the last bit.
+    #[inline(always)]
+    pub fn cross2(self, o: Self) -> Self {
+        Self::new(
+            S::dot2(self.y, o.z, -self.z, o.y),
+            S::dot2(self.z, o.x, -self.x, o.z),
+            S::dot2(self.x, o.y, -self.y, o.x),
+        )
+    }
     /// Per-component product.
     #[inline(always)]
     pub fn hadamard(self, o: Self) -> Self {
-        Self::new(self.x * o.x, self.y * o.y, self.z * o.z)
+        Self::new(self.x.mul_rn(o.x), self.y.mul_rn(o.y), self.z.mul_rn(o.z))
     }
     /// Scale by a scalar.
     #[inline(always)]
     pub fn scale(self, s: S) -> Self {
-        Self::new(self.x * s, self.y * s, self.z * s)
+        Self::new(self.x.mul_rn(s), self.y.mul_rn(s), self.z.mul_rn(s))
     }
     /// Unit vector by 1/√(v·v) with the chosen square root (zero stays zero).
     #[inline(always)]
@@ -116,9 +127,9 @@ impl<S: Scalar> M3<S> {
     pub fn mul_v(&self, v: V3<S>) -> V3<S> {
         let m = &self.0;
         V3::new(
-            m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-            m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
-            m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z,
+            S::dot3(m[0][0], v.x, m[0][1], v.y, m[0][2], v.z),
+            S::dot3(m[1][0], v.x, m[1][1], v.y, m[1][2], v.z),
+            S::dot3(m[2][0], v.x, m[2][1], v.y, m[2][2], v.z),
         )
     }
 }
