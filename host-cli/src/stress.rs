@@ -2023,6 +2023,8 @@ pub mod probe {
         fn check_neg(a: Self, r: Self);
         /// Checks `r = from_f64(x)`.
         fn check_from(x: f64, r: Self);
+        /// Checks `r = Σ aᵢ·bᵢ` computed with one rounding (`mul_rn`, `dot2`, `dot3`).
+        fn check_sum(pairs: &[(Self, Self)], r: Self);
     }
 
     macro_rules! exact_float {
@@ -2041,6 +2043,26 @@ pub mod probe {
                 }
                 #[inline]
                 fn check_neg(_a: Self, _r: Self) {}
+                #[inline]
+                fn check_sum(pairs: &[(Self, Self)], r: Self) {
+                    let finite = pairs
+                        .iter()
+                        .all(|(a, b)| a.to_f64().is_finite() && b.to_f64().is_finite());
+                    // a product beyond the range overflows to ∞ first: a NaN after that
+                    // is an overflow NaN, as with the separate operations
+                    let max = <$t as Scalar>::max_value().to_f64();
+                    let overflow = pairs
+                        .iter()
+                        .any(|(a, b)| (a.to_f64() * b.to_f64()).abs() > max);
+                    let r = r.to_f64();
+                    if r.is_nan() && finite && !overflow {
+                        note(|s| s.nans += 1);
+                    } else if r.is_nan() && finite {
+                        note(|s| s.overflow_nans += 1);
+                    } else if r.is_infinite() && finite {
+                        note(|s| s.saturations += 1);
+                    }
+                }
                 #[inline]
                 fn check_from(x: f64, r: Self) {
                     if r.to_f64().is_infinite() && x.is_finite() {
@@ -2086,6 +2108,30 @@ pub mod probe {
                         <$bits>::MIN as i128,
                         <$bits>::MAX as i128,
                     );
+                }
+                #[inline]
+                fn check_sum(pairs: &[(Self, Self)], r: Self) {
+                    // the exact sum of the double-width products, then the one rounding
+                    // (either direction accepted: the mode is the format's business)
+                    let wide = pairs.iter().fold(0i128, |acc, (a, b)| {
+                        acc.saturating_add(
+                            (a.0.to_bits() as i128).saturating_mul(b.0.to_bits() as i128),
+                        )
+                    });
+                    let exact = wide >> $frac;
+                    let (lo, hi) = (<$bits>::MIN as i128, <$bits>::MAX as i128);
+                    let clipped = exact.clamp(lo, hi);
+                    let got = r.0.to_bits() as i128;
+                    if clipped != exact || (got - clipped).abs() > 1 {
+                        note(|s| {
+                            if clipped != exact {
+                                s.saturations += 1;
+                            }
+                            if (got - clipped).abs() > 1 {
+                                s.wraps += 1;
+                            }
+                        });
+                    }
                 }
                 #[inline]
                 fn check_neg(a: Self, r: Self) {
@@ -2206,6 +2252,24 @@ pub mod probe {
         }
         fn rounding() -> Option<(f64, f64)> {
             S::rounding()
+        }
+        #[inline]
+        fn mul_rn(self, o: Self) -> Self {
+            let r = self.0.mul_rn(o.0);
+            S::check_sum(&[(self.0, o.0)], r);
+            Probe(r)
+        }
+        #[inline]
+        fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
+            let r = S::dot2(a.0, b.0, c.0, d.0);
+            S::check_sum(&[(a.0, b.0), (c.0, d.0)], r);
+            Probe(r)
+        }
+        #[inline]
+        fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self {
+            let r = S::dot3(a.0, b.0, c.0, d.0, e.0, f.0);
+            S::check_sum(&[(a.0, b.0), (c.0, d.0), (e.0, f.0)], r);
+            Probe(r)
         }
         #[inline]
         fn floor(self) -> Self {
