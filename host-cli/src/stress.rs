@@ -418,10 +418,25 @@ fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Catego
         }
     };
     r.counts.cases = 1;
+    if r.counts.acne > 0 && list_acne() {
+        // Debugging aid (FPGFX_STRESS_ACNE=1): which cases, in which format, have acne.
+        let fmt = r.formats.iter().position(|f| f.renders > 0).unwrap_or(0);
+        eprintln!(
+            "acne: case {index} {} {}/{} pixels",
+            numeric_name(Numeric::ALL[fmt]),
+            r.counts.acne,
+            r.counts.acne_checked
+        );
+    }
     if r.failure.is_none() && r.counts.failed() {
         r.failure = Some(format!("{:?}", r.counts));
     }
     (cat, r)
+}
+
+fn list_acne() -> bool {
+    static LIST: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *LIST.get_or_init(|| std::env::var_os("FPGFX_STRESS_ACNE").is_some())
 }
 
 /// Runs `cfg.cases` cases (or the one of `cfg.case`) on all cores. Each worker thread owns
