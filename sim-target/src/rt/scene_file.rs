@@ -395,7 +395,12 @@ pub fn parse_with_limits(
     };
     let f: FileToml = toml::from_str(text).map_err(|e| {
         let span = e.span();
-        let msg = e.message().trim().to_string();
+        // toml gives some errors (a control character such as NUL in a comment, found by
+        // the scene_file fuzz target) an empty message; the error must still say something.
+        let msg = match e.message().trim() {
+            "" => "invalid TOML (a control character or malformed text here)".to_string(),
+            m => m.to_string(),
+        };
         SceneFileError {
             file: file_name.to_string(),
             line: span.clone().map(|r| line_of(text, r.start)).unwrap_or(1),
