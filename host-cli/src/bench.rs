@@ -80,13 +80,13 @@ pub struct BenchConfig {
 /// The ray-trace approximation sets swept.
 pub const MATH_SETS: [(&str, Math); 4] = [
     ("exact", Math::EXACT),
-    ("default", Math::DEFAULT),
+    ("poly", Math::POLY),
     ("seed", Math::SEED),
     ("better", Math::BETTER),
 ];
 
-/// The default configuration of the product: f32 with `Math::default()`.
-pub const DEFAULT_RT: (Numeric, &str) = (Numeric::F32, "default");
+/// The default configuration of the product: f32 with `Math::default()` (= `exact`).
+pub const DEFAULT_RT: (Numeric, &str) = (Numeric::F32, "exact");
 /// The raster file default: 8 sub-pixel bits, no AA.
 pub const DEFAULT_RASTER: (u8, AaPattern, u8) = (8, AaPattern::None, 1);
 

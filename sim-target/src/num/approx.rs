@@ -11,13 +11,14 @@ pub enum AtanKind {
     /// Seed: 0.9724z − 0.1919z³ (max error 0.00496 rad per the seed).
     Seed,
     /// Degree-11 odd minimax polynomial (max error about 2·10⁻⁶ rad).
-    #[default]
     Minimax11,
     /// 33-entry table of atan over [0, 1] and linear interpolation (max error 7.9·10⁻⁵
     /// rad): one multiply against the seed polynomial's three.
     Lut33,
-    /// A correctly rounded arctangent core, modelled through f64 (the "exact" reference
-    /// set of `fpgfx bench`).
+    /// A correctly rounded arctangent core, modelled through f64 (a CORDIC in hardware).
+    /// The default: on `fpgfx bench`'s cost model it is cheaper than the degree-11
+    /// polynomial and exact (docs/bench.md), so the polynomial is off the front.
+    #[default]
     Exact,
 }
 
@@ -29,13 +30,14 @@ pub enum AcosKind {
     /// √(1−x)·(cubic), Abramowitz–Stegun 4.4.45.
     Sqrt4,
     /// √(1−x)·(degree 7), Abramowitz–Stegun 4.4.46.
-    #[default]
     Sqrt8,
     /// Table indexed by binade of 1 − |x| (a leading-zero count, 8 entries per binade, 17
     /// binades) and linear interpolation: the seed's cost (one multiply, two lookups) but
     /// the √ cusp at ±1 is followed, so the error drops from 6.2·10⁻² to below 10⁻³ rad.
     BinadeLut,
-    /// A correctly rounded arccosine core, modelled through f64.
+    /// A correctly rounded arccosine core, modelled through f64 (CORDIC). The default, for
+    /// the same reason as [`AtanKind::Exact`].
+    #[default]
     Exact,
 }
 

@@ -55,9 +55,15 @@ impl Math {
         acos: AcosKind::SeedLut33,
     };
 
-    /// What `Math::default()` is, usable in const context: the format's √ and 1/√, the
-    /// stable quadratic, minimax-11 atan and A&S 4.4.46 acos.
-    pub const DEFAULT: Math = Math {
+    /// What `Math::default()` is, usable in const context: the format's cores for √, 1/√,
+    /// atan and acos and the stable quadratic, i.e. [`Math::EXACT`]. It used to be
+    /// [`Math::POLY`]; `fpgfx bench`'s full run showed the polynomials cost more than
+    /// CORDIC cores and score lower, so that default was off the Pareto front.
+    pub const DEFAULT: Math = Math::EXACT;
+
+    /// Polynomials instead of atan/acos cores: odd minimax degree 11 atan and A&S 4.4.46
+    /// acos (the default until the bench put it off the front).
+    pub const POLY: Math = Math {
         sqrt: SqrtKind::Exact,
         quadratic: Quadratic::Stable,
         atan: AtanKind::Minimax11,
