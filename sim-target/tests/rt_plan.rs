@@ -46,6 +46,20 @@ fn frame(scene: &Scene, numeric: Numeric, math: Math, kernel: Kernel) -> rt::Fra
     .expect("renders")
 }
 
+/// RGB, depth and normal AOVs bit for bit, and the ray counts.
+fn assert_same_frame(a: &rt::Frame, b: &rt::Frame, what: &str) {
+    assert!(
+        a.rgb8 == b.rgb8,
+        "{what}: {} of {} bytes differ",
+        a.rgb8.iter().zip(&b.rgb8).filter(|(x, y)| x != y).count(),
+        a.rgb8.len()
+    );
+    let bits = |v: &Option<Vec<f32>>| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&a.depth), bits(&b.depth), "{what}: depth");
+    assert_eq!(bits(&a.normal), bits(&b.normal), "{what}: normal");
+    assert_eq!(a.stats.rays(), b.stats.rays(), "{what}: ray count");
+}
+
 #[test]
 fn planned_kernels_are_bit_identical_to_the_general_one() {
     let mut kernels = std::collections::BTreeSet::new();
@@ -55,22 +69,11 @@ fn planned_kernels_are_bit_identical_to_the_general_one() {
             for math in [Math::default(), Math::SEED] {
                 let p = frame(&scene, numeric, math, Kernel::Planned);
                 let g = frame(&scene, numeric, math, Kernel::General);
-                assert!(
-                    p.rgb8 == g.rgb8,
-                    "{name} {numeric:?} {math:?} rgb: {} of {} bytes differ",
-                    p.rgb8.iter().zip(&g.rgb8).filter(|(a, b)| a != b).count(),
-                    p.rgb8.len()
+                assert_same_frame(
+                    &p,
+                    &g,
+                    &format!("{name} {numeric:?} {math:?} planned/general"),
                 );
-                let bits = |v: &Option<Vec<f32>>| {
-                    v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>()
-                };
-                assert_eq!(bits(&p.depth), bits(&g.depth), "{name} {numeric:?} depth");
-                assert_eq!(
-                    bits(&p.normal),
-                    bits(&g.normal),
-                    "{name} {numeric:?} normal"
-                );
-                assert_eq!(p.stats.rays(), g.stats.rays(), "{name} ray count");
             }
         }
     }
@@ -198,19 +201,7 @@ fn culling_is_bit_identical_in_every_admitted_format() {
             ) else {
                 panic!("{name} {numeric:?} does not render");
             };
-            assert_eq!(
-                c.rgb8, n.rgb8,
-                "{name} {numeric:?}: culling changed the image"
-            );
-            let bits =
-                |v: &Option<Vec<f32>>| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&c.depth), bits(&n.depth), "{name} {numeric:?} depth");
-            assert_eq!(
-                bits(&c.normal),
-                bits(&n.normal),
-                "{name} {numeric:?} normal"
-            );
-            assert_eq!(c.stats.rays(), n.stats.rays(), "{name} {numeric:?} rays");
+            assert_same_frame(&c, &n, &format!("{name} {numeric:?} culled/unculled"));
         }
     }
 }
