@@ -52,12 +52,20 @@ fn quick_bench_writes_outputs_and_default_is_on_the_front() {
     assert_eq!(f64_exact.mismatched, 0);
     assert_eq!(f64_exact.psnr, bench::PSNR_CAP);
     // Q16.16 with the seed's approximations is measurably worse than f32
-    let psnr = |c: &str| report.rt.iter().find(|p| p.config == c).map(|p| p.psnr);
-    assert!(psnr("q16.16/seed") < psnr("f32/default"));
+    let psnr = |c: &str| {
+        let p = report.rt.iter().find(|p| p.config == c);
+        p.map(|p| p.psnr)
+            .unwrap_or_else(|| panic!("{c} not measured"))
+    };
+    assert!(psnr("q16.16/seed") < psnr("f32/exact"));
     // cost ranks formats by datapath width
-    let cost = |c: &str| report.rt.iter().find(|p| p.config == c).map(|p| p.cost);
-    assert!(cost("f16/default") < cost("f32/default"));
-    assert!(cost("f32/default") < cost("f64/default"));
+    let cost = |c: &str| {
+        let p = report.rt.iter().find(|p| p.config == c);
+        p.map(|p| p.cost)
+            .unwrap_or_else(|| panic!("{c} not measured"))
+    };
+    assert!(cost("f16/exact") < cost("f32/exact"));
+    assert!(cost("f32/exact") < cost("f64/exact"));
     let d = report.rt.iter().find(|p| p.is_default).expect("rt default");
     assert!(d.front, "rt default off the front: {d:?}");
     // The raster default (8 bits, no AA) is NOT asserted: the example files put every
