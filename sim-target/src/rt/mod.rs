@@ -10,6 +10,8 @@
 
 pub mod cull;
 pub mod output;
+mod pretest;
+use pretest::RayF32;
 pub mod scene;
 pub mod scene_file;
 pub mod shade;
@@ -345,43 +347,6 @@ struct PObj<S> {
     /// |eye′|² − 1: a sphere's c for every primary ray (the spheres-only kernel's hoist).
     eye_c: S,
     material: usize,
-    /// The plan's culling sphere for secondary rays (None: always tested).
-    bound: Option<CullSphere>,
-}
-
-/// A secondary ray in f32 for the culling pretest, converted once per ray.
-struct RayF32 {
-    o: [f32; 3],
-    d: [f32; 3],
-    /// |d|²
-    dd: f32,
-    /// |o|₁, for the rounding allowance.
-    omag: f32,
-}
-
-impl RayF32 {
-    #[inline(always)]
-    fn new<S: Scalar>(o: V3<S>, d: V3<S>) -> Self {
-        let g = |v: S| v.to_f64() as f32;
-        let (o, d) = ([g(o.x), g(o.y), g(o.z)], [g(d.x), g(d.y), g(d.z)]);
-        RayF32 {
-            o,
-            d,
-            dd: d[0] * d[0] + d[1] * d[1] + d[2] * d[2],
-            omag: o[0].abs() + o[1].abs() + o[2].abs(),
-        }
-    }
-}
-
-/// [`cull::Bound`] in f32 for the secondary rays' pretest.
-struct CullSphere {
-    c: [f32; 3],
-    /// Radius² (with the slack).
-    r2: f32,
-    /// Squared safe distance (capped so that an overflowed origin is never culled).
-    safe2: f32,
-    /// |c|₁, for the rounding allowance.
-    cmag: f32,
 }
 
 struct PLight<S> {
@@ -410,6 +375,8 @@ struct PMat<S> {
 
 struct Prepared<S> {
     objs: Vec<PObj<S>>,
+    /// The objects' culling spheres, for the secondary rays' pretest.
+    spheres: pretest::Spheres,
     /// World-space camera position (primary rays' origin).
     eye: V3<S>,
     lights: Vec<PLight<S>>,
@@ -507,8 +474,7 @@ fn prepare<S: Scalar>(
     let objs = scene
         .objects
         .iter()
-        .enumerate()
-        .map(|(k, o)| {
+        .map(|o| {
             // M = T·R·S, M⁻¹ = S⁻¹·Rᵀ (on the linear part)
             let r = f::rotation(o.rotate);
             let sinv = f::diag(o.scale.map(|s| 1.0 / s));
@@ -524,12 +490,6 @@ fn prepare<S: Scalar>(
                 eye: V3::zero(),
                 eye_c: S::zero(),
                 material: o.material,
-                bound: bounds.get(k).copied().flatten().map(|b| CullSphere {
-                    c: b.centre.map(|v| v as f32),
-                    r2: (b.radius * b.radius) as f32,
-                    safe2: (b.safe_distance * b.safe_distance).min(1e30) as f32,
-                    cmag: b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32,
-                }),
             };
             ob.eye = ob.to_object(eye, V3::zero()).0;
             ob.eye_c = ob.eye.dot(ob.eye) - S::one();
@@ -626,6 +586,7 @@ fn prepare<S: Scalar>(
         .collect();
     Prepared {
         objs,
+        spheres: pretest::Spheres::new(bounds),
         eye,
         lights,
         mats,
@@ -667,35 +628,6 @@ struct Hit<S> {
 }
 
 impl<S: Scalar> PObj<S> {
-    /// False only when the ray certainly misses the object's culling sphere: the plan's
-    /// pretest for secondary rays, in f32 whatever the format, with an allowance for f32's
-    /// rounding of o, c and the products. NaN and out-of-range origins answer true
-    /// (tested exhaustively).
-    #[inline(always)]
-    fn may_hit(&self, r: &RayF32) -> bool {
-        let Some(b) = &self.bound else {
-            return true;
-        };
-        let oc = [b.c[0] - r.o[0], b.c[1] - r.o[1], b.c[2] - r.o[2]];
-        let oc2 = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2];
-        if oc2 > b.safe2 {
-            return true;
-        }
-        // the error analysis behind the bound (`cull::bounds`) assumes a unit direction;
-        // a degenerate one (e.g. the normalisation of a zero vector) is tested in full
-        if !(r.dd > 0.25 && r.dd < 4.0) {
-            return true;
-        }
-        let tca = oc[0] * r.d[0] + oc[1] * r.d[1] + oc[2] * r.d[2];
-        // the centre behind the origin and the origin outside: every point of the
-        // sphere has t < 0
-        let behind = tca < 0.0 && oc2 > b.r2;
-        let mag = b.cmag + r.omag;
-        // squared distance of the line from the centre (times |d|²) beyond r²
-        let apart = oc2 * r.dd - tca * tca > (b.r2 + 1e-6 * mag * mag) * r.dd;
-        !(behind || apart)
-    }
-
     /// The ray in object space.
     #[inline(always)]
     fn to_object(&self, o: V3<S>, d: V3<S>) -> (V3<S>, V3<S>) {
@@ -764,14 +696,17 @@ impl<S: Scalar> Prepared<S> {
             }
             None => {
                 let rf = RayF32::new(o, d);
-                for (i, ob) in self.objs.iter().enumerate() {
-                    if !ob.may_hit(&rf) {
-                        continue;
-                    }
-                    let (lo, ld) = ob.to_object(o, d);
-                    if let Some(t) = self.hit::<SO>(ob, lo, ld, None, best) {
-                        best = t;
-                        found = Some((i, lo, ld));
+                for c in 0..self.spheres.chunks() {
+                    let mut may = self.spheres.may_hit(c, &rf);
+                    while may != 0 {
+                        let i = c * pretest::CHUNK + may.trailing_zeros() as usize;
+                        may &= may - 1;
+                        let Some(ob) = self.objs.get(i) else { break };
+                        let (lo, ld) = ob.to_object(o, d);
+                        if let Some(t) = self.hit::<SO>(ob, lo, ld, None, best) {
+                            best = t;
+                            found = Some((i, lo, ld));
+                        }
                     }
                 }
             }
@@ -779,35 +714,39 @@ impl<S: Scalar> Prepared<S> {
         found.map(|(i, lo, ld)| (best, i, lo, ld))
     }
 
-    #[inline(always)]
-    fn blocks<const SO: bool>(
-        &self,
-        ob: &PObj<S>,
-        rf: &RayF32,
-        o: V3<S>,
-        d: V3<S>,
-        tmax: S,
-    ) -> bool {
-        if !ob.may_hit(rf) {
-            return false;
-        }
-        let (lo, ld) = ob.to_object(o, d);
-        self.hit::<SO>(ob, lo, ld, None, tmax).is_some()
-    }
-
+    /// Whether a shadow ray o + t·d, t ∈ [bias, tmax], hits any object. The pretest's
+    /// mask says which objects to test; the object that blocked this row's previous
+    /// shadow ray (`cache`) goes first, since neighbouring pixels share occluders (an
+    /// any(): the order cannot change the answer).
     #[inline]
     fn occluded<const SO: bool>(&self, o: V3<S>, d: V3<S>, tmax: S, cache: &mut usize) -> bool {
-        let first = *cache;
         let rf = RayF32::new(o, d);
-        if let Some(ob) = self.objs.get(first) {
-            if self.blocks::<SO>(ob, &rf, o, d, tmax) {
-                return true;
+        let blocks = |i: usize| {
+            self.objs.get(i).is_some_and(|ob| {
+                let (lo, ld) = ob.to_object(o, d);
+                self.hit::<SO>(ob, lo, ld, None, tmax).is_some()
+            })
+        };
+        let first = *cache;
+        for c in 0..self.spheres.chunks() {
+            let mut may = self.spheres.may_hit(c, &rf);
+            let base = c * pretest::CHUNK;
+            if first >= base && first - base < pretest::CHUNK {
+                let bit = 1u64 << (first - base);
+                if may & bit != 0 {
+                    if blocks(first) {
+                        return true;
+                    }
+                    may &= !bit;
+                }
             }
-        }
-        for (i, ob) in self.objs.iter().enumerate() {
-            if i != first && self.blocks::<SO>(ob, &rf, o, d, tmax) {
-                *cache = i;
-                return true;
+            while may != 0 {
+                let i = base + may.trailing_zeros() as usize;
+                may &= may - 1;
+                if blocks(i) {
+                    *cache = i;
+                    return true;
+                }
             }
         }
         false
