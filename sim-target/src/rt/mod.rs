@@ -28,7 +28,7 @@ pub use shapes::Quadratic;
 
 use crate::num::{AcosKind, AtanKind, Scalar, SqrtKind, Q16_16, Q24_8, Q32_32, Q8_24};
 use rayon::prelude::*;
-use shade::{DiffuseFn, DiffuseParams, SpecParams, SpecularFn};
+use shade::{DiffuseParams, SpecParams};
 use shapes::IntersectFn;
 use std::time::Instant;
 use texture::TexSlot;
@@ -366,9 +366,13 @@ struct PMat<S> {
     ambient: Option<(S, V3<S>)>,
     kd: S,
     cd: V3<S>,
-    diffuse: DiffuseFn<S>,
+    /// Oren–Nayar (else Lambert): a `match` at the call, so that the term is inlined
+    /// into the light loop (a function pointer cost a call with three vectors by value
+    /// and the spills around it, twice per light).
+    oren_nayar: bool,
     dparams: DiffuseParams<S>,
-    spec: Option<(V3<S>, SpecularFn<S>, SpecParams<S>)>,
+    /// k_s·c_s, Torrance–Sparrow (else Blinn–Phong), constants.
+    spec: Option<(V3<S>, bool, SpecParams<S>)>,
     refl: PRefl<S>,
     tex: Option<(TexSlot<S>, V3<S>)>,
 }
@@ -520,21 +524,21 @@ fn prepare<S: Scalar>(
         .materials
         .iter()
         .map(|mat| {
-            let (diffuse, sigma2): (DiffuseFn<S>, f64) = match mat.diffuse_model {
-                DiffuseModel::Lambert => (shade::lambert::<S>, 0.0),
-                DiffuseModel::OrenNayar { sigma2 } => (shade::oren_nayar::<S>, sigma2),
+            let (oren_nayar, sigma2) = match mat.diffuse_model {
+                DiffuseModel::Lambert => (false, 0.0),
+                DiffuseModel::OrenNayar { sigma2 } => (true, sigma2),
             };
             let spec = mat.specular.as_ref().map(|s| {
                 let kc = V3::from_f64(s.color).scale(S::from_f64(s.k));
                 match s.model {
                     SpecularModel::BlinnPhong => (
                         kc,
-                        shade::blinn_phong::<S> as SpecularFn<S>,
+                        false,
                         SpecParams::new(s.exponent, 1.0, 0.0, m.sqrt),
                     ),
                     SpecularModel::TorranceSparrow { eta, k } => (
                         kc,
-                        shade::torrance_sparrow::<S> as SpecularFn<S>,
+                        true,
                         SpecParams::new(s.exponent, eta, k, m.sqrt),
                     ),
                 }
@@ -576,7 +580,7 @@ fn prepare<S: Scalar>(
                     .map(|a| (S::from_f64(a.k), V3::from_f64(a.color))),
                 kd: S::from_f64(mat.diffuse.k),
                 cd: V3::from_f64(mat.diffuse.color),
-                diffuse,
+                oren_nayar,
                 dparams: DiffuseParams::oren_nayar(sigma2, m.sqrt),
                 spec,
                 refl,
@@ -894,11 +898,20 @@ impl<S: Scalar> Prepared<S> {
                     }
                 }
                 let g = ndl / dist2 * scf;
-                let fd = (mat.diffuse)(n, wi, wo, &mat.dparams);
+                let fd = if mat.oren_nayar {
+                    shade::oren_nayar(n, wi, wo, &mat.dparams)
+                } else {
+                    shade::lambert(n, wi, wo, &mat.dparams)
+                };
                 let mut brdf = kdcd.scale(fd);
                 if SP {
-                    if let Some((kscs, fs, sp)) = &mat.spec {
-                        brdf = brdf + kscs.scale(fs(n, wi, wo, sp));
+                    if let Some((kscs, ts, sp)) = &mat.spec {
+                        let fs = if *ts {
+                            shade::torrance_sparrow(n, wi, wo, sp)
+                        } else {
+                            shade::blinn_phong(n, wi, wo, sp)
+                        };
+                        brdf = brdf + kscs.scale(fs);
                     }
                 }
                 lk = lk + brdf.hadamard(l.color).scale(g);
