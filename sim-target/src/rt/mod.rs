@@ -718,6 +718,16 @@ impl<S: Scalar> Prepared<S> {
         found.map(|(i, lo, ld)| (best, i, lo, ld))
     }
 
+    /// Whether object `i` blocks the shadow ray (inlined: it runs for nearly every
+    /// candidate of every shadow ray).
+    #[inline(always)]
+    fn blocks<const SO: bool>(&self, i: usize, o: V3<S>, d: V3<S>, tmax: S) -> bool {
+        self.objs.get(i).is_some_and(|ob| {
+            let (lo, ld) = ob.to_object(o, d);
+            self.hit::<SO>(ob, lo, ld, None, tmax).is_some()
+        })
+    }
+
     /// Whether a shadow ray o + t·d, t ∈ [bias, tmax], hits any object. The pretest's
     /// mask says which objects to test; the object that blocked this row's previous
     /// shadow ray (`cache`) goes first, since neighbouring pixels share occluders (an
@@ -725,12 +735,7 @@ impl<S: Scalar> Prepared<S> {
     #[inline]
     fn occluded<const SO: bool>(&self, o: V3<S>, d: V3<S>, tmax: S, cache: &mut usize) -> bool {
         let rf = RayF32::new(o, d);
-        let blocks = |i: usize| {
-            self.objs.get(i).is_some_and(|ob| {
-                let (lo, ld) = ob.to_object(o, d);
-                self.hit::<SO>(ob, lo, ld, None, tmax).is_some()
-            })
-        };
+        let blocks = |i: usize| self.blocks::<SO>(i, o, d, tmax);
         let first = *cache;
         for c in 0..self.spheres.chunks() {
             let mut may = self.spheres.may_hit(c, &rf);
