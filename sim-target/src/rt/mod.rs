@@ -531,16 +531,12 @@ fn prepare<S: Scalar>(
             let spec = mat.specular.as_ref().map(|s| {
                 let kc = V3::from_f64(s.color).scale(S::from_f64(s.k));
                 match s.model {
-                    SpecularModel::BlinnPhong => (
-                        kc,
-                        false,
-                        SpecParams::new(s.exponent, 1.0, 0.0, m.sqrt),
-                    ),
-                    SpecularModel::TorranceSparrow { eta, k } => (
-                        kc,
-                        true,
-                        SpecParams::new(s.exponent, eta, k, m.sqrt),
-                    ),
+                    SpecularModel::BlinnPhong => {
+                        (kc, false, SpecParams::new(s.exponent, 1.0, 0.0, m.sqrt))
+                    }
+                    SpecularModel::TorranceSparrow { eta, k } => {
+                        (kc, true, SpecParams::new(s.exponent, eta, k, m.sqrt))
+                    }
                 }
             });
             let refl = match mat.reflection {

@@ -15,8 +15,8 @@ use crate::num::Scalar;
 use super::vec::V3;
 use wide::{f32x4, CmpGt, CmpLe, CmpLt};
 
-/// Objects per block: one AVX register of f32, two SSE registers.
-const LANES: usize = 8;
+/// Objects per block: one SSE register of f32.
+const LANES: usize = 4;
 /// Objects per mask word.
 pub const CHUNK: usize = 64;
 
@@ -53,28 +53,35 @@ impl RayF32 {
     }
 }
 
-/// Eight culling spheres (padding lanes never cull).
+/// Four culling spheres, one per lane (padding lanes never cull).
 #[derive(Clone, Copy)]
 struct Block {
-    cx: [f32; LANES],
-    cy: [f32; LANES],
-    cz: [f32; LANES],
+    cx: f32x4,
+    cy: f32x4,
+    cz: f32x4,
     /// Radius² (with the slack).
-    r2: [f32; LANES],
+    r2: f32x4,
     /// Squared safe distance (capped so that an overflowed origin is never culled); a
     /// lane without a bound has −1, so that every ray is beyond it.
-    safe2: [f32; LANES],
+    safe2: f32x4,
     /// |c|₁, for the rounding allowance.
-    cmag: [f32; LANES],
+    cmag: f32x4,
 }
 
-const EMPTY: Block = Block {
-    cx: [0.0; LANES],
-    cy: [0.0; LANES],
-    cz: [0.0; LANES],
-    r2: [0.0; LANES],
-    safe2: [-1.0; LANES],
-    cmag: [0.0; LANES],
+/// One sphere's lane values, gathered before they are packed into [`Block`]s.
+#[derive(Clone, Copy)]
+struct Lane {
+    c: [f32; 3],
+    r2: f32,
+    safe2: f32,
+    cmag: f32,
+}
+
+const EMPTY: Lane = Lane {
+    c: [0.0; 3],
+    r2: 0.0,
+    safe2: -1.0,
+    cmag: 0.0,
 };
 
 /// Every object's culling sphere, in blocks of [`LANES`].
@@ -89,19 +96,34 @@ pub struct Spheres {
 impl Spheres {
     /// The spheres of `bounds` (None: the object is always tested).
     pub fn new(bounds: &[Option<Bound>]) -> Spheres {
-        let mut blocks = vec![EMPTY; bounds.len().div_ceil(LANES)];
-        for (k, b) in bounds.iter().enumerate() {
-            let (Some(b), Some(blk)) = (b, blocks.get_mut(k / LANES)) else {
-                continue;
-            };
-            let l = k % LANES;
-            blk.cx[l] = b.centre[0] as f32;
-            blk.cy[l] = b.centre[1] as f32;
-            blk.cz[l] = b.centre[2] as f32;
-            blk.r2[l] = (b.radius * b.radius) as f32;
-            blk.safe2[l] = (b.safe_distance * b.safe_distance).min(1e30) as f32;
-            blk.cmag[l] = b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32;
-        }
+        let lanes: Vec<Lane> = bounds
+            .iter()
+            .map(|b| match b {
+                None => EMPTY,
+                Some(b) => Lane {
+                    c: b.centre.map(|v| v as f32),
+                    r2: (b.radius * b.radius) as f32,
+                    safe2: (b.safe_distance * b.safe_distance).min(1e30) as f32,
+                    cmag: b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32,
+                },
+            })
+            .collect();
+        let blocks = lanes
+            .chunks(LANES)
+            .map(|ch| {
+                let get = |f: &dyn Fn(&Lane) -> f32| {
+                    f32x4::new(core::array::from_fn(|l| f(ch.get(l).unwrap_or(&EMPTY))))
+                };
+                Block {
+                    cx: get(&|l| l.c[0]),
+                    cy: get(&|l| l.c[1]),
+                    cz: get(&|l| l.c[2]),
+                    r2: get(&|l| l.r2),
+                    safe2: get(&|l| l.safe2),
+                    cmag: get(&|l| l.cmag),
+                }
+            })
+            .collect();
         Spheres {
             len: bounds.len(),
             blocks,
@@ -146,36 +168,19 @@ fn cull_lanes(b: &Block, r: &RayF32) -> u8 {
     // `wide` maps each operation onto SSE (NEON, wasm SIMD, or plain arrays elsewhere):
     // every lane rounds exactly as scalar f32 does, and the compares are ordered (false
     // on NaN) exactly as Rust's `<`, `>`, `<=`.
-    let v = |a: &[f32; LANES], h: usize| {
-        f32x4::new([a[4 * h], a[4 * h + 1], a[4 * h + 2], a[4 * h + 3]])
-    };
-    let (o0, o1, o2) = (
-        f32x4::splat(r.o[0]),
-        f32x4::splat(r.o[1]),
-        f32x4::splat(r.o[2]),
-    );
-    let (d0, d1, d2) = (
-        f32x4::splat(r.d[0]),
-        f32x4::splat(r.d[1]),
-        f32x4::splat(r.d[2]),
-    );
-    let (dd, omag, k) = (f32x4::splat(r.dd), f32x4::splat(r.omag), f32x4::splat(1e-6));
-    let mut m = 0u8;
-    for h in 0..LANES / 4 {
-        let (ox, oy, oz) = (v(&b.cx, h) - o0, v(&b.cy, h) - o1, v(&b.cz, h) - o2);
-        let oc2 = ox * ox + oy * oy + oz * oz;
-        let tca = ox * d0 + oy * d1 + oz * d2;
-        let r2 = v(&b.r2, h);
-        let near = oc2.cmp_le(v(&b.safe2, h));
-        // the centre behind the origin and the origin outside: every point of the sphere
-        // has t < 0
-        let behind = tca.cmp_lt(f32x4::ZERO) & oc2.cmp_gt(r2);
-        // squared distance of the line from the centre (times |d|²) beyond r²
-        let mag = v(&b.cmag, h) + omag;
-        let apart = (oc2 * dd - tca * tca).cmp_gt((r2 + k * mag * mag) * dd);
-        m |= ((near & (behind | apart)).move_mask() as u8) << (4 * h);
-    }
-    m
+    let s = f32x4::splat;
+    let (ox, oy, oz) = (b.cx - s(r.o[0]), b.cy - s(r.o[1]), b.cz - s(r.o[2]));
+    let oc2 = ox * ox + oy * oy + oz * oz;
+    let tca = ox * s(r.d[0]) + oy * s(r.d[1]) + oz * s(r.d[2]);
+    let near = oc2.cmp_le(b.safe2);
+    // the centre behind the origin and the origin outside: every point of the sphere has
+    // t < 0
+    let behind = tca.cmp_lt(f32x4::ZERO) & oc2.cmp_gt(b.r2);
+    // squared distance of the line from the centre (times |d|²) beyond r²
+    let mag = b.cmag + s(r.omag);
+    let dd = s(r.dd);
+    let apart = (oc2 * dd - tca * tca).cmp_gt((b.r2 + s(1e-6) * mag * mag) * dd);
+    (near & (behind | apart)).move_mask() as u8
 }
 
 /// The same test on one sphere with branches, as the kernel did it before the lanes: the
