@@ -473,6 +473,7 @@ fn prepare<S: Scalar>(
     dispatch: Dispatch,
     kernel: Kernel,
     bounds: &[Option<cull::Bound>],
+    cull: bool,
 ) -> Prepared<S> {
     let eye = V3::<S>::from_f64(scene.camera.position);
     let objs = scene
@@ -584,9 +585,23 @@ fn prepare<S: Scalar>(
             }
         })
         .collect();
+    // the flat objects' side test (`pretest::Flat`): for formats that declare their
+    // rounding (not an instrumented wrapper), and only with a positive CORE_BIAS
+    let bias = S::from_f64(scene.bias);
+    let side_test = cull && S::rounding().is_some() && bias > S::zero();
+    let flats: Vec<pretest::Flat> = scene
+        .objects
+        .iter()
+        .map(|o| {
+            let flat = matches!(o.shape, Shape::Plane | Shape::Disk | Shape::Square);
+            let rotated = o.rotate.iter().any(|a| *a != 0.0);
+            (side_test && flat && !rotated && o.scale[1] != 0.0)
+                .then(|| S::from_f64(o.translate[1]).to_f64() as f32)
+        })
+        .collect();
     Prepared {
         objs,
-        spheres: pretest::Spheres::new(bounds),
+        spheres: pretest::Spheres::new(bounds, &flats),
         eye,
         lights,
         mats,
@@ -1007,7 +1022,16 @@ fn render_generic<S: Scalar>(
     } else {
         vec![None; scene.objects.len()]
     };
-    let prep = prepare::<S>(scene, plan, opts.math, opts.dispatch, opts.kernel, &bounds);
+    let cull = opts.cull && opts.kernel == Kernel::Planned;
+    let prep = prepare::<S>(
+        scene,
+        plan,
+        opts.math,
+        opts.dispatch,
+        opts.kernel,
+        &bounds,
+        cull,
+    );
     let trace = Prepared::<S>::kernel(match opts.kernel {
         Kernel::Planned => plan.features(),
         Kernel::General => Features::ALL,

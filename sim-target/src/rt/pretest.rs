@@ -66,7 +66,25 @@ struct Block {
     safe2: f32x4,
     /// |c|₁, for the rounding allowance.
     cmag: f32x4,
+    /// 1 for an unrotated flat object ([`Flat`]), else 0.
+    flat: f32x4,
+    /// Its plane's height T.y.
+    ty: f32x4,
 }
+
+/// An unrotated flat object (plane, disk or square) for the side test: the height T.y of
+/// its plane, the format's value rounded to f32.
+///
+/// Why it is exact: its test is t = −o′y/d′y with o′y = (o.y − T.y)·g and d′y = d.y·g
+/// (g = 1/scale_y ≠ 0), and a hit needs t ≥ bias > 0. f32(o.y) > f32(T.y) implies
+/// o.y > T.y in the format (rounding to f32 is monotonic), so o.y − T.y > 0 (a float
+/// difference of distinct values is not zero; a fixed one is exact or saturates) and
+/// o′y has the sign of g or is 0; f32(d.y) > 0 likewise gives d′y the sign of g or 0.
+/// Same signs (or a zero) make the quotient ≥ 0 in every format (a fixed divider
+/// truncates toward zero), so t ≤ 0 < bias: no hit. The mirror case (below the plane,
+/// moving down) is the same. NaN compares false and is never culled. This removes the
+/// floor from every shadow and reflected ray that leaves it upwards.
+pub type Flat = Option<f32>;
 
 /// One sphere's lane values, gathered before they are packed into [`Block`]s.
 #[derive(Clone, Copy)]
@@ -75,6 +93,7 @@ struct Lane {
     r2: f32,
     safe2: f32,
     cmag: f32,
+    flat: Flat,
 }
 
 const EMPTY: Lane = Lane {
@@ -82,6 +101,7 @@ const EMPTY: Lane = Lane {
     r2: 0.0,
     safe2: -1.0,
     cmag: 0.0,
+    flat: None,
 };
 
 /// Every object's culling sphere, in blocks of [`LANES`].
@@ -94,18 +114,25 @@ pub struct Spheres {
 }
 
 impl Spheres {
-    /// The spheres of `bounds` (None: the object is always tested).
-    pub fn new(bounds: &[Option<Bound>]) -> Spheres {
+    /// The spheres of `bounds` (None: not culled by a sphere) and the side tests of
+    /// `flats` (one per object; None: no side test). An object with neither is always
+    /// tested.
+    pub fn new(bounds: &[Option<Bound>], flats: &[Flat]) -> Spheres {
         let lanes: Vec<Lane> = bounds
             .iter()
-            .map(|b| match b {
-                None => EMPTY,
-                Some(b) => Lane {
-                    c: b.centre.map(|v| v as f32),
-                    r2: (b.radius * b.radius) as f32,
-                    safe2: (b.safe_distance * b.safe_distance).min(1e30) as f32,
-                    cmag: b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32,
-                },
+            .enumerate()
+            .map(|(k, b)| {
+                let flat = flats.get(k).copied().flatten();
+                match b {
+                    None => Lane { flat, ..EMPTY },
+                    Some(b) => Lane {
+                        c: b.centre.map(|v| v as f32),
+                        r2: (b.radius * b.radius) as f32,
+                        safe2: (b.safe_distance * b.safe_distance).min(1e30) as f32,
+                        cmag: b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32,
+                        flat,
+                    },
+                }
             })
             .collect();
         let blocks = lanes
@@ -121,13 +148,15 @@ impl Spheres {
                     r2: get(&|l| l.r2),
                     safe2: get(&|l| l.safe2),
                     cmag: get(&|l| l.cmag),
+                    flat: get(&|l| if l.flat.is_some() { 1.0 } else { 0.0 }),
+                    ty: get(&|l| l.flat.unwrap_or(0.0)),
                 }
             })
             .collect();
         Spheres {
             len: bounds.len(),
             blocks,
-            any: bounds.iter().any(Option::is_some),
+            any: lanes.iter().any(|l| l.safe2 >= 0.0 || l.flat.is_some()),
         }
     }
 
@@ -180,13 +209,32 @@ fn cull_lanes(b: &Block, r: &RayF32) -> u8 {
     let mag = b.cmag + s(r.omag);
     let dd = s(r.dd);
     let apart = (oc2 * dd - tca * tca).cmp_gt((b.r2 + s(1e-6) * mag * mag) * dd);
-    (near & (behind | apart)).move_mask() as u8
+    // a flat object the ray leaves on its side of the plane ([`Flat`])
+    let (y, dy, zero) = (s(r.o[1]), s(r.d[1]), f32x4::ZERO);
+    let up = y.cmp_gt(b.ty) & dy.cmp_gt(zero);
+    let down = y.cmp_lt(b.ty) & dy.cmp_lt(zero);
+    let away = b.flat.cmp_gt(zero) & (up | down);
+    ((near & (behind | apart)) | away).move_mask() as u8
 }
 
 /// The same test on one sphere with branches, as the kernel did it before the lanes: the
 /// reference the lanes are checked against.
 #[cfg(test)]
-fn may_hit_scalar(b: &Bound, r: &RayF32) -> bool {
+fn may_hit_scalar(b: Option<&Bound>, flat: Flat, r: &RayF32) -> bool {
+    if !r.unit() {
+        return true;
+    }
+    if let Some(ty) = flat {
+        let (y, dy) = (r.o[1], r.d[1]);
+        if (y > ty && dy > 0.0) || (y < ty && dy < 0.0) {
+            return false;
+        }
+    }
+    b.is_none_or(|b| may_hit_sphere(b, r))
+}
+
+#[cfg(test)]
+fn may_hit_sphere(b: &Bound, r: &RayF32) -> bool {
     let c = b.centre.map(|v| v as f32);
     let r2 = (b.radius * b.radius) as f32;
     let safe2 = (b.safe_distance * b.safe_distance).min(1e30) as f32;
@@ -230,13 +278,16 @@ mod tests {
             1 => Just(1e30f64),
             1 => Just(-3e38f64),
         ];
-        let obj = prop::option::weighted(
-            0.8,
-            (
-                prop::array::uniform3(-10.0f64..10.0),
-                0.01f64..5.0,
-                0.5f64..50.0,
+        let obj = (
+            prop::option::weighted(
+                0.8,
+                (
+                    prop::array::uniform3(-10.0f64..10.0),
+                    0.01f64..5.0,
+                    0.5f64..50.0,
+                ),
             ),
+            prop::option::weighted(0.3, prop_oneof![-3.0f32..3.0, Just(0.0f32)]),
         );
         let cases = (
             prop::collection::vec(obj, 1..140),
@@ -246,13 +297,14 @@ mod tests {
         proptest!(ProptestConfig::with_cases(600), |((objs, o, d) in cases)| {
             let bounds: Vec<Option<Bound>> = objs
                 .iter()
-                .map(|b| b.map(|(c, r, s)| bound(c, r, s)))
+                .map(|(b, _)| b.map(|(c, r, s)| bound(c, r, s)))
                 .collect();
-            let sph = Spheres::new(&bounds);
+            let flats: Vec<Flat> = objs.iter().map(|(_, f)| *f).collect();
+            let sph = Spheres::new(&bounds, &flats);
             let ray = RayF32::new(V3::new(o[0], o[1], o[2]), V3::new(d[0], d[1], d[2]));
             for (k, b) in bounds.iter().enumerate() {
                 let mask = sph.may_hit(k / CHUNK, &ray);
-                let want = b.as_ref().is_none_or(|b| may_hit_scalar(b, &ray));
+                let want = may_hit_scalar(b.as_ref(), flats[k], &ray);
                 prop_assert_eq!(mask >> (k % CHUNK) & 1 == 1, want, "object {}", k);
             }
             // no bit beyond the last object
@@ -266,15 +318,23 @@ mod tests {
     /// centre is not (the test is not vacuous).
     #[test]
     fn culls_what_it_should() {
-        let sph = Spheres::new(&[Some(bound([0.0, 0.0, -5.0], 1.0, 100.0)), None]);
+        // a sphere ahead, an unbounded object, a floor below and a ceiling above
+        let sph = Spheres::new(
+            &[Some(bound([0.0, 0.0, -5.0], 1.0, 100.0)), None, None, None],
+            &[None, None, Some(-1.0), Some(2.0)],
+        );
         let at = |d: [f64; 3]| {
             sph.may_hit(
                 0,
                 &RayF32::new(V3::new(0.0, 0.0, 0.0), V3::new(d[0], d[1], d[2])),
             )
         };
-        assert_eq!(at([0.0, 0.0, -1.0]), 0b11);
-        assert_eq!(at([0.0, 0.0, 1.0]), 0b10);
-        assert_eq!(at([1.0, 0.0, 0.0]), 0b10);
+        // level rays may hit both planes (they are not moving away from either)
+        assert_eq!(at([0.0, 0.0, -1.0]), 0b1111);
+        assert_eq!(at([0.0, 0.0, 1.0]), 0b1110);
+        assert_eq!(at([1.0, 0.0, 0.0]), 0b1110);
+        // up: away from the floor; down: away from the ceiling
+        assert_eq!(at([0.0, 0.6, -0.8]), 0b1010);
+        assert_eq!(at([0.0, -0.6, 0.8]), 0b0110);
     }
 }
