@@ -180,7 +180,7 @@ mod exact_ops {
     //! the golden images depend on it.
     use fixed::types::{I16F16, I24F8, I32F32, I8F24};
     use proptest::prelude::*;
-    use sim_target::num::{floor_f32, floor_f64, Q16_16, Q24_8, Q32_32, Q8_24};
+    use sim_target::num::{floor_f32, floor_f64, Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
 
     macro_rules! same_as_fixed {
         ($name:ident, $q:ident, $inner:ty, $bits:ty) => {
@@ -242,6 +242,29 @@ mod exact_ops {
             }
         }
     }
+
+    macro_rules! fract_floor_as_defined {
+        ($name:ident, $q:ident, $inner:ty, $bits:ty) => {
+            proptest! {
+                #![proptest_config(ProptestConfig::with_cases(20_000))]
+                /// The fixed formats' one-mask `fract` and one-shift `floor_i64` (session 5)
+                /// against their definitions: x − ⌊x⌋ with the saturating ops, and ⌊x⌋
+                /// through f64 as the kernel computed texel addresses before.
+                #[test]
+                fn $name(a in any::<$bits>(), sh in 0u32..31) {
+                    for a in [a, a >> sh, <$bits>::MIN, <$bits>::MAX, -1, 0, 1] {
+                        let x = $q(<$inner>::from_bits(a));
+                        prop_assert_eq!(x.fract(), x - x.floor());
+                        prop_assert_eq!(x.floor_i64(), x.floor().to_f64() as i64);
+                    }
+                }
+            }
+        };
+    }
+    fract_floor_as_defined!(q16_16_fract_floor_as_defined, Q16_16, I16F16, i32);
+    fract_floor_as_defined!(q8_24_fract_floor_as_defined, Q8_24, I8F24, i32);
+    fract_floor_as_defined!(q24_8_fract_floor_as_defined, Q24_8, I24F8, i32);
+    fract_floor_as_defined!(q32_32_fract_floor_as_defined, Q32_32, I32F32, i64);
 
     #[test]
     fn floor_special_values() {

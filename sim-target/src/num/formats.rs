@@ -175,6 +175,21 @@ macro_rules! fixed_scalar {
                 Self(self.0.saturating_floor())
             }
             #[inline(always)]
+            fn floor_i64(self) -> i64 {
+                // the arithmetic shift drops the fraction toward −∞: ⌊x⌋ exactly, and
+                // every format's integer part fits i64
+                (self.0.to_bits() >> $frac) as i64
+            }
+            #[inline(always)]
+            fn fract(self) -> Self {
+                // x − ⌊x⌋ is the fraction bits (the floor clears them; it cannot overflow
+                // with at least one integer bit, nor can the difference, which is in
+                // [0, 1)): one mask instead of a saturating floor and subtraction
+                Self(<$inner>::from_bits(
+                    self.0.to_bits() & ((1 << $frac) - 1),
+                ))
+            }
+            #[inline(always)]
             fn zero() -> Self {
                 Self(<$inner>::ZERO)
             }

@@ -94,6 +94,13 @@ pub trait Scalar:
     fn floor(self) -> Self {
         Self::from_f64(self.to_f64().floor())
     }
+    /// ⌊self⌋ as an integer (saturating at the i64 range, NaN → 0): a texel address. The
+    /// default goes through f64 as the kernel always did; the fixed formats override it
+    /// with the arithmetic shift that a hardware address unit uses (the same integer).
+    #[inline(always)]
+    fn floor_i64(self) -> i64 {
+        self.floor().to_f64() as i64
+    }
     /// Additive identity.
     #[inline(always)]
     fn zero() -> Self {
