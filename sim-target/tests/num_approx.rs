@@ -278,6 +278,23 @@ mod exact_ops {
             -1e-300,
             4_503_599_627_370_495.5,
             -4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            -4_503_599_627_370_497.0,
+            2_251_799_813_685_247.5,
+            -2_251_799_813_685_247.5,
+            8_388_607.5,
+            -8_388_607.5,
+            8_388_608.0,
+            4_194_303.5,
+            -4_194_303.5,
+            2.5,
+            -2.5,
+            3.5,
+            -3.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::MAX,
@@ -286,6 +303,106 @@ mod exact_ops {
             assert_eq!(floor_f64(v).to_bits(), v.floor().to_bits(), "{v}");
             let w = v as f32;
             assert_eq!(floor_f32(w).to_bits(), w.floor().to_bits(), "{w}");
+            // every f32 next to the values above (the binade edges of the 2²³ trick)
+            for w in [
+                f32::from_bits(w.to_bits().wrapping_sub(1)),
+                f32::from_bits(w.to_bits() + 1),
+            ] {
+                let (got, want) = (floor_f32(w), w.floor());
+                assert!(
+                    got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                    "{w}"
+                );
+            }
+            for u in [
+                f64::from_bits(v.to_bits().wrapping_sub(1)),
+                f64::from_bits(v.to_bits() + 1),
+            ] {
+                let (got, want) = (floor_f64(u), u.floor());
+                assert!(
+                    got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                    "{u}"
+                );
+            }
+        }
+    }
+}
+
+mod same_bits {
+    //! Session 5's cheaper sequences against verbatim copies of what they replaced, in
+    //! every format: the golden images depend on each product being the same.
+    use proptest::prelude::*;
+    use sim_target::num::{self, Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
+
+    /// `powi` before session 5.
+    fn powi_ref<S: Scalar>(x: S, e: u32) -> S {
+        let mut e = e.min(num::MAX_POW_EXPONENT);
+        let mut base = x;
+        let mut acc = S::one();
+        while e > 0 {
+            if e & 1 == 1 {
+                acc = acc * base;
+            }
+            base = base * base;
+            e >>= 1;
+        }
+        acc
+    }
+
+    fn same<S: Scalar>(a: S, b: S) -> bool {
+        let (a, b) = (a.to_f64(), b.to_f64());
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+
+    fn powi_same<S: Scalar>(x: f64, e: u32) -> Result<(), TestCaseError> {
+        let x = S::from_f64(x);
+        let (got, want) = (num::powi(x, e), powi_ref(x, e));
+        prop_assert!(
+            same(got, want),
+            "{} {x:?}^{e}: {got:?} vs {want:?}",
+            S::NAME
+        );
+        Ok(())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3_000))]
+        #[test]
+        fn powi_matches_the_textbook_loop(
+            x in prop_oneof![-1.5f64..1.5, -300.0f64..300.0, Just(0.0), Just(-0.0), Just(1.0)],
+            e in prop_oneof![0u32..=260, 0u32..=1100, Just(u32::MAX)],
+        ) {
+            powi_same::<f64>(x, e)?;
+            powi_same::<f32>(x, e)?;
+            powi_same::<half::f16>(x, e)?;
+            powi_same::<Q16_16>(x, e)?;
+            powi_same::<Q8_24>(x, e)?;
+            powi_same::<Q24_8>(x, e)?;
+            powi_same::<Q32_32>(x, e)?;
+        }
+    }
+
+    #[test]
+    fn powi_every_exponent_at_the_extremes() {
+        for e in 0..=1024 {
+            for x in [
+                f64::MAX,
+                -f64::MAX,
+                f64::NAN,
+                f64::INFINITY,
+                1e-300,
+                0.999_999,
+            ] {
+                powi_same::<f64>(x, e).unwrap();
+                powi_same::<f32>(x, e).unwrap();
+                powi_same::<half::f16>(x, e).unwrap();
+            }
+            for x in [32_767.99, -32_768.0, 1.0, -1.0, 0.5, 1.0 / 65_536.0] {
+                powi_same::<Q16_16>(x, e).unwrap();
+                powi_same::<Q8_24>(x, e).unwrap();
+                powi_same::<Q24_8>(x, e).unwrap();
+                powi_same::<Q32_32>(x, e).unwrap();
+            }
         }
     }
 }

@@ -38,7 +38,9 @@ fn hash(seed: u32, x: i64, y: i64) -> f64 {
 
 /// Smooth value noise in [0, 1] on a unit lattice.
 pub fn value_noise(seed: u32, x: f64, y: f64) -> f64 {
-    let (xf, yf) = (x.floor(), y.floor());
+    // `floor_f64`: `f64::floor` bit for bit without its libm call (texture generation runs
+    // per scene; at small frame sizes it showed in the profile)
+    let (xf, yf) = (num::floor_f64(x), num::floor_f64(y));
     let (fx, fy) = (x - xf, y - yf);
     let (xi, yi) = (xf as i64, yf as i64);
     let s = |t: f64| t * t * (3.0 - 2.0 * t);
