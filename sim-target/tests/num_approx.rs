@@ -382,6 +382,104 @@ mod same_bits {
         }
     }
 
+    /// `dot2`/`dot3` before session 5: saturating sums, a saturating half-LSB add, the
+    /// shift and the clamp to the word.
+    macro_rules! dots_same {
+        ($name:ident, $q:ident, $inner:ty, $bits:ty, $wide:ty, $frac:literal) => {
+            proptest! {
+                #![proptest_config(ProptestConfig::with_cases(20_000))]
+                #[test]
+                fn $name(v in prop::array::uniform6(any::<$bits>()), sh in 0u32..31, pick in 0usize..8) {
+                    let ext = [<$bits>::MIN, <$bits>::MAX, <$bits>::MIN + 1, -1, 0, 1, <$bits>::MAX - 1, 1 << $frac];
+                    let mut v = v;
+                    v[pick % 6] = ext[pick];
+                    for v in [v, v.map(|x| x >> sh), [v[0]; 6]] {
+                        let q = |b: $bits| $q(<$inner>::from_bits(b));
+                        let w = |b: $bits| b as $wide;
+                        let fin = |p: $wide| {
+                            let p = p.saturating_add(1 << ($frac - 1)) >> $frac;
+                            p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits
+                        };
+                        let want3 = fin((w(v[0]) * w(v[1]))
+                            .saturating_add(w(v[2]) * w(v[3]))
+                            .saturating_add(w(v[4]) * w(v[5])));
+                        let got3 = $q::dot3(q(v[0]), q(v[1]), q(v[2]), q(v[3]), q(v[4]), q(v[5]));
+                        prop_assert_eq!(got3.0.to_bits(), want3, "{:?}", v);
+                        let want2 = fin((w(v[0]) * w(v[1])).saturating_add(w(v[2]) * w(v[3])));
+                        let got2 = $q::dot2(q(v[0]), q(v[1]), q(v[2]), q(v[3]));
+                        prop_assert_eq!(got2.0.to_bits(), want2, "{:?}", v);
+                    }
+                }
+            }
+        };
+    }
+    dots_same!(
+        q16_16_dots_same_bits,
+        Q16_16,
+        fixed::types::I16F16,
+        i32,
+        i64,
+        16
+    );
+    dots_same!(
+        q8_24_dots_same_bits,
+        Q8_24,
+        fixed::types::I8F24,
+        i32,
+        i64,
+        24
+    );
+    dots_same!(
+        q24_8_dots_same_bits,
+        Q24_8,
+        fixed::types::I24F8,
+        i32,
+        i64,
+        8
+    );
+    dots_same!(
+        q32_32_dots_same_bits,
+        Q32_32,
+        fixed::types::I32F32,
+        i64,
+        i128,
+        32
+    );
+
+    #[test]
+    fn dots_at_the_saturation_edges() {
+        // sums of products within a half-LSB of the accumulator's maximum: where the old
+        // saturating half-LSB add clipped
+        let q = |b: i32| Q16_16(fixed::types::I16F16::from_bits(b));
+        let (m, x) = (i32::MIN, i32::MAX);
+        assert_eq!(Q16_16::dot2(q(m), q(m), q(m), q(m)).0.to_bits(), x);
+        assert_eq!(
+            Q16_16::dot3(q(m), q(m), q(m), q(m), q(1), q(-1))
+                .0
+                .to_bits(),
+            x
+        );
+        assert_eq!(
+            Q16_16::dot3(q(m), q(m), q(m), q(m), q(m), q(x)).0.to_bits(),
+            x
+        );
+        assert_eq!(
+            Q16_16::dot3(q(m), q(x), q(m), q(x), q(m), q(x)).0.to_bits(),
+            m
+        );
+        for b in 0..=0xFFFF {
+            // 2^62 + 2^62 − b saturates the accumulator; every low residue
+            let got = Q16_16::dot3(q(m), q(m), q(m), q(m), q(b), q(-1))
+                .0
+                .to_bits();
+            assert_eq!(got, x, "{b}");
+            let got = Q16_16::dot3(q(x), q(x), q(x), q(x), q(-b), q(1))
+                .0
+                .to_bits();
+            assert_eq!(got, x, "{b}");
+        }
+    }
+
     #[test]
     fn powi_every_exponent_at_the_extremes() {
         for e in 0..=1024 {
