@@ -446,6 +446,71 @@ mod same_bits {
         32
     );
 
+    /// √ and 1/√ of the fixed formats before session 5: through `to_f64`/`from_f64`.
+    macro_rules! roots_same {
+        ($name:ident, $q:ident, $inner:ty, $bits:ty) => {
+            fn $name(b: $bits) -> Result<(), TestCaseError> {
+                let x = $q(<$inner>::from_bits(b));
+                let s = if b <= 0 {
+                    $q::zero()
+                } else {
+                    $q::from_f64(x.to_f64().sqrt())
+                };
+                let r = if b <= 0 {
+                    $q::max_value()
+                } else {
+                    $q::from_f64(1.0 / x.to_f64().sqrt())
+                };
+                prop_assert_eq!(x.sqrt(), s, "sqrt {}", b);
+                prop_assert_eq!(x.rsqrt(), r, "rsqrt {}", b);
+                Ok(())
+            }
+        };
+    }
+    roots_same!(q16_16_roots, Q16_16, fixed::types::I16F16, i32);
+    roots_same!(q8_24_roots, Q8_24, fixed::types::I8F24, i32);
+    roots_same!(q24_8_roots, Q24_8, fixed::types::I24F8, i32);
+    roots_same!(q32_32_roots, Q32_32, fixed::types::I32F32, i64);
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(50_000))]
+        #[test]
+        fn roots_match_the_f64_round_trip(b in any::<i64>(), sh in 0u32..63) {
+            let (b32, s32) = (b as i32, (b as i32) >> (sh % 31));
+            for b in [b32, s32, b32.wrapping_abs(), s32.wrapping_abs()] {
+                q16_16_roots(b)?;
+                q8_24_roots(b)?;
+                q24_8_roots(b)?;
+            }
+            for b in [b, b >> sh, b.wrapping_abs(), (b >> sh).wrapping_abs()] {
+                q32_32_roots(b)?;
+            }
+        }
+    }
+
+    #[test]
+    fn roots_every_small_word_and_power_of_two() {
+        for b in -4..(1i32 << 20) {
+            q16_16_roots(b).unwrap();
+            q8_24_roots(b).unwrap();
+            q24_8_roots(b).unwrap();
+            q32_32_roots(b as i64).unwrap();
+        }
+        for k in 0..63 {
+            for d in -3i64..=3 {
+                let b = (1i64 << k).saturating_add(d);
+                q32_32_roots(b).unwrap();
+                if let Ok(b) = i32::try_from(b) {
+                    q16_16_roots(b).unwrap();
+                    q8_24_roots(b).unwrap();
+                    q24_8_roots(b).unwrap();
+                }
+            }
+        }
+        q32_32_roots(i64::MAX).unwrap();
+        q16_16_roots(i32::MAX).unwrap();
+    }
+
     #[test]
     fn dots_at_the_saturation_edges() {
         // sums of products within a half-LSB of the accumulator's maximum: where the old

@@ -114,6 +114,14 @@ macro_rules! fixed_scalar {
                 Self(self.0.saturating_neg())
             }
         }
+        impl $name {
+            /// [`Scalar::from_f64`] of x = r·2⁻ᶠ for a positive r already in units of the
+            /// LSB: the same round half away from zero and saturation.
+            #[inline(always)]
+            fn from_scaled_pos(r: f64) -> Self {
+                Self(<$inner>::from_bits((r + 0.5) as $bits))
+            }
+        }
         impl Scalar for $name {
             const NAME: &'static str = $label;
             #[inline(always)]
@@ -131,18 +139,26 @@ macro_rules! fixed_scalar {
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
+                // √(b·2⁻ᶠ)·2ᶠ = √b·2^(f/2) with f even: scaling by an even power of two
+                // commutes with the correctly rounded √ and is exact, so the core's
+                // result (`from_f64(self.to_f64().sqrt())`) is one multiply from √b
                 if self.0 <= <$inner>::ZERO {
                     Self(<$inner>::ZERO)
                 } else {
-                    Self::from_f64(self.to_f64().sqrt())
+                    let r = (self.0.to_bits() as f64).sqrt() * (1u64 << ($frac / 2)) as f64;
+                    Self::from_scaled_pos(r)
                 }
             }
             #[inline(always)]
             fn rsqrt(self) -> Self {
+                // 1/√(b·2⁻ᶠ)·2ᶠ = 2^(3f/2)/√b, for the same reason bit for bit the core's
+                // `from_f64(1.0 / self.to_f64().sqrt())` without its two scalings
                 if self.0 <= <$inner>::ZERO {
                     Self(<$inner>::MAX)
                 } else {
-                    Self::from_f64(1.0 / self.to_f64().sqrt())
+                    let r = (1u64 << ($frac + $frac / 2)) as f64
+                        / (self.0.to_bits() as f64).sqrt();
+                    Self::from_scaled_pos(r)
                 }
             }
             #[inline(always)]
