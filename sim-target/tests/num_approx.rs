@@ -239,6 +239,9 @@ mod exact_ops {
             for v in [f32::from_bits(bits32), x as f32, x.fract() as f32] {
                 let (got, want) = (floor_f32(v), v.floor());
                 prop_assert!(got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()));
+                // the texel address: f32's direct conversion and the f64 detour agree
+                prop_assert_eq!(Scalar::floor_i64(v), want as f64 as i64);
+                prop_assert_eq!(Scalar::int_to_i64(want), want as f64 as i64);
             }
         }
     }
@@ -256,6 +259,7 @@ mod exact_ops {
                         let x = $q(<$inner>::from_bits(a));
                         prop_assert_eq!(x.fract(), x - x.floor());
                         prop_assert_eq!(x.floor_i64(), x.floor().to_f64() as i64);
+                        prop_assert_eq!(x.floor().int_to_i64(), x.floor().to_f64() as i64);
                     }
                 }
             }

@@ -210,6 +210,11 @@ macro_rules! fixed_scalar {
                 (self.0.to_bits() >> $frac) as i64
             }
             #[inline(always)]
+            fn int_to_i64(self) -> i64 {
+                // exact for an integral word, and the floor's integer for any other
+                (self.0.to_bits() >> $frac) as i64
+            }
+            #[inline(always)]
             fn fract(self) -> Self {
                 // x − ⌊x⌋ is the fraction bits (the floor clears them; it cannot overflow
                 // with at least one integer bit, nor can the difference, which is in

@@ -99,7 +99,14 @@ pub trait Scalar:
     /// with the arithmetic shift that a hardware address unit uses (the same integer).
     #[inline(always)]
     fn floor_i64(self) -> i64 {
-        self.floor().to_f64() as i64
+        self.floor().int_to_i64()
+    }
+    /// An integral value (a floor's result) as i64, saturating, NaN → 0: so that a caller
+    /// that needs both ⌊x⌋ and its integer floors once (the compiler does not merge two
+    /// inlined float floors across their branches).
+    #[inline(always)]
+    fn int_to_i64(self) -> i64 {
+        self.to_f64() as i64
     }
     /// Additive identity.
     #[inline(always)]
@@ -261,10 +268,10 @@ impl Scalar for f32 {
         floor_f32(self)
     }
     #[inline(always)]
-    fn floor_i64(self) -> i64 {
+    fn int_to_i64(self) -> i64 {
         // f32 → i64 saturates and maps NaN to 0 exactly as f32 → f64 → i64 (the f64
         // holds every f32 exactly): one conversion less
-        floor_f32(self) as i64
+        self as i64
     }
 }
 

@@ -225,7 +225,7 @@ fn footprint<S: Scalar>(fx: S, fy: S) -> ((i64, i64), (S, S)) {
     let half = S::from_f64(0.5);
     let (fx, fy) = (fx - half, fy - half);
     let (x0, y0) = (fx.floor(), fy.floor());
-    ((fx.floor_i64(), fy.floor_i64()), (fx - x0, fy - y0))
+    ((x0.int_to_i64(), y0.int_to_i64()), (fx - x0, fy - y0))
 }
 
 /// Sample a slot at (u, v) after its transform, repeat wrap. Returns the texel value as a
