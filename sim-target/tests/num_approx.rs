@@ -180,7 +180,7 @@ mod exact_ops {
     //! the golden images depend on it.
     use fixed::types::{I16F16, I24F8, I32F32, I8F24};
     use proptest::prelude::*;
-    use sim_target::num::{floor_f32, floor_f64, Q16_16, Q24_8, Q32_32, Q8_24};
+    use sim_target::num::{floor_f32, floor_f64, Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
 
     macro_rules! same_as_fixed {
         ($name:ident, $q:ident, $inner:ty, $bits:ty) => {
@@ -239,9 +239,36 @@ mod exact_ops {
             for v in [f32::from_bits(bits32), x as f32, x.fract() as f32] {
                 let (got, want) = (floor_f32(v), v.floor());
                 prop_assert!(got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()));
+                // the texel address: f32's direct conversion and the f64 detour agree
+                prop_assert_eq!(Scalar::floor_i64(v), want as f64 as i64);
+                prop_assert_eq!(Scalar::int_to_i64(want), want as f64 as i64);
             }
         }
     }
+
+    macro_rules! fract_floor_as_defined {
+        ($name:ident, $q:ident, $inner:ty, $bits:ty) => {
+            proptest! {
+                #![proptest_config(ProptestConfig::with_cases(20_000))]
+                /// The fixed formats' one-mask `fract` and one-shift `floor_i64` (session 5)
+                /// against their definitions: x − ⌊x⌋ with the saturating ops, and ⌊x⌋
+                /// through f64 as the kernel computed texel addresses before.
+                #[test]
+                fn $name(a in any::<$bits>(), sh in 0u32..31) {
+                    for a in [a, a >> sh, <$bits>::MIN, <$bits>::MAX, -1, 0, 1] {
+                        let x = $q(<$inner>::from_bits(a));
+                        prop_assert_eq!(x.fract(), x - x.floor());
+                        prop_assert_eq!(x.floor_i64(), x.floor().to_f64() as i64);
+                        prop_assert_eq!(x.floor().int_to_i64(), x.floor().to_f64() as i64);
+                    }
+                }
+            }
+        };
+    }
+    fract_floor_as_defined!(q16_16_fract_floor_as_defined, Q16_16, I16F16, i32);
+    fract_floor_as_defined!(q8_24_fract_floor_as_defined, Q8_24, I8F24, i32);
+    fract_floor_as_defined!(q24_8_fract_floor_as_defined, Q24_8, I24F8, i32);
+    fract_floor_as_defined!(q32_32_fract_floor_as_defined, Q32_32, I32F32, i64);
 
     #[test]
     fn floor_special_values() {
@@ -255,6 +282,23 @@ mod exact_ops {
             -1e-300,
             4_503_599_627_370_495.5,
             -4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            -4_503_599_627_370_497.0,
+            2_251_799_813_685_247.5,
+            -2_251_799_813_685_247.5,
+            8_388_607.5,
+            -8_388_607.5,
+            8_388_608.0,
+            4_194_303.5,
+            -4_194_303.5,
+            2.5,
+            -2.5,
+            3.5,
+            -3.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::MAX,
@@ -263,6 +307,269 @@ mod exact_ops {
             assert_eq!(floor_f64(v).to_bits(), v.floor().to_bits(), "{v}");
             let w = v as f32;
             assert_eq!(floor_f32(w).to_bits(), w.floor().to_bits(), "{w}");
+            // every f32 next to the values above (the binade edges of the 2²³ trick)
+            for w in [
+                f32::from_bits(w.to_bits().wrapping_sub(1)),
+                f32::from_bits(w.to_bits() + 1),
+            ] {
+                let (got, want) = (floor_f32(w), w.floor());
+                assert!(
+                    got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                    "{w}"
+                );
+            }
+            for u in [
+                f64::from_bits(v.to_bits().wrapping_sub(1)),
+                f64::from_bits(v.to_bits() + 1),
+            ] {
+                let (got, want) = (floor_f64(u), u.floor());
+                assert!(
+                    got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                    "{u}"
+                );
+            }
+        }
+    }
+}
+
+mod same_bits {
+    //! Session 5's cheaper sequences against verbatim copies of what they replaced, in
+    //! every format: the golden images depend on each product being the same.
+    use proptest::prelude::*;
+    use sim_target::num::{self, Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
+
+    /// `powi` before session 5.
+    fn powi_ref<S: Scalar>(x: S, e: u32) -> S {
+        let mut e = e.min(num::MAX_POW_EXPONENT);
+        let mut base = x;
+        let mut acc = S::one();
+        while e > 0 {
+            if e & 1 == 1 {
+                acc = acc * base;
+            }
+            base = base * base;
+            e >>= 1;
+        }
+        acc
+    }
+
+    fn same<S: Scalar>(a: S, b: S) -> bool {
+        let (a, b) = (a.to_f64(), b.to_f64());
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+
+    fn powi_same<S: Scalar>(x: f64, e: u32) -> Result<(), TestCaseError> {
+        let x = S::from_f64(x);
+        let (got, want) = (num::powi(x, e), powi_ref(x, e));
+        prop_assert!(
+            same(got, want),
+            "{} {x:?}^{e}: {got:?} vs {want:?}",
+            S::NAME
+        );
+        Ok(())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3_000))]
+        #[test]
+        fn powi_matches_the_textbook_loop(
+            x in prop_oneof![-1.5f64..1.5, -300.0f64..300.0, Just(0.0), Just(-0.0), Just(1.0)],
+            e in prop_oneof![0u32..=260, 0u32..=1100, Just(u32::MAX)],
+        ) {
+            powi_same::<f64>(x, e)?;
+            powi_same::<f32>(x, e)?;
+            powi_same::<half::f16>(x, e)?;
+            powi_same::<Q16_16>(x, e)?;
+            powi_same::<Q8_24>(x, e)?;
+            powi_same::<Q24_8>(x, e)?;
+            powi_same::<Q32_32>(x, e)?;
+        }
+    }
+
+    /// `dot2`/`dot3` before session 5: saturating sums, a saturating half-LSB add, the
+    /// shift and the clamp to the word.
+    macro_rules! dots_same {
+        ($name:ident, $q:ident, $inner:ty, $bits:ty, $wide:ty, $frac:literal) => {
+            proptest! {
+                #![proptest_config(ProptestConfig::with_cases(20_000))]
+                #[test]
+                fn $name(v in prop::array::uniform6(any::<$bits>()), sh in 0u32..31, pick in 0usize..8) {
+                    let ext = [<$bits>::MIN, <$bits>::MAX, <$bits>::MIN + 1, -1, 0, 1, <$bits>::MAX - 1, 1 << $frac];
+                    let mut v = v;
+                    v[pick % 6] = ext[pick];
+                    for v in [v, v.map(|x| x >> sh), [v[0]; 6]] {
+                        let q = |b: $bits| $q(<$inner>::from_bits(b));
+                        let w = |b: $bits| b as $wide;
+                        let fin = |p: $wide| {
+                            let p = p.saturating_add(1 << ($frac - 1)) >> $frac;
+                            p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits
+                        };
+                        let want3 = fin((w(v[0]) * w(v[1]))
+                            .saturating_add(w(v[2]) * w(v[3]))
+                            .saturating_add(w(v[4]) * w(v[5])));
+                        let got3 = $q::dot3(q(v[0]), q(v[1]), q(v[2]), q(v[3]), q(v[4]), q(v[5]));
+                        prop_assert_eq!(got3.0.to_bits(), want3, "{:?}", v);
+                        let want2 = fin((w(v[0]) * w(v[1])).saturating_add(w(v[2]) * w(v[3])));
+                        let got2 = $q::dot2(q(v[0]), q(v[1]), q(v[2]), q(v[3]));
+                        prop_assert_eq!(got2.0.to_bits(), want2, "{:?}", v);
+                    }
+                }
+            }
+        };
+    }
+    dots_same!(
+        q16_16_dots_same_bits,
+        Q16_16,
+        fixed::types::I16F16,
+        i32,
+        i64,
+        16
+    );
+    dots_same!(
+        q8_24_dots_same_bits,
+        Q8_24,
+        fixed::types::I8F24,
+        i32,
+        i64,
+        24
+    );
+    dots_same!(
+        q24_8_dots_same_bits,
+        Q24_8,
+        fixed::types::I24F8,
+        i32,
+        i64,
+        8
+    );
+    dots_same!(
+        q32_32_dots_same_bits,
+        Q32_32,
+        fixed::types::I32F32,
+        i64,
+        i128,
+        32
+    );
+
+    /// √ and 1/√ of the fixed formats before session 5: through `to_f64`/`from_f64`.
+    macro_rules! roots_same {
+        ($name:ident, $q:ident, $inner:ty, $bits:ty) => {
+            fn $name(b: $bits) -> Result<(), TestCaseError> {
+                let x = $q(<$inner>::from_bits(b));
+                let s = if b <= 0 {
+                    $q::zero()
+                } else {
+                    $q::from_f64(x.to_f64().sqrt())
+                };
+                let r = if b <= 0 {
+                    $q::max_value()
+                } else {
+                    $q::from_f64(1.0 / x.to_f64().sqrt())
+                };
+                prop_assert_eq!(x.sqrt(), s, "sqrt {}", b);
+                prop_assert_eq!(x.rsqrt(), r, "rsqrt {}", b);
+                Ok(())
+            }
+        };
+    }
+    roots_same!(q16_16_roots, Q16_16, fixed::types::I16F16, i32);
+    roots_same!(q8_24_roots, Q8_24, fixed::types::I8F24, i32);
+    roots_same!(q24_8_roots, Q24_8, fixed::types::I24F8, i32);
+    roots_same!(q32_32_roots, Q32_32, fixed::types::I32F32, i64);
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(50_000))]
+        #[test]
+        fn roots_match_the_f64_round_trip(b in any::<i64>(), sh in 0u32..63) {
+            let (b32, s32) = (b as i32, (b as i32) >> (sh % 31));
+            for b in [b32, s32, b32.wrapping_abs(), s32.wrapping_abs()] {
+                q16_16_roots(b)?;
+                q8_24_roots(b)?;
+                q24_8_roots(b)?;
+            }
+            for b in [b, b >> sh, b.wrapping_abs(), (b >> sh).wrapping_abs()] {
+                q32_32_roots(b)?;
+            }
+        }
+    }
+
+    #[test]
+    fn roots_every_small_word_and_power_of_two() {
+        for b in -4..(1i32 << 20) {
+            q16_16_roots(b).unwrap();
+            q8_24_roots(b).unwrap();
+            q24_8_roots(b).unwrap();
+            q32_32_roots(b as i64).unwrap();
+        }
+        for k in 0..63 {
+            for d in -3i64..=3 {
+                let b = (1i64 << k).saturating_add(d);
+                q32_32_roots(b).unwrap();
+                if let Ok(b) = i32::try_from(b) {
+                    q16_16_roots(b).unwrap();
+                    q8_24_roots(b).unwrap();
+                    q24_8_roots(b).unwrap();
+                }
+            }
+        }
+        q32_32_roots(i64::MAX).unwrap();
+        q16_16_roots(i32::MAX).unwrap();
+    }
+
+    #[test]
+    fn dots_at_the_saturation_edges() {
+        // sums of products within a half-LSB of the accumulator's maximum: where the old
+        // saturating half-LSB add clipped
+        let q = |b: i32| Q16_16(fixed::types::I16F16::from_bits(b));
+        let (m, x) = (i32::MIN, i32::MAX);
+        assert_eq!(Q16_16::dot2(q(m), q(m), q(m), q(m)).0.to_bits(), x);
+        assert_eq!(
+            Q16_16::dot3(q(m), q(m), q(m), q(m), q(1), q(-1))
+                .0
+                .to_bits(),
+            x
+        );
+        assert_eq!(
+            Q16_16::dot3(q(m), q(m), q(m), q(m), q(m), q(x)).0.to_bits(),
+            x
+        );
+        assert_eq!(
+            Q16_16::dot3(q(m), q(x), q(m), q(x), q(m), q(x)).0.to_bits(),
+            m
+        );
+        for b in 0..=0xFFFF {
+            // 2^62 + 2^62 − b saturates the accumulator; every low residue
+            let got = Q16_16::dot3(q(m), q(m), q(m), q(m), q(b), q(-1))
+                .0
+                .to_bits();
+            assert_eq!(got, x, "{b}");
+            let got = Q16_16::dot3(q(x), q(x), q(x), q(x), q(-b), q(1))
+                .0
+                .to_bits();
+            assert_eq!(got, x, "{b}");
+        }
+    }
+
+    #[test]
+    fn powi_every_exponent_at_the_extremes() {
+        for e in 0..=1024 {
+            for x in [
+                f64::MAX,
+                -f64::MAX,
+                f64::NAN,
+                f64::INFINITY,
+                1e-300,
+                0.999_999,
+            ] {
+                powi_same::<f64>(x, e).unwrap();
+                powi_same::<f32>(x, e).unwrap();
+                powi_same::<half::f16>(x, e).unwrap();
+            }
+            for x in [32_767.99, -32_768.0, 1.0, -1.0, 0.5, 1.0 / 65_536.0] {
+                powi_same::<Q16_16>(x, e).unwrap();
+                powi_same::<Q8_24>(x, e).unwrap();
+                powi_same::<Q24_8>(x, e).unwrap();
+                powi_same::<Q32_32>(x, e).unwrap();
+            }
         }
     }
 }

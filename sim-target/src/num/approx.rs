@@ -515,16 +515,29 @@ pub const MAX_POW_EXPONENT: u32 = 1023;
 
 /// x^e by repeated squaring, as the seed's MAX_POWER_LOOP_ITER loop: e is clipped to
 /// [`MAX_POW_EXPONENT`] (ten bits, ten iterations).
+///
+/// The products are those of the textbook loop (acc ← acc·base on a set bit, base ← base²
+/// per bit) in the same order, less two that cannot change a bit: the first
+/// acc = 1·base (exact in every format: a float times 1, or a fixed product by 2^frac
+/// shifted back) and the squaring after the top bit, whose result is unused.
 #[inline]
 pub fn powi<S: Scalar>(x: S, e: u32) -> S {
     let mut e = e.min(MAX_POW_EXPONENT);
+    if e == 0 {
+        return S::one();
+    }
     let mut base = x;
-    let mut acc = S::one();
+    while e & 1 == 0 {
+        base = base * base;
+        e >>= 1;
+    }
+    let mut acc = base;
+    e >>= 1;
     while e > 0 {
+        base = base * base;
         if e & 1 == 1 {
             acc = acc * base;
         }
-        base = base * base;
         e >>= 1;
     }
     acc

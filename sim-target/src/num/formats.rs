@@ -42,6 +42,19 @@ impl DivBits for i64 {
     }
 }
 
+/// ⌊(p + 2^(frac−1)) / 2^frac⌋ of a saturated accumulator p, i.e. `p.saturating_add(half)
+/// >> frac`, without the saturating add: halving first leaves room for the half-LSB, and
+/// with p = 2k + b (b ∈ {0, 1}) the odd b cannot carry past a multiple of 2^frac, so
+/// (k + 2^(frac−2)) >> (frac − 1) is the same integer; only where the saturating add
+/// clipped (p within half an LSB of MAX) is it one more, and the clamp to the word that
+/// follows maps both to the word's maximum. One instruction less per dot product
+/// (tests/num_approx.rs `same_bits`).
+macro_rules! round_shift {
+    ($p:expr, $frac:literal) => {
+        (($p >> 1) + (1 << ($frac - 2))) >> ($frac - 1)
+    };
+}
+
 macro_rules! fixed_scalar {
     ($(#[$m:meta])* $name:ident, $inner:ty, $bits:ty, $wide:ty, $frac:literal, $label:literal) => {
         $(#[$m])*
@@ -101,6 +114,14 @@ macro_rules! fixed_scalar {
                 Self(self.0.saturating_neg())
             }
         }
+        impl $name {
+            /// [`Scalar::from_f64`] of x = r·2⁻ᶠ for a positive r already in units of the
+            /// LSB: the same round half away from zero and saturation.
+            #[inline(always)]
+            fn from_scaled_pos(r: f64) -> Self {
+                Self(<$inner>::from_bits((r + 0.5) as $bits))
+            }
+        }
         impl Scalar for $name {
             const NAME: &'static str = $label;
             #[inline(always)]
@@ -118,18 +139,26 @@ macro_rules! fixed_scalar {
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
+                // √(b·2⁻ᶠ)·2ᶠ = √b·2^(f/2) with f even: scaling by an even power of two
+                // commutes with the correctly rounded √ and is exact, so the core's
+                // result (`from_f64(self.to_f64().sqrt())`) is one multiply from √b
                 if self.0 <= <$inner>::ZERO {
                     Self(<$inner>::ZERO)
                 } else {
-                    Self::from_f64(self.to_f64().sqrt())
+                    let r = (self.0.to_bits() as f64).sqrt() * (1u64 << ($frac / 2)) as f64;
+                    Self::from_scaled_pos(r)
                 }
             }
             #[inline(always)]
             fn rsqrt(self) -> Self {
+                // 1/√(b·2⁻ᶠ)·2ᶠ = 2^(3f/2)/√b, for the same reason bit for bit the core's
+                // `from_f64(1.0 / self.to_f64().sqrt())` without its two scalings
                 if self.0 <= <$inner>::ZERO {
                     Self(<$inner>::MAX)
                 } else {
-                    Self::from_f64(1.0 / self.to_f64().sqrt())
+                    let r = (1u64 << ($frac + $frac / 2)) as f64
+                        / (self.0.to_bits() as f64).sqrt();
+                    Self::from_scaled_pos(r)
                 }
             }
             #[inline(always)]
@@ -145,7 +174,7 @@ macro_rules! fixed_scalar {
             fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
                 let w = |x: Self| x.0.to_bits() as $wide;
                 let p = (w(a) * w(b)).saturating_add(w(c) * w(d));
-                let p = p.saturating_add(1 << ($frac - 1)) >> $frac;
+                let p = round_shift!(p, $frac);
                 Self(<$inner>::from_bits(
                     p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
                 ))
@@ -159,7 +188,7 @@ macro_rules! fixed_scalar {
                 let p = (w(a) * w(b))
                     .saturating_add(w(c) * w(d))
                     .saturating_add(w(e) * w(f));
-                let p = p.saturating_add(1 << ($frac - 1)) >> $frac;
+                let p = round_shift!(p, $frac);
                 Self(<$inner>::from_bits(
                     p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
                 ))
@@ -173,6 +202,26 @@ macro_rules! fixed_scalar {
             #[inline(always)]
             fn floor(self) -> Self {
                 Self(self.0.saturating_floor())
+            }
+            #[inline(always)]
+            fn floor_i64(self) -> i64 {
+                // the arithmetic shift drops the fraction toward −∞: ⌊x⌋ exactly, and
+                // every format's integer part fits i64
+                (self.0.to_bits() >> $frac) as i64
+            }
+            #[inline(always)]
+            fn int_to_i64(self) -> i64 {
+                // exact for an integral word, and the floor's integer for any other
+                (self.0.to_bits() >> $frac) as i64
+            }
+            #[inline(always)]
+            fn fract(self) -> Self {
+                // x − ⌊x⌋ is the fraction bits (the floor clears them; it cannot overflow
+                // with at least one integer bit, nor can the difference, which is in
+                // [0, 1)): one mask instead of a saturating floor and subtraction
+                Self(<$inner>::from_bits(
+                    self.0.to_bits() & ((1 << $frac) - 1),
+                ))
             }
             #[inline(always)]
             fn zero() -> Self {

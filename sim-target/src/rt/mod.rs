@@ -557,16 +557,15 @@ fn prepare<S: Scalar>(
                     }
                 }
                 (
-                    TexSlot {
+                    TexSlot::new(
                         base,
                         side,
-                        mapping: t.mapping,
-                        filter: t.filter,
-                        scale: (S::from_f64(t.scale[0]), S::from_f64(t.scale[1])),
-                        offset: (S::from_f64(t.offset[0]), S::from_f64(t.offset[1])),
-                        grey: texture::is_grey(t.kind),
-                        levels: texture::levels(),
-                    },
+                        t.mapping,
+                        t.filter,
+                        (S::from_f64(t.scale[0]), S::from_f64(t.scale[1])),
+                        (S::from_f64(t.offset[0]), S::from_f64(t.offset[1])),
+                        texture::is_grey(t.kind),
+                    ),
                     V3::from_f64(t.color2),
                 )
             });
@@ -867,12 +866,11 @@ impl<S: Scalar> Prepared<S> {
             let (cd, ca) = match (TX, &mat.tex) {
                 (true, Some((slot, c2))) => {
                     let (u, v) = texture::map_uv(slot.mapping, lp, &self.m);
-                    let tx = texture::sample(&self.texmem, slot, u, v);
                     let c = if slot.grey {
-                        let mix = tx.x;
+                        let mix = texture::sample_grey(&self.texmem, slot, u, v);
                         mat.cd.scale(mix) + c2.scale(one - mix)
                     } else {
-                        tx
+                        texture::sample(&self.texmem, slot, u, v)
                     };
                     (c, mat.ambient.as_ref().map(|_| c))
                 }

@@ -38,7 +38,9 @@ fn hash(seed: u32, x: i64, y: i64) -> f64 {
 
 /// Smooth value noise in [0, 1] on a unit lattice.
 pub fn value_noise(seed: u32, x: f64, y: f64) -> f64 {
-    let (xf, yf) = (x.floor(), y.floor());
+    // `floor_f64`: `f64::floor` bit for bit without its libm call (texture generation runs
+    // per scene; at small frame sizes it showed in the profile)
+    let (xf, yf) = (num::floor_f64(x), num::floor_f64(y));
     let (fx, fy) = (x - xf, y - yf);
     let (xi, yi) = (xf as i64, yf as i64);
     let s = |t: f64| t * t * (3.0 - 2.0 * t);
@@ -123,6 +125,10 @@ pub fn map_uv<S: Scalar>(mapping: Mapping, p: V3<S>, m: &Math) -> (S, S) {
 }
 
 /// A texture's slot in memory, in the target format.
+///
+/// Built once per scene ([`TexSlot::new`]): everything a sample needs that does not depend
+/// on (u, v) — the byte→level table, the side in the format, the wrap mask — is computed
+/// here instead of per sample (the hardware has them as constants in its address unit).
 #[derive(Debug, Clone)]
 pub struct TexSlot<S> {
     /// First word.
@@ -142,6 +148,60 @@ pub struct TexSlot<S> {
     /// Channel byte b → b/255 in the format ([`levels`]), so that a fetch indexes instead
     /// of converting three f64 values per texel (four texels per bilinear sample).
     pub levels: [S; 256],
+    /// `side` in the format (the texel-space scale of u and v).
+    sidef: S,
+    /// `side − 1` when `side` is a power of two (always, by [`side_for`]): the repeat wrap
+    /// is then a mask, as in hardware; `None` falls back to a Euclidean remainder.
+    mask: Option<i64>,
+}
+
+impl<S: Scalar> TexSlot<S> {
+    /// A slot of `side`² words from `base` with its per-scene constants.
+    pub fn new(
+        base: usize,
+        side: usize,
+        mapping: Mapping,
+        filter: Filter,
+        scale: (S, S),
+        offset: (S, S),
+        grey: bool,
+    ) -> Self {
+        let s = side as i64;
+        Self {
+            base,
+            side,
+            mapping,
+            filter,
+            scale,
+            offset,
+            grey,
+            levels: levels(),
+            sidef: S::from_f64(side as f64),
+            mask: (s > 0 && s & (s - 1) == 0).then_some(s - 1),
+        }
+    }
+
+    /// Word address of texel (x, y) after the repeat wrap.
+    #[inline(always)]
+    fn addr(&self, x: i64, y: i64) -> usize {
+        let (x, y) = match self.mask {
+            Some(m) => ((x & m) as usize, (y & m) as usize),
+            // a side of 0 never comes from `side_for`; max(1) keeps it from dividing by 0
+            None => {
+                let s = (self.side as i64).max(1);
+                (x.rem_euclid(s) as usize, y.rem_euclid(s) as usize)
+            }
+        };
+        self.base + y * self.side + x
+    }
+
+    /// (u, v) after the slot's scale, offset and repeat, in texels.
+    #[inline(always)]
+    fn texel_uv(&self, u: S, v: S) -> (S, S) {
+        let u = (u.mul_rn(self.scale.0) + self.offset.0).fract();
+        let v = (v.mul_rn(self.scale.1) + self.offset.1).fract();
+        (u * self.sidef, v * self.sidef)
+    }
 }
 
 /// The value of each channel byte, b/255, exactly as converted per fetch before.
@@ -159,42 +219,28 @@ fn unpack<S: Scalar>(w: u32, levels: &[S; 256]) -> V3<S> {
     )
 }
 
+/// Bilinear footprint of texel-space (fx, fy): the top-left texel and the weights.
+#[inline(always)]
+fn footprint<S: Scalar>(fx: S, fy: S) -> ((i64, i64), (S, S)) {
+    let half = S::from_f64(0.5);
+    let (fx, fy) = (fx - half, fy - half);
+    let (x0, y0) = (fx.floor(), fy.floor());
+    ((x0.int_to_i64(), y0.int_to_i64()), (fx - x0, fy - y0))
+}
+
 /// Sample a slot at (u, v) after its transform, repeat wrap. Returns the texel value as a
 /// colour (for grey textures every channel is the mix factor).
 #[inline]
 pub fn sample<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> V3<S> {
-    let u = (u.mul_rn(slot.scale.0) + slot.offset.0).fract();
-    let v = (v.mul_rn(slot.scale.1) + slot.offset.1).fract();
-    let side = slot.side as i64;
-    let sidef = S::from_f64(slot.side as f64);
-    // sides are powers of two (`side_for`): the wrap is a mask, as in hardware
-    let pow2 = side > 0 && side & (side - 1) == 0;
     let fetch = |x: i64, y: i64| -> V3<S> {
-        let (x, y) = if pow2 {
-            ((x & (side - 1)) as usize, (y & (side - 1)) as usize)
-        } else {
-            (x.rem_euclid(side) as usize, y.rem_euclid(side) as usize)
-        };
-        unpack(
-            mem.get(slot.base + y * slot.side + x).copied().unwrap_or(0),
-            &slot.levels,
-        )
+        unpack(mem.get(slot.addr(x, y)).copied().unwrap_or(0), &slot.levels)
     };
+    let (fu, fv) = slot.texel_uv(u, v);
     match slot.filter {
-        Filter::Nearest => {
-            let x = (u * sidef).floor().to_f64() as i64;
-            let y = (v * sidef).floor().to_f64() as i64;
-            fetch(x, y)
-        }
+        Filter::Nearest => fetch(fu.floor_i64(), fv.floor_i64()),
         Filter::Bilinear => {
-            let half = S::from_f64(0.5);
-            let fx = u * sidef - half;
-            let fy = v * sidef - half;
-            let x0 = fx.floor();
-            let y0 = fy.floor();
-            let (ax, ay) = (fx - x0, fy - y0);
-            let (xi, yi) = (x0.to_f64() as i64, y0.to_f64() as i64);
             let one = S::one();
+            let ((xi, yi), (ax, ay)) = footprint(fu, fv);
             let c00 = fetch(xi, yi);
             let c10 = fetch(xi + 1, yi);
             let c01 = fetch(xi, yi + 1);
@@ -202,6 +248,33 @@ pub fn sample<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> V3<S> {
             let top = c00.scale(one - ax) + c10.scale(ax);
             let bot = c01.scale(one - ax) + c11.scale(ax);
             top.scale(one - ay) + bot.scale(ay)
+        }
+    }
+}
+
+/// [`sample`]'s first channel alone, bit for bit: a grey texture's mix factor. Grey texels
+/// repeat one byte in all three channels and the kernel reads only the first, so one
+/// lookup per texel and one interpolation chain give the same value as three
+/// (tests/rt_texture_fast.rs compares the two for every format).
+#[inline]
+pub fn sample_grey<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> S {
+    let fetch = |x: i64, y: i64| -> S {
+        let w = mem.get(slot.addr(x, y)).copied().unwrap_or(0);
+        slot.levels[((w >> 16) & 255) as usize]
+    };
+    let (fu, fv) = slot.texel_uv(u, v);
+    match slot.filter {
+        Filter::Nearest => fetch(fu.floor_i64(), fv.floor_i64()),
+        Filter::Bilinear => {
+            let one = S::one();
+            let ((xi, yi), (ax, ay)) = footprint(fu, fv);
+            let c00 = fetch(xi, yi);
+            let c10 = fetch(xi + 1, yi);
+            let c01 = fetch(xi, yi + 1);
+            let c11 = fetch(xi + 1, yi + 1);
+            let top = c00.mul_rn(one - ax) + c10.mul_rn(ax);
+            let bot = c01.mul_rn(one - ax) + c11.mul_rn(ax);
+            top.mul_rn(one - ay) + bot.mul_rn(ay)
         }
     }
 }
