@@ -1016,7 +1016,7 @@ fn render_generic<S: Scalar>(
         && opts.kernel == Kernel::Planned
         && opts.math.sqrt.max_rel_error() <= cull::MAX_SQRT_ERROR
     {
-        cull::bounds::<S>(scene)
+        cull::bounds::<S>(scene, &opts.math)
     } else {
         vec![None; scene.objects.len()]
     };
@@ -1167,7 +1167,7 @@ pub fn primary_candidates<S: Scalar>(scene: &Scene, width: u32, height: u32, mat
     if math.sqrt.max_rel_error() > cull::MAX_SQRT_ERROR {
         return scene.objects.len() as f64;
     }
-    let bounds = cull::bounds::<S>(scene);
+    let bounds = cull::bounds::<S>(scene, math);
     if bounds.iter().all(Option::is_none) || width == 0 || height == 0 {
         return scene.objects.len() as f64;
     }
