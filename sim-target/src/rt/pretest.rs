@@ -128,7 +128,12 @@ impl Spheres {
                     Some(b) => Lane {
                         c: b.centre.map(|v| v as f32),
                         r2: (b.radius * b.radius) as f32,
-                        safe2: (b.safe_distance * b.safe_distance).min(1e30) as f32,
+                        // no origin qualifies: as unbounded (never culled by the sphere)
+                        safe2: if b.safe_distance > 0.0 {
+                            (b.safe_distance * b.safe_distance).min(1e30) as f32
+                        } else {
+                            -1.0
+                        },
                         cmag: b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32,
                         flat,
                     },
@@ -237,6 +242,9 @@ fn may_hit_scalar(b: Option<&Bound>, flat: Flat, r: &RayF32) -> bool {
 fn may_hit_sphere(b: &Bound, r: &RayF32) -> bool {
     let c = b.centre.map(|v| v as f32);
     let r2 = (b.radius * b.radius) as f32;
+    if b.safe_distance <= 0.0 {
+        return true;
+    }
     let safe2 = (b.safe_distance * b.safe_distance).min(1e30) as f32;
     let cmag = b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32;
     let oc = [c[0] - r.o[0], c[1] - r.o[1], c[2] - r.o[2]];
@@ -264,6 +272,7 @@ mod tests {
             centre: c,
             radius: r,
             safe_distance: safe,
+            primary: None,
         }
     }
 
@@ -284,7 +293,7 @@ mod tests {
                 (
                     prop::array::uniform3(-10.0f64..10.0),
                     0.01f64..5.0,
-                    0.5f64..50.0,
+                    prop_oneof![4 => 0.5f64..50.0, 1 => Just(0.0)],
                 ),
             ),
             prop::option::weighted(0.3, prop_oneof![-3.0f32..3.0, Just(0.0f32)]),
