@@ -171,6 +171,12 @@ macro_rules! fixed_scalar {
                 ))
             }
             #[inline(always)]
+            fn half_rn(self) -> Self {
+                // in the double width: b + 1 overflows the word at MAX
+                let b = self.0.to_bits() as $wide;
+                Self(<$inner>::from_bits(((b + 1) >> 1) as $bits))
+            }
+            #[inline(always)]
             fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
                 let w = |x: Self| x.0.to_bits() as $wide;
                 let p = (w(a) * w(b)).saturating_add(w(c) * w(d));
