@@ -515,6 +515,26 @@ mod same_bits {
         q16_16_roots(i32::MAX).unwrap();
     }
 
+    macro_rules! half_same {
+        ($name:ident, $q:ident, $inner:ty, $bits:ty) => {
+            proptest! {
+                #![proptest_config(ProptestConfig::with_cases(20_000))]
+                /// `half_rn` (session 5) against the rounded product by ½ it replaces.
+                #[test]
+                fn $name(b in any::<$bits>(), sh in 0u32..31) {
+                    for b in [b, b >> sh, <$bits>::MIN, <$bits>::MAX, -1, 0, 1, -3, 3] {
+                        let x = $q(<$inner>::from_bits(b));
+                        prop_assert_eq!(x.half_rn(), x.mul_rn($q::from_f64(0.5)), "{}", b);
+                    }
+                }
+            }
+        };
+    }
+    half_same!(q16_16_half_same_bits, Q16_16, fixed::types::I16F16, i32);
+    half_same!(q8_24_half_same_bits, Q8_24, fixed::types::I8F24, i32);
+    half_same!(q24_8_half_same_bits, Q24_8, fixed::types::I24F8, i32);
+    half_same!(q32_32_half_same_bits, Q32_32, fixed::types::I32F32, i64);
+
     #[test]
     fn dots_at_the_saturation_edges() {
         // sums of products within a half-LSB of the accumulator's maximum: where the old

@@ -171,6 +171,12 @@ macro_rules! fixed_scalar {
                 ))
             }
             #[inline(always)]
+            fn half_rn(self) -> Self {
+                // in the double width: b + 1 overflows the word at MAX
+                let b = self.0.to_bits() as $wide;
+                Self(<$inner>::from_bits(((b + 1) >> 1) as $bits))
+            }
+            #[inline(always)]
             fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
                 let w = |x: Self| x.0.to_bits() as $wide;
                 let p = (w(a) * w(b)).saturating_add(w(c) * w(d));
@@ -182,8 +188,10 @@ macro_rules! fixed_scalar {
             #[inline(always)]
             fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self {
                 // A product of two $bits needs at most 2·bits − 1 bits of $wide; the sum of
-                // three fits for the 32-bit formats (|p| ≤ 3·2⁶²) and saturates the
-                // accumulator only for Q32.32 operands beyond ±2³⁰, whose result clips anyway.
+                // three can reach 3·2⁶² > i64::MAX for the 32-bit formats (and beyond
+                // i128 for Q32.32) only with operands near the word's limits, whose result
+                // clips anyway: the saturating adds keep the sign, so the clamp below gives
+                // the word's limit just as the exact sum would.
                 let w = |x: Self| x.0.to_bits() as $wide;
                 let p = (w(a) * w(b))
                     .saturating_add(w(c) * w(d))

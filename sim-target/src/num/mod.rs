@@ -67,6 +67,13 @@ pub trait Scalar:
     fn mul_rn(self, o: Self) -> Self {
         self * o
     }
+    /// `self.mul_rn(½)`: the texture mappings' (x + 1)/2. The fixed formats override it
+    /// with (b + 1) ≫ 1 on the word b, the same integer as the rounded product
+    /// (b·2^(f−1) + 2^(f−1)) ≫ f, without the product and the clamp it cannot need.
+    #[inline(always)]
+    fn half_rn(self) -> Self {
+        self.mul_rn(Self::from_f64(0.5))
+    }
     /// a·b + c·d, with the same contract as [`Scalar::dot3`] (one rounding in fixed point).
     #[inline(always)]
     fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {

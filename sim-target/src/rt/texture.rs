@@ -104,7 +104,6 @@ pub fn texel(kind: TextureKind, x: usize, y: usize, side: usize) -> u32 {
 
 /// (u, v) ∈ [0, 1)² of an object-space point by a mapping.
 pub fn map_uv<S: Scalar>(mapping: Mapping, p: V3<S>, m: &Math) -> (S, S) {
-    let half = S::from_f64(0.5);
     let one = S::one();
     let around = || {
         let a = num::atan2(p.x, p.z, m.atan).mul_rn(S::from_f64(1.0 / (2.0 * PI)));
@@ -115,8 +114,8 @@ pub fn map_uv<S: Scalar>(mapping: Mapping, p: V3<S>, m: &Math) -> (S, S) {
         }
     };
     match mapping {
-        Mapping::Planar => ((p.x + one).mul_rn(half), (p.z + one).mul_rn(half)),
-        Mapping::Cylindrical => (around(), (p.y + one).mul_rn(half)),
+        Mapping::Planar => ((p.x + one).half_rn(), (p.z + one).half_rn()),
+        Mapping::Cylindrical => (around(), (p.y + one).half_rn()),
         Mapping::Spherical => (
             around(),
             one - num::acos(p.y, m.acos).mul_rn(S::from_f64(1.0 / PI)),
