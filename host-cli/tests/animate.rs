@@ -2,48 +2,25 @@
 //! changed registers cross the link; each frame equals a plain render of the scene the
 //! script produced; script and scene errors name the script, the frame and the line.
 
-use std::process::Command;
+mod common;
 
-fn root() -> String {
-    concat!(env!("CARGO_MANIFEST_DIR"), "/..").to_string()
+use common::{assert_no_panic, collect, example, fails, fpgfx_command, ok, rgb, start_sim, tmp};
+
+/// `fpgfx --port builtin ARGS…` must succeed; returns its stdout.
+fn builtin_ok(args: &[&str]) -> String {
+    ok(&[&["--port", "builtin"], args].concat()).stdout
 }
 
-fn tmp(name: &str) -> String {
-    std::env::temp_dir()
-        .join(format!("fpgfx-anim-{}-{name}", std::process::id()))
-        .display()
-        .to_string()
-}
-
-fn fpgfx(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args(["--port", "builtin"])
-        .args(args)
-        .output()
-        .expect("fpgfx runs")
-}
-
-fn ok(args: &[&str]) -> String {
-    let out = fpgfx(args);
-    assert!(
-        out.status.success(),
-        "fpgfx {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn fails(args: &[&str]) -> String {
-    let out = fpgfx(args);
-    assert_eq!(out.status.code(), Some(1), "fpgfx {args:?} should fail");
-    String::from_utf8_lossy(&out.stderr).into_owned()
+/// `fpgfx --port builtin ARGS…` must fail with status 1; returns its stderr.
+fn builtin_fails(args: &[&str]) -> String {
+    fails(&[&["--port", "builtin"], args].concat())
 }
 
 #[test]
 fn viray_demo_sends_only_what_moves_and_matches_plain_renders() {
-    let script = format!("{}/examples/anim/viray.rhai", root());
+    let script = example("anim/viray.rhai");
     let (pngs, tomls) = (tmp("v-%02d.png"), tmp("v-%02d.toml"));
-    let stdout = ok(&[
+    let stdout = builtin_ok(&[
         "animate",
         &script,
         "--frames",
@@ -80,19 +57,18 @@ fn viray_demo_sends_only_what_moves_and_matches_plain_renders() {
     }
     let frame2 = tmp("v-02.toml");
     let plain = tmp("plain.png");
-    ok(&["render", &frame2, "--size", "64x36", "-o", &plain]);
-    let a = image::open(tmp("v-02.png")).expect("frame 2").to_rgb8();
-    let b = image::open(&plain).expect("plain render").to_rgb8();
+    builtin_ok(&["render", &frame2, "--size", "64x36", "-o", &plain]);
+    let (a, b) = (rgb(&tmp("v-02.png")), rgb(&plain));
     assert!(a == b, "frame 2 differs from a plain render of its scene");
-    let a0 = image::open(tmp("v-00.png")).expect("frame 0").to_rgb8();
+    let a0 = rgb(&tmp("v-00.png"));
     assert!(a0 != a, "the animation does not move");
 }
 
 #[test]
 fn raster_script_writes_a_gif() {
-    let script = format!("{}/examples/anim/spin.rhai", root());
+    let script = example("anim/spin.rhai");
     let gif = tmp("spin.gif");
-    ok(&[
+    builtin_ok(&[
         "animate", &script, "--frames", "3", "--fps", "10", "-o", &gif,
     ]);
     use image::AnimationDecoder;
@@ -121,19 +97,19 @@ fn script_errors_name_the_script_frame_and_line() {
         std::fs::write(&p, text).expect("write");
         p
     };
-    let reference = format!("{}/examples/reference.toml", root());
+    let reference = example("reference.toml");
+    // `animate SCRIPT --scene reference.toml -o OUT EXTRA…`, which must fail.
+    let animate = |script: &str, out: &str, extra: &[&str]| {
+        let base = ["animate", script, "--scene", &reference, "-o", out];
+        builtin_fails(&[&base[..], extra].concat())
+    };
+    let three_frames = ["--size", "16x9", "--frames", "3"];
+
     let syntax = write(
         "syntax.rhai",
         "fn scene(s, frame, time) {\n    s.camera.fov_y = ;\n    s\n}\n",
     );
-    let err = fails(&[
-        "animate",
-        &syntax,
-        "--scene",
-        &reference,
-        "-o",
-        &tmp("x.gif"),
-    ]);
+    let err = animate(&syntax, &tmp("x.gif"), &[]);
     assert!(
         err.contains("syntax.rhai") && err.contains("line 2"),
         "{err}"
@@ -143,18 +119,7 @@ fn script_errors_name_the_script_frame_and_line() {
         "runtime.rhai",
         "fn scene(s, frame, time) {\n    if frame == 2 { s.nothing.here = 1; }\n    s\n}\n",
     );
-    let err = fails(&[
-        "animate",
-        &runtime,
-        "--scene",
-        &reference,
-        "--size",
-        "16x9",
-        "--frames",
-        "3",
-        "-o",
-        &tmp("y-%d.png"),
-    ]);
+    let err = animate(&runtime, &tmp("y-%d.png"), &three_frames);
     assert!(
         err.contains("runtime.rhai: frame 2") && err.contains("line 2"),
         "{err}"
@@ -164,35 +129,17 @@ fn script_errors_name_the_script_frame_and_line() {
         "fov.rhai",
         "fn scene(s, frame, time) {\n    s.camera.fov_y = 45.0 + 140.0 * frame;\n    s\n}\n",
     );
-    let err = fails(&[
-        "animate",
-        &bad_scene,
-        "--scene",
-        &reference,
-        "--size",
-        "16x9",
-        "--frames",
-        "3",
-        "-o",
-        &tmp("z-%d.png"),
-    ]);
+    let err = animate(&bad_scene, &tmp("z-%d.png"), &three_frames);
     assert!(
         err.contains("fov.rhai frame 1") && err.contains("fov_y"),
         "{err}"
     );
 
     let neither = write("neither.rhai", "fn other() { 1 }\n");
-    let err = fails(&["animate", &neither, "-o", &tmp("n.gif")]);
+    let err = builtin_fails(&["animate", &neither, "-o", &tmp("n.gif")]);
     assert!(err.contains("define exactly one of"), "{err}");
 
-    let err = fails(&[
-        "animate",
-        &bad_scene,
-        "--scene",
-        &reference,
-        "-o",
-        &tmp("n.png"),
-    ]);
+    let err = animate(&bad_scene, &tmp("n.png"), &[]);
     assert!(err.contains("frame-number placeholder"), "{err}");
 }
 
@@ -210,32 +157,30 @@ fn interactive_keys_orbit_the_camera_and_q_quits() {
         .open(&tty)
         .expect("open the pty as a file");
     drop(slave);
-    let script = format!("{}/examples/anim/viray.rhai", root());
+    let script = example("anim/viray.rhai");
     let tomls = tmp("i-%02d.toml");
     master.write_all(b"\x1b[C\x1b[C\x1b[C").expect("keys");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args([
-            "--port",
-            "builtin",
-            "animate",
-            &script,
-            "--interactive",
-            "--frames",
-            "50",
-        ])
-        .args([
-            "--size",
-            "32x18",
-            "-o",
-            &tmp("i-%02d.png"),
-            "--save-frames",
-            &tomls,
-        ])
-        .stdin(Stdio::from(stdin))
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("fpgfx runs");
+    let mut child = fpgfx_command(&[
+        "--port",
+        "builtin",
+        "animate",
+        &script,
+        "--interactive",
+        "--frames",
+        "50",
+        "--size",
+        "32x18",
+        "-o",
+        &tmp("i-%02d.png"),
+        "--save-frames",
+        &tomls,
+    ])
+    .stdin(Stdio::from(stdin))
+    .stdout(Stdio::piped())
+    .stderr(Stdio::piped())
+    .spawn()
+    .expect("fpgfx runs");
+    let (stderr, stderr_reader) = collect(child.stderr.take().expect("stderr"));
     let mut out = BufReader::new(child.stdout.take().expect("stdout"));
     let mut line = String::new();
     while out.read_line(&mut line).expect("reads") > 0 && !line.contains("frame    1") {
@@ -243,7 +188,10 @@ fn interactive_keys_orbit_the_camera_and_q_quits() {
     }
     master.write_all(b"q").expect("q");
     let status = child.wait().expect("fpgfx ends");
-    assert!(status.success());
+    let _ = stderr_reader.join();
+    let stderr = String::from_utf8_lossy(&stderr.lock().expect("stderr lock")).into_owned();
+    assert_no_panic(&stderr);
+    assert!(status.success(), "{status}: {stderr}");
     let mut rest = String::new();
     std::io::Read::read_to_string(&mut out, &mut rest).expect("reads");
     let frames: u32 = rest
@@ -279,43 +227,19 @@ fn interactive_keys_orbit_the_camera_and_q_quits() {
 /// Over a serial line (`fpgfx-sim --pty`) the frames equal built-in mode's.
 #[test]
 fn animate_over_a_pty_matches_built_in() {
-    use std::io::{BufRead, BufReader};
-    use std::process::Stdio;
-    let mut sim = Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
-        .arg("--pty")
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("fpgfx-sim starts");
-    let mut pty = String::new();
-    BufReader::new(sim.stdout.take().expect("stdout"))
-        .read_line(&mut pty)
-        .expect("pty path");
-    let script = format!("{}/examples/anim/viray.rhai", root());
+    let sim = start_sim(&[]);
+    let script = example("anim/viray.rhai");
     let run = |port: &str, pattern: &str| {
-        let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-            .args([
-                "--port", port, "animate", &script, "--frames", "2", "--size", "32x18",
-            ])
-            .args(["-o", pattern])
-            .output()
-            .expect("fpgfx runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        ok(&[
+            "--port", port, "animate", &script, "--frames", "2", "--size", "32x18", "-o", pattern,
+        ]);
     };
-    run(pty.trim(), &tmp("p-%d.png"));
+    run(&sim.pty, &tmp("p-%d.png"));
     run("builtin", &tmp("b-%d.png"));
-    let _ = sim.kill();
-    let _ = sim.wait();
+    drop(sim);
     for f in 0..2 {
-        let a = image::open(tmp(&format!("p-{f}.png")))
-            .expect("pty frame")
-            .to_rgb8();
-        let b = image::open(tmp(&format!("b-{f}.png")))
-            .expect("built-in frame")
-            .to_rgb8();
+        let a = rgb(&tmp(&format!("p-{f}.png")));
+        let b = rgb(&tmp(&format!("b-{f}.png")));
         assert!(
             a == b,
             "frame {f} differs between the pty board and built-in"

@@ -2,22 +2,20 @@
 //! finite cost and error, the reference-identical points are where they must be, and the
 //! default configurations sit on their Pareto fronts.
 
+mod common;
+
 use host_cli::bench::{self, BenchConfig};
 use std::path::PathBuf;
 
-fn root() -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
-}
-
 #[test]
 fn quick_bench_writes_outputs_and_default_is_on_the_front() {
-    let out = std::env::temp_dir().join(format!("fpgfx-bench-{}", std::process::id()));
+    let out = PathBuf::from(common::tmp("out"));
     let cfg = BenchConfig {
         scenes: Vec::new(),
         raster_files: Vec::new(),
         quick: true,
         repeats: 1,
-        root: root(),
+        root: common::workspace(),
         progress: false,
     };
     let report = bench::run(&cfg).expect("bench runs");

@@ -3,57 +3,37 @@
 //! `fpgfx flash` program it. The emulator's flash is persisted with `--flash-image`, which
 //! gives the tests an independent view of what actually landed.
 
-use std::io::{BufRead, BufReader, Read};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+mod common;
 
+use std::io::Read;
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+use common::{fails, fpgfx_command, ok, pty_pair, sim_stderr, start_sim, tmp, Sim};
 use protocol::bootloader::{FLASH_BASE, FLASH_SIZE};
 
-struct Sim {
-    child: Child,
-    pty: String,
+/// The emulator as an STM32F405 in its ROM bootloader (BOOT0 high).
+fn board(extra: &[&str]) -> Sim {
+    start_sim(&[&["--bootloader"], extra].concat())
 }
 
-impl Drop for Sim {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+/// A scratch file with these bytes (the firmware to flash); returns its path.
+fn firmware_file(name: &str, bytes: impl AsRef<[u8]>) -> String {
+    let path = tmp(name);
+    std::fs::write(&path, bytes).expect("write firmware file");
+    path
 }
 
-fn start_sim(extra: &[&str]) -> Sim {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
-        .args(["--pty", "--bootloader"])
-        .args(extra)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("fpgfx-sim starts");
-    let stdout = child.stdout.take().expect("piped stdout");
-    let mut line = String::new();
-    BufReader::new(stdout)
-        .read_line(&mut line)
-        .expect("fpgfx-sim prints its pty");
-    let pty = line.trim().to_string();
-    assert!(pty.starts_with("/dev/"), "unexpected pty path {pty:?}");
-    Sim { child, pty }
+/// A path for the emulator's `--flash-image` with nothing there yet (an erased chip).
+fn erased_flash_image(name: &str) -> String {
+    let path = tmp(name);
+    let _ = std::fs::remove_file(&path);
+    path
 }
 
-/// The sim's stderr after it ended (kill it first if it would not end by itself).
-fn sim_stderr(mut sim: Sim) -> String {
-    let _ = sim.child.kill();
-    let _ = sim.child.wait();
-    let mut s = String::new();
-    if let Some(mut e) = sim.child.stderr.take() {
-        let _ = e.read_to_string(&mut s);
-    }
-    s
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fpgfx-flash-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir.join(name)
+/// The arguments of `fpgfx flash FILE --port PORT EXTRA…`.
+fn flash<'a>(file: &'a str, port: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    [&["flash", file, "--port", port], extra].concat()
 }
 
 /// Deterministic bytes that are not 0xFF-heavy (xorshift32).
@@ -69,37 +49,15 @@ fn random_bytes(n: usize, seed: u32) -> Vec<u8> {
         .collect()
 }
 
-fn fpgfx(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args(args)
-        .output()
-        .expect("fpgfx runs")
-}
-
-fn ok(out: &Output, what: &str) -> String {
-    let err = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(
-        out.status.success(),
-        "{what} failed ({}):\nstdout: {}\nstderr: {err}",
-        out.status,
-        String::from_utf8_lossy(&out.stdout)
-    );
-    err
-}
-
-fn failed(out: &Output, what: &str) -> String {
-    let err = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(!out.status.success(), "{what} should have failed: {err}");
-    err
-}
-
-fn flash_file(path: &Path) -> Vec<u8> {
+fn flash_file(path: impl AsRef<Path>) -> Vec<u8> {
     let f = std::fs::read(path).expect("flash image");
     assert_eq!(f.len(), FLASH_SIZE as usize);
     f
 }
 
-fn stm32flash() -> Command {
+/// Runs Debian's `stm32flash ARGS… PORT` and asserts that it succeeded; returns what it
+/// printed (stdout, then stderr).
+fn stm32flash(args: &[&str], port: &str) -> String {
     let found = Command::new("stm32flash")
         .arg("-h")
         .stdout(Stdio::null())
@@ -110,25 +68,26 @@ fn stm32flash() -> Command {
         found,
         "stm32flash is not installed: run `cargo xtask setup` (it installs Debian's stm32flash)"
     );
-    let mut c = Command::new("stm32flash");
     // 8N1, not stm32flash's default 8E1: Linux's pty driver clears PARENB on every
     // tcsetattr (a pty has no parity), and stm32flash re-reads its settings and gives up
     // ("Failed to set terminal flags") when they differ. On a pty the bytes are the same
     // either way; on a real port the chip needs 8E1.
-    c.args(["-m", "8n1"]);
-    c
+    let out = Command::new("stm32flash")
+        .args(["-m", "8n1"])
+        .args(args)
+        .arg(port)
+        .output()
+        .expect("stm32flash runs");
+    let text = String::from_utf8_lossy(&out.stdout).to_string()
+        + String::from_utf8_lossy(&out.stderr).as_ref();
+    assert!(out.status.success(), "stm32flash {args:?} {port}: {text}");
+    text
 }
 
 #[test]
 fn stm32flash_identifies_writes_and_reads_back() {
-    let sim = start_sim(&[]);
-    let info = stm32flash()
-        .arg(&sim.pty)
-        .output()
-        .expect("stm32flash runs");
-    let text = String::from_utf8_lossy(&info.stdout).to_string()
-        + String::from_utf8_lossy(&info.stderr).as_ref();
-    assert!(info.status.success(), "stm32flash {}: {text}", sim.pty);
+    let sim = board(&[]);
+    let text = stm32flash(&[], &sim.pty);
     assert!(text.contains("0x0413"), "device id not reported:\n{text}");
     assert!(
         text.contains("0x31"),
@@ -136,38 +95,12 @@ fn stm32flash_identifies_writes_and_reads_back() {
     );
 
     let image = random_bytes(40 * 1024, 0x5EED);
-    let bin = tmp("stm32flash-in.bin");
-    std::fs::write(&bin, &image).expect("write image");
-    let w = stm32flash()
-        .args([
-            "-w",
-            bin.to_str().unwrap_or_default(),
-            "-v",
-            "-S",
-            "0x08000000",
-        ])
-        .arg(&sim.pty)
-        .output()
-        .expect("stm32flash runs");
-    let wtext = String::from_utf8_lossy(&w.stdout).to_string()
-        + String::from_utf8_lossy(&w.stderr).as_ref();
-    assert!(w.status.success(), "stm32flash -w: {wtext}");
+    let bin = firmware_file("stm32flash-in.bin", &image);
+    stm32flash(&["-w", &bin, "-v", "-S", "0x08000000"], &sim.pty);
 
     let back = tmp("stm32flash-out.bin");
     let _ = std::fs::remove_file(&back);
-    let r = stm32flash()
-        .args([
-            "-r",
-            back.to_str().unwrap_or_default(),
-            "-S",
-            "0x08000000:40960",
-        ])
-        .arg(&sim.pty)
-        .output()
-        .expect("stm32flash runs");
-    let rtext = String::from_utf8_lossy(&r.stdout).to_string()
-        + String::from_utf8_lossy(&r.stderr).as_ref();
-    assert!(r.status.success(), "stm32flash -r: {rtext}");
+    stm32flash(&["-r", &back, "-S", "0x08000000:40960"], &sim.pty);
     let read = std::fs::read(&back).expect("read-back file");
     assert_eq!(read.len(), image.len());
     assert!(
@@ -264,54 +197,24 @@ fn to_elf(text_at: u32, text: &[u8], data_lma: u32, data: &[u8]) -> Vec<u8> {
 
 #[test]
 fn fpgfx_flashes_bin_hex_and_elf_and_erases_only_what_it_needs() {
-    let image_file = tmp("bin-hex-elf.flash");
-    let _ = std::fs::remove_file(&image_file);
-    let sim = start_sim(&["--flash-image", image_file.to_str().unwrap_or_default()]);
+    let image_file = erased_flash_image("bin-hex-elf.flash");
+    let sim = board(&["--flash-image", &image_file]);
 
     let bin_data = random_bytes(10 * 1024 + 6, 1);
-    let bin = tmp("fw.bin");
-    std::fs::write(&bin, &bin_data).expect("write");
-    let err = ok(
-        &fpgfx(&[
-            "flash",
-            bin.to_str().unwrap_or_default(),
-            "--port",
-            &sim.pty,
-            "--go",
-        ]),
-        "fpgfx flash .bin",
-    );
+    let bin = firmware_file("fw.bin", &bin_data);
+    let err = ok(&flash(&bin, &sim.pty, &["--go"])).stderr;
     assert!(err.contains("erased sectors [0]"), "{err}");
     assert!(err.contains("verified"), "{err}");
     assert!(err.contains("jumped to 0x08000000"), "{err}");
 
     let hex_data = random_bytes(5000, 2);
-    let hex = tmp("fw.hex");
-    std::fs::write(&hex, to_hex(0x0802_0010, &hex_data)).expect("write");
-    let err = ok(
-        &fpgfx(&[
-            "flash",
-            hex.to_str().unwrap_or_default(),
-            "--port",
-            &sim.pty,
-        ]),
-        "fpgfx flash .hex",
-    );
+    let hex = firmware_file("fw.hex", to_hex(0x0802_0010, &hex_data));
+    let err = ok(&flash(&hex, &sim.pty, &[])).stderr;
     assert!(err.contains("erased sectors [5]"), "{err}");
 
     let (text, data) = (random_bytes(3000, 3), random_bytes(100, 4));
-    let elf = tmp("fw.elf");
-    std::fs::write(&elf, to_elf(0x0804_0000, &text, 0x0804_1000, &data)).expect("write");
-    let err = ok(
-        &fpgfx(&[
-            "flash",
-            elf.to_str().unwrap_or_default(),
-            "--port",
-            &sim.pty,
-            "--go",
-        ]),
-        "fpgfx flash .elf",
-    );
+    let elf = firmware_file("fw.elf", to_elf(0x0804_0000, &text, 0x0804_1000, &data));
+    let err = ok(&flash(&elf, &sim.pty, &["--go"])).stderr;
     assert!(err.contains("erased sectors [6]"), "{err}");
     assert!(err.contains("jumped to 0x08040000"), "{err}");
 
@@ -346,28 +249,13 @@ fn fpgfx_flashes_bin_hex_and_elf_and_erases_only_what_it_needs() {
 
 #[test]
 fn an_interrupted_flash_is_completed_by_a_second_run() {
-    let image_file = tmp("interrupted.flash");
-    let _ = std::fs::remove_file(&image_file);
+    let image_file = erased_flash_image("interrupted.flash");
     let image = random_bytes(64 * 1024, 9);
-    let bin = tmp("interrupted.bin");
-    std::fs::write(&bin, &image).expect("write");
+    let bin = firmware_file("interrupted.bin", &image);
 
-    // The board dies after the 40th block.
-    let sim = start_sim(&[
-        "--flash-image",
-        image_file.to_str().unwrap_or_default(),
-        "--exit-after-writes",
-        "40",
-    ]);
-    let err = failed(
-        &fpgfx(&[
-            "flash",
-            bin.to_str().unwrap_or_default(),
-            "--port",
-            &sim.pty,
-        ]),
-        "flash into a board that dies",
-    );
+    // The board dies after the 40th block: the flash fails.
+    let sim = board(&["--flash-image", &image_file, "--exit-after-writes", "40"]);
+    let err = fails(&flash(&bin, &sim.pty, &[]));
     assert!(err.contains("error: flash"), "{err}");
     let log = sim_stderr(sim);
     assert!(log.contains("exiting after 40 writes"), "{log}");
@@ -376,16 +264,8 @@ fn an_interrupted_flash_is_completed_by_a_second_run() {
     assert!(half[40 * 256..].iter().all(|&b| b == 0xFF));
 
     // Power back on: the second run erases again, writes everything and verifies.
-    let sim = start_sim(&["--flash-image", image_file.to_str().unwrap_or_default()]);
-    let err = ok(
-        &fpgfx(&[
-            "flash",
-            bin.to_str().unwrap_or_default(),
-            "--port",
-            &sim.pty,
-        ]),
-        "second flash",
-    );
+    let sim = board(&["--flash-image", &image_file]);
+    let err = ok(&flash(&bin, &sim.pty, &[])).stderr;
     assert!(err.contains("erased sectors [0, 1, 2, 3]"), "{err}");
     assert!(err.contains("256 blocks, verified"), "{err}");
     let full = flash_file(&image_file);
@@ -396,20 +276,12 @@ fn an_interrupted_flash_is_completed_by_a_second_run() {
 /// same running board is flashed completely by the next run.
 #[test]
 fn a_killed_flash_is_completed_by_a_second_run_on_the_same_board() {
-    let image_file = tmp("killed.flash");
-    let _ = std::fs::remove_file(&image_file);
+    let image_file = erased_flash_image("killed.flash");
     let image = random_bytes(960 * 1024, 11);
-    let bin = tmp("killed.bin");
-    std::fs::write(&bin, &image).expect("write");
-    let sim = start_sim(&["--flash-image", image_file.to_str().unwrap_or_default()]);
+    let bin = firmware_file("killed.bin", &image);
+    let sim = board(&["--flash-image", &image_file]);
 
-    let mut first = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args([
-            "flash",
-            bin.to_str().unwrap_or_default(),
-            "--port",
-            &sim.pty,
-        ])
+    let mut first = fpgfx_command(&flash(&bin, &sim.pty, &[]))
         .stderr(Stdio::null())
         .spawn()
         .expect("fpgfx runs");
@@ -439,15 +311,7 @@ fn a_killed_flash_is_completed_by_a_second_run_on_the_same_board() {
     let partial = flash_file(&image_file);
     assert!(partial[..4] == image[..4]);
 
-    let err = ok(
-        &fpgfx(&[
-            "flash",
-            bin.to_str().unwrap_or_default(),
-            "--port",
-            &sim.pty,
-        ]),
-        "flash after a killed one",
-    );
+    let err = ok(&flash(&bin, &sim.pty, &[])).stderr;
     assert!(err.contains("verified"), "{err}");
     let full = flash_file(&image_file);
     assert!(full[..image.len()] == image[..]);
@@ -455,15 +319,8 @@ fn a_killed_flash_is_completed_by_a_second_run_on_the_same_board() {
 
 #[test]
 fn a_missing_port_is_a_clear_error() {
-    let bin = tmp("missing-port.bin");
-    std::fs::write(&bin, [0u8; 16]).expect("write");
-    let out = fpgfx(&[
-        "flash",
-        bin.to_str().unwrap_or_default(),
-        "--port",
-        "/dev/fpgfx-no-such-port",
-    ]);
-    let err = failed(&out, "flash to a missing port");
+    let bin = firmware_file("missing-port.bin", [0u8; 16]);
+    let err = fails(&flash(&bin, "/dev/fpgfx-no-such-port", &[]));
     assert!(
         err.contains("cannot open serial port /dev/fpgfx-no-such-port"),
         "{err}"
@@ -472,14 +329,10 @@ fn a_missing_port_is_a_clear_error() {
 
 #[test]
 fn a_port_nobody_answers_on_says_what_was_sent() {
-    let (master, slave) = serialport::TTYPort::pair().expect("pty pair");
-    let path = serialport::SerialPort::name(&slave).expect("pty path");
-    drop(slave);
-    let bin = tmp("deaf.bin");
-    std::fs::write(&bin, [0u8; 16]).expect("write");
-    let out = fpgfx(&["flash", bin.to_str().unwrap_or_default(), "--port", &path]);
+    let (master, path) = pty_pair();
+    let bin = firmware_file("deaf.bin", [0u8; 16]);
+    let err = fails(&flash(&bin, &path, &[]));
     drop(master);
-    let err = failed(&out, "flash to a silent pty");
     assert!(
         err.contains(
             "no answer from the bootloader: sent 0x7F 4 times (and one burst of 258 to end a \
@@ -491,21 +344,12 @@ fn a_port_nobody_answers_on_says_what_was_sent() {
 
 #[test]
 fn a_busy_port_is_a_clear_error() {
-    let sim = start_sim(&[]);
+    let sim = board(&[]);
     let _holder = serialport::new(&sim.pty, 115_200)
         .open_native()
         .expect("the test opens the pty first");
-    let bin = tmp("busy.bin");
-    std::fs::write(&bin, [0u8; 16]).expect("write");
-    let err = failed(
-        &fpgfx(&[
-            "flash",
-            bin.to_str().unwrap_or_default(),
-            "--port",
-            &sim.pty,
-        ]),
-        "flash to a busy port",
-    );
+    let bin = firmware_file("busy.bin", [0u8; 16]);
+    let err = fails(&flash(&bin, &sim.pty, &[]));
     assert!(err.contains("cannot open serial port"), "{err}");
     assert!(err.contains("busy"), "{err}");
 }
@@ -513,7 +357,7 @@ fn a_busy_port_is_a_clear_error() {
 #[test]
 fn the_emulator_refuses_to_program_unerased_flash() {
     use host_cli::flash::{BootPort, Client, FlashError};
-    let sim = start_sim(&[]);
+    let sim = board(&[]);
     let mut c = Client::new(BootPort::open(&sim.pty, 115_200).expect("open"), 115_200);
     c.sync(4).expect("sync");
     c.erase(&[0]).expect("erase sector 0");

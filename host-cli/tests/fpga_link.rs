@@ -2,13 +2,15 @@
 //! `protocol::link`, as on a QEMU board) must produce exactly the images of the in-process
 //! bus: the link changes the transport, never a bit.
 
+mod common;
+
 use host_cli::builtin::{sim_target, sim_target_via_fpga_link};
 use host_cli::raster_file;
 use host_cli::render::{Aovs, Packing, Renderer};
 use host_cli::session::{Session, Transport};
 
 fn example(path: &str) -> String {
-    let full = format!("{}/../examples/{path}", env!("CARGO_MANIFEST_DIR"));
+    let full = common::example(path);
     std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{full}: {e}"))
 }
 
@@ -64,14 +66,6 @@ fn render_over_the_fpga_link_is_identical_and_sends_only_changes() {
 
     scene.objects[1].translate[1] += 0.25;
     let moved = sim_target::scene_regs::to_regs(&scene).expect("fits");
-    let (_, words) = renderer
-        .frame(
-            &mut session,
-            &moved,
-            numeric,
-            Packing::Kcu116,
-            Aovs::default(),
-        )
-        .expect("second frame");
+    let words = common::words_for_next_frame(&mut renderer, &mut session, &moved, numeric);
     assert_eq!(words, 1, "one register changed");
 }

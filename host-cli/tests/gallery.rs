@@ -3,6 +3,8 @@
 //! `FPGFX_BLESS=1 cargo test -p host-cli --test gallery` rewrites the goldens after an
 //! intended change (look at them before committing).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use host_cli::raster_file;
@@ -10,7 +12,7 @@ use host_cli::session::Session;
 use protocol::frame::{AaPattern, Traversal};
 
 fn examples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/raster")
+    common::workspace().join("examples/raster")
 }
 
 fn draw(

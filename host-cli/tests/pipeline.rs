@@ -2,6 +2,8 @@
 //! FPGA is exactly what the file said, errors name the command, and a slow bus stalls the
 //! pipeline instead of losing anything.
 
+mod common;
+
 use std::convert::Infallible;
 
 use firmware::FpgaBus;
@@ -201,40 +203,14 @@ fn capability_refusal_before_anything_is_sent() {
 /// exactly what the raster block draws when called directly with the same commands.
 #[test]
 fn built_in_target_matches_the_raster_block_exactly() {
-    let text = r##"
-size = [160, 120]
-background = "#102030"
-[[cmd]]
-op = "triangle"
-v = [[10.5, 20.25], [150.0, 30.0], [50.0, 110.75]]
-colors = ["#ff0000", "#00ff00", "#0000ff"]
-[[cmd]]
-op = "line"
-from = [3.0, 4.0]
-to = [150.0, 100.0]
-color = "#ffffff"
-[[cmd]]
-op = "circle"
-center = [100.0, 60.0]
-radius = 30.5
-color = "#00ff00"
-fill = true
-[[cmd]]
-op = "fill"
-seed = [2, 118]
-color = "#808000"
-connectivity = 8
-[[cmd]]
-op = "bezier"
-points = [[10.0, 100.0], [40.0, 10.0], [80.0, 110.0], [150.0, 20.0]]
-color = "#ffff00"
-"##;
-    let job = raster_file::parse(text, "g.toml").expect("valid");
+    let text = common::every_primitive(192, 128, "");
+    let job = raster_file::parse(&text, "g.toml").expect("valid");
     let mut session = Session::new(host_cli::builtin::sim_target());
     session.handshake().expect("handshake");
     let out = host_cli::raster::run(&mut session, &job, "g.toml").expect("runs");
 
-    let mut direct = sim_target::raster::Raster::new(160, 120, &job.setup).expect("setup");
+    let (width, height) = (job.setup.width.into(), job.setup.height.into());
+    let mut direct = sim_target::raster::Raster::new(width, height, &job.setup).expect("setup");
     for cmd in &job.cmds {
         direct.draw(cmd).expect("draws");
     }
@@ -246,11 +222,7 @@ color = "#ffff00"
 }
 
 fn small_reference() -> sim_target::rt::Scene {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../examples/reference.toml"
-    ))
-    .expect("reference scene");
+    let text = std::fs::read_to_string(common::example("reference.toml")).expect("reference scene");
     let mut scene =
         sim_target::rt::scene_file::parse(&text, "reference.toml").expect("reference parses");
     scene.width = 96;
@@ -302,15 +274,7 @@ fn built_in_render_matches_direct_and_sends_only_changes() {
     // Move one object along x: one register word crosses the link.
     scene.objects[2].translate[0] += 0.5;
     let moved = to_regs(&scene).expect("fits");
-    let (_, words) = renderer
-        .frame(
-            &mut session,
-            &moved,
-            numeric,
-            Packing::Kcu116,
-            Aovs::default(),
-        )
-        .expect("renders");
+    let words = common::words_for_next_frame(&mut renderer, &mut session, &moved, numeric);
     assert_eq!(words, 1, "only translate.x changed");
 }
 

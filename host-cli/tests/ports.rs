@@ -2,9 +2,12 @@
 //! identity, the one known adapter chosen when no port is named, the config file's
 //! defaults and its errors.
 
+mod common;
+
 use std::os::unix::fs::symlink;
 use std::path::Path;
-use std::process::Command;
+
+use common::{assert_fails, assert_ok, example, fpgfx_command, run, Run};
 
 use host_cli::connect::{choose, Target};
 use host_cli::ports::{describe, list_in, the_one_adapter};
@@ -89,53 +92,32 @@ fn target_choice_prefers_the_named_port_then_the_one_adapter() {
     assert_eq!(choose(None, 115_200, &[]).0, Target::BuiltIn);
 }
 
-fn fpgfx_with_config(config: &Path, args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args(args)
-        .env_remove("FPGFX_PORT")
-        .env("FPGFX_CONFIG", config)
-        .output()
-        .expect("fpgfx runs")
+/// `fpgfx ARGS…` with this config file instead of none.
+fn fpgfx_with_config(config: &Path, args: &[&str]) -> Run {
+    run(fpgfx_command(args).env("FPGFX_CONFIG", config))
 }
 
 #[test]
 fn the_config_file_supplies_the_port_and_its_errors_name_it() {
     let dir = tempdir::TempDir::new();
-    let gallery = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../examples/raster/gallery.toml"
-    );
+    let gallery = example("raster/gallery.toml");
     let cfg = dir.path().join("fpgfx.toml");
     std::fs::write(&cfg, "port = \"/dev/fpgfx-from-config\"\n").expect("write");
-    let out = fpgfx_with_config(&cfg, &["raster", gallery]);
-    let err = String::from_utf8_lossy(&out.stderr);
+    let args = ["raster", &gallery];
+    let err = assert_fails(fpgfx_with_config(&cfg, &args), &args);
     assert!(
         err.contains("serial port /dev/fpgfx-from-config does not exist"),
         "{err}"
     );
 
     // The flag wins over the file.
-    let png = dir.path().join("g.png");
-    let out = fpgfx_with_config(
-        &cfg,
-        &[
-            "--port",
-            "builtin",
-            "raster",
-            gallery,
-            "-o",
-            &png.display().to_string(),
-        ],
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let png = dir.path().join("g.png").display().to_string();
+    let args = ["--port", "builtin", "raster", &gallery, "-o", &png];
+    assert_ok(fpgfx_with_config(&cfg, &args), &args);
 
     std::fs::write(&cfg, "port = \"builtin\"\nbaud_rate = 9600\n").expect("write");
-    let out = fpgfx_with_config(&cfg, &["raster", gallery]);
-    let err = String::from_utf8_lossy(&out.stderr);
+    let args = ["raster", &gallery];
+    let err = assert_fails(fpgfx_with_config(&cfg, &args), &args);
     assert!(err.contains(&cfg.display().to_string()), "{err}");
     assert!(err.contains("baud_rate"), "{err}");
 }

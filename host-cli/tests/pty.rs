@@ -2,80 +2,34 @@
 //! FPGA model, `fpgfx --port` drives it. The images must equal built-in mode's, and a
 //! second host session on the same running board must work (the link resynchronises).
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+mod common;
 
-struct Sim(Child);
-
-impl Drop for Sim {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn start_sim() -> (Sim, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
-        .arg("--pty")
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("fpgfx-sim starts");
-    let stdout = child.stdout.take().expect("piped stdout");
-    let mut line = String::new();
-    BufReader::new(stdout)
-        .read_line(&mut line)
-        .expect("fpgfx-sim prints its pty");
-    let path = line.trim().to_string();
-    assert!(path.starts_with("/dev/"), "unexpected pty path {path:?}");
-    (Sim(child), path)
-}
-
-fn fpgfx(args: &[&str]) {
-    let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args(args)
-        .output()
-        .expect("fpgfx runs");
-    assert!(
-        out.status.success(),
-        "fpgfx {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-fn tmp(name: &str) -> String {
-    std::env::temp_dir()
-        .join(format!("fpgfx-pty-{}-{name}", std::process::id()))
-        .display()
-        .to_string()
-}
-
-fn rgb(path: &str) -> image::RgbImage {
-    image::open(path).expect("PNG written").to_rgb8()
-}
+use common::{example, fails, ok, pty_pair, rgb, start_sim, start_tcp_sim, tmp};
 
 #[test]
 fn pty_board_draws_what_built_in_draws() {
-    let (_sim, pty) = start_sim();
-    let root = env!("CARGO_MANIFEST_DIR");
-    let gallery = format!("{root}/../examples/raster/gallery.toml");
-    let golden = rgb(&format!("{root}/../examples/raster/golden/gallery.png"));
+    let sim = start_sim(&[]);
+    let golden = rgb(&example("raster/golden/gallery.png"));
 
     // Two host sessions against the same running board.
     for run in 0..2 {
         let out = tmp(&format!("gallery{run}.png"));
-        fpgfx(&["--port", &pty, "raster", &gallery, "-o", &out]);
+        ok(&["--port", &sim.pty, "raster", &gallery(), "-o", &out]);
         assert!(
             rgb(&out) == golden,
             "raster over the pty (run {run}) differs from the golden"
         );
     }
 
-    let scene = format!("{root}/../examples/rt/shapes.toml");
+    let scene = example("rt/shapes.toml");
     let (over_pty, built_in) = (tmp("shapes-pty.png"), tmp("shapes-builtin.png"));
-    fpgfx(&[
-        "--port", &pty, "render", &scene, "--size", "96x54", "-o", &over_pty,
-    ]);
-    fpgfx(&["render", &scene, "--size", "96x54", "-o", &built_in]);
+    let render = |port: &str, out: &str| {
+        ok(&[
+            "--port", port, "render", &scene, "--size", "96x54", "-o", out,
+        ]);
+    };
+    render(&sim.pty, &over_pty);
+    render("builtin", &built_in);
     assert!(
         rgb(&over_pty) == rgb(&built_in),
         "render over the pty differs from built-in"
@@ -84,59 +38,36 @@ fn pty_board_draws_what_built_in_draws() {
 
 #[test]
 fn a_port_that_does_not_exist_is_a_clear_error() {
-    let gallery = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../examples/raster/gallery.toml"
-    );
-    let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args(["--port", "/dev/fpgfx-no-such-port", "raster", gallery])
-        .output()
-        .expect("fpgfx runs");
-    assert_eq!(out.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = fails(&["--port", "/dev/fpgfx-no-such-port", "raster", &gallery()]);
     assert!(
         err.contains("serial port /dev/fpgfx-no-such-port does not exist"),
         "{err}"
     );
 }
 
-fn fpgfx_fails(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args(args)
-        .env_remove("FPGFX_PORT")
-        .env("FPGFX_CONFIG", "/dev/null")
-        .output()
-        .expect("fpgfx runs");
-    assert_eq!(out.status.code(), Some(1), "fpgfx {args:?} should fail");
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
 fn gallery() -> String {
-    concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../examples/raster/gallery.toml"
-    )
-    .to_string()
+    example("raster/gallery.toml")
 }
 
 /// A port another program holds (serial ports are opened exclusively).
 #[test]
 fn a_busy_port_is_named_busy() {
-    let (_sim, pty) = start_sim();
-    let _holder = serialport::new(&pty, 115_200)
+    let sim = start_sim(&[]);
+    let _holder = serialport::new(&sim.pty, 115_200)
         .open_native()
         .expect("first open succeeds");
-    let err = fpgfx_fails(&["--port", &pty, "raster", &gallery()]);
-    assert!(err.contains(&format!("serial port {pty} is busy")), "{err}");
+    let err = fails(&["--port", &sim.pty, "raster", &gallery()]);
+    assert!(
+        err.contains(&format!("serial port {} is busy", sim.pty)),
+        "{err}"
+    );
 }
 
 /// A line where nobody answers: the error says what was sent and that nothing came back.
 #[test]
 fn a_silent_port_says_what_was_sent_and_received() {
-    let (_master, slave) = serialport::TTYPort::pair().expect("pty pair");
-    let path = serialport::SerialPort::name(&slave).expect("pty path");
-    drop(slave);
-    let err = fpgfx_fails(&["--port", &path, "--timeout", "1", "raster", &gallery()]);
+    let (_master, path) = pty_pair();
+    let err = fails(&["--port", &path, "--timeout", "1", "raster", &gallery()]);
     assert!(err.contains("no answer to the handshake"), "{err}");
     assert!(err.contains("link reset + hello"), "{err}");
     assert!(err.contains("received 0 bytes"), "{err}");
@@ -146,16 +77,14 @@ fn a_silent_port_says_what_was_sent_and_received() {
 #[test]
 fn a_foreign_device_is_shown_in_hex() {
     use std::io::Write;
-    let (mut master, slave) = serialport::TTYPort::pair().expect("pty pair");
-    let path = serialport::SerialPort::name(&slave).expect("pty path");
-    drop(slave);
+    let (mut master, path) = pty_pair();
     let talker = std::thread::spawn(move || {
         for _ in 0..40 {
             let _ = master.write_all(b"AT\r\nOK\r\n");
             std::thread::sleep(std::time::Duration::from_millis(25));
         }
     });
-    let err = fpgfx_fails(&["--port", &path, "--timeout", "1", "raster", &gallery()]);
+    let err = fails(&["--port", &path, "--timeout", "1", "raster", &gallery()]);
     let _ = talker.join();
     assert!(err.contains("starting 41 54 0d 0a 4f 4b"), "{err}");
 }
@@ -163,23 +92,11 @@ fn a_foreign_device_is_shown_in_hex() {
 /// The board over TCP: same images as built-in, for two clients one after the other.
 #[test]
 fn tcp_board_draws_what_built_in_draws() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
-        .args(["--tcp", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("fpgfx-sim starts");
-    let stdout = child.stdout.take().expect("piped stdout");
-    let _sim = Sim(child);
-    let mut addr = String::new();
-    BufReader::new(stdout)
-        .read_line(&mut addr)
-        .expect("fpgfx-sim prints its address");
-    let port = format!("tcp:{}", addr.trim());
-    let root = env!("CARGO_MANIFEST_DIR");
-    let golden = rgb(&format!("{root}/../examples/raster/golden/gallery.png"));
+    let sim = start_tcp_sim();
+    let golden = rgb(&example("raster/golden/gallery.png"));
     for run in 0..2 {
         let out = tmp(&format!("tcp{run}.png"));
-        fpgfx(&["--port", &port, "raster", &gallery(), "-o", &out]);
+        ok(&["--port", &sim.pty, "raster", &gallery(), "-o", &out]);
         assert!(rgb(&out) == golden, "raster over TCP (run {run}) differs");
     }
 }
@@ -189,30 +106,21 @@ fn tcp_board_draws_what_built_in_draws() {
 /// (a UART's DMA buffers). A lower bound only: a loaded machine may take longer.
 #[test]
 fn pace_holds_the_line_rate() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
-        .args(["--pty", "--pace", "--baud", "115200"])
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("fpgfx-sim starts");
-    let stdout = child.stdout.take().expect("piped stdout");
-    let _sim = Sim(child);
-    let mut pty = String::new();
-    BufReader::new(stdout)
-        .read_line(&mut pty)
-        .expect("pty path");
+    let sim = start_sim(&["--pace", "--baud", "115200"]);
     let file = tmp("pace.toml");
     std::fs::write(&file, "size = [64, 48]\n").expect("temp file");
-    let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args(["--port", pty.trim(), "--baud", "115200", "raster", &file])
-        .args(["-o", &tmp("pace.png"), "--stats"])
-        .output()
-        .expect("fpgfx runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stats = String::from_utf8_lossy(&out.stdout);
+    let stats = ok(&[
+        "--port",
+        &sim.pty,
+        "--baud",
+        "115200",
+        "raster",
+        &file,
+        "-o",
+        &tmp("pace.png"),
+        "--stats",
+    ])
+    .stdout;
     let line = stats
         .lines()
         .find(|l| l.starts_with("read-back"))
@@ -237,9 +145,7 @@ fn a_schema_mismatch_names_both_sides() {
     use protocol::frame::{decode, encode, Caps, DeviceFrame, Hello, HostFrame};
     use protocol::link::{Event, Link, MAX_FRAME};
     use std::io::{Read, Write};
-    let (mut master, slave) = serialport::TTYPort::pair().expect("pty pair");
-    let path = serialport::SerialPort::name(&slave).expect("pty path");
-    drop(slave);
+    let (mut master, path) = pty_pair();
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let stop_peer = stop.clone();
     let peer = std::thread::spawn(move || {
@@ -278,7 +184,7 @@ fn a_schema_mismatch_names_both_sides() {
             }
         }
     });
-    let err = fpgfx_fails(&["--port", &path, "--timeout", "5", "raster", &gallery()]);
+    let err = fails(&["--port", &path, "--timeout", "5", "raster", &gallery()]);
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
     let _ = peer.join();
     assert!(err.contains("old firmware 0.0.9"), "{err}");

@@ -4,30 +4,16 @@
 //! defmt log (semihosting, decoded with the ELF's format table) is printed into the test
 //! log. `cargo test qemu` runs just this. QEMU comes from Debian (`cargo xtask setup`).
 
-use std::io::Read;
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use common::{collect, every_primitive, example, ok, rgb, sim_command, tmp, workspace, KillOnDrop};
+
 const TARGET: &str = "thumbv7em-none-eabihf";
-
-/// Kills a child process when the test ends, passed or not.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("workspace root")
-        .to_path_buf()
-}
 
 /// Builds the board binary (a no-op when `cargo xtask test` already did) and returns it.
 fn firmware_elf() -> PathBuf {
@@ -51,7 +37,7 @@ fn firmware_elf() -> PathBuf {
 /// QEMU's stdout: first its "char device redirected to /dev/pts/N (label serialK)"
 /// lines, then the semihosting bytes (defmt frames).
 struct Qemu {
-    _child: Killed,
+    _child: KillOnDrop,
     out: Arc<Mutex<Vec<u8>>>,
 }
 
@@ -79,20 +65,10 @@ impl Qemu {
             .stderr(Stdio::inherit())
             .spawn()
             .expect("qemu-system-arm starts");
-        let mut stdout = child.stdout.take().expect("piped");
-        let out = Arc::new(Mutex::new(Vec::new()));
-        let sink = out.clone();
-        std::thread::spawn(move || {
-            let mut buf = [0u8; 4096];
-            while let Ok(n) = stdout.read(&mut buf) {
-                if n == 0 {
-                    break;
-                }
-                sink.lock().expect("log lock").extend_from_slice(&buf[..n]);
-            }
-        });
+        let stdout = child.stdout.take().expect("piped");
+        let (out, _reader) = collect(stdout);
         let qemu = Qemu {
-            _child: Killed(child),
+            _child: KillOnDrop(child),
             out,
         };
         let started = Instant::now();
@@ -159,85 +135,54 @@ impl Qemu {
     }
 }
 
-fn fpgfx(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_fpgfx"))
-        .args(args)
-        .output()
-        .expect("fpgfx runs");
-    assert!(
-        out.status.success(),
-        "fpgfx {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+/// `fpgfx render` of the reference scene, small and in Q16.16 (the board's format), on
+/// the board at `port` (with `--stats`, whose stdout it returns) or built-in.
+fn render(port: Option<&str>, out: &str) -> String {
+    let scene = example("reference.toml");
+    let mut args = vec![
+        "--port",
+        "builtin",
+        "render",
+        &scene,
+        "--size",
+        "48x27",
+        "--numeric",
+        "q16.16",
+        "-o",
+        out,
+    ];
+    if let Some(port) = port {
+        args[1] = port;
+        args.push("--stats");
+    }
+    ok(&args).stdout
 }
-
-fn tmp(name: &str) -> String {
-    std::env::temp_dir()
-        .join(format!("fpgfx-qemu-{}-{name}", std::process::id()))
-        .display()
-        .to_string()
-}
-
-fn rgb(path: &str) -> image::RgbImage {
-    image::open(path).expect("PNG written").to_rgb8()
-}
-
-/// A raster job with every primitive, small enough that its read-back (QEMU delivers
-/// UART bytes one per main-loop turn, ~6 KB/s) takes a few seconds.
-const RASTER: &str = r##"
-size = [96, 64]
-background = "#102030"
-[aa]
-pattern = "rotated"
-samples = 4
-[[cmd]]
-op = "triangle"
-v = [[4.5, 6.25], [90.0, 10.0], [30.0, 60.75]]
-colors = ["#ff0000", "#00ff00", "#0000ff"]
-[[cmd]]
-op = "line"
-from = [2.0, 3.0]
-to = [94.0, 60.0]
-color = "#ffffff"
-[[cmd]]
-op = "circle"
-center = [64.0, 32.0]
-radius = 18.5
-color = "#00ff00"
-fill = true
-[[cmd]]
-op = "fill"
-seed = [1, 62]
-color = "#808000"
-connectivity = 8
-[[cmd]]
-op = "bezier"
-points = [[5.0, 60.0], [30.0, 5.0], [60.0, 62.0], [94.0, 8.0]]
-color = "#ffff00"
-"##;
 
 #[test]
 fn qemu_board_draws_and_renders_like_built_in() {
     let elf = firmware_elf();
     let (qemu, host_pty, fpga_pty) = Qemu::start(&elf);
-    let _fpga = Killed(
-        Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
+    let _fpga = KillOnDrop(
+        sim_command()
             .args(["--fpga-link", &fpga_pty])
             .stderr(Stdio::inherit())
             .spawn()
             .expect("fpgfx-sim starts"),
     );
 
+    // A raster job with every primitive, small enough that its read-back (QEMU delivers
+    // UART bytes one per main-loop turn, ~6 KB/s) takes a few seconds.
     let file = tmp("raster.toml");
-    std::fs::write(&file, RASTER).expect("temp file");
+    let aa = "[aa]\npattern = \"rotated\"\nsamples = 4";
+    std::fs::write(&file, every_primitive(96, 64, aa)).expect("temp file");
     let (board, built_in) = (tmp("board.png"), tmp("built-in.png"));
     let started = Instant::now();
-    let stats = fpgfx(&[
+    let stats = ok(&[
         "--port", &host_pty, "raster", &file, "-o", &board, "--stats",
-    ]);
+    ])
+    .stdout;
     let raster_time = started.elapsed();
-    fpgfx(&["raster", &file, "-o", &built_in]);
+    ok(&["--port", "builtin", "raster", &file, "-o", &built_in]);
     assert_eq!(
         rgb(&board),
         rgb(&built_in),
@@ -245,33 +190,11 @@ fn qemu_board_draws_and_renders_like_built_in() {
     );
     println!("raster over QEMU in {raster_time:?}:\n{stats}");
 
-    let scene = format!("{}/examples/reference.toml", workspace().display());
     let (board, built_in) = (tmp("board-rt.png"), tmp("built-in-rt.png"));
     let started = Instant::now();
-    let stats = fpgfx(&[
-        "--port",
-        &host_pty,
-        "render",
-        &scene,
-        "--size",
-        "48x27",
-        "--numeric",
-        "q16.16",
-        "-o",
-        &board,
-        "--stats",
-    ]);
+    let stats = render(Some(&host_pty), &board);
     let render_time = started.elapsed();
-    fpgfx(&[
-        "render",
-        &scene,
-        "--size",
-        "48x27",
-        "--numeric",
-        "q16.16",
-        "-o",
-        &built_in,
-    ]);
+    render(None, &built_in);
     assert_eq!(rgb(&board), rgb(&built_in), "render differs from built-in");
     println!("render over QEMU in {render_time:?}:\n{stats}");
 

@@ -1,0 +1,299 @@
+//! Scaffolding shared by host-cli's end-to-end tests: one way to start the emulator, run
+//! `fpgfx`, name temporary files and load images, so that a fix (say, hermetic
+//! environment variables or the no-panic rule) reaches every test binary at once.
+
+// Each test binary compiles this module on its own and uses only a subset of it; the
+// rest would otherwise be reported as dead code in every one of them.
+#![allow(dead_code)]
+
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+
+/// The workspace root (where `examples/` and the firmware crate live).
+pub fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("host-cli sits in the workspace")
+        .to_path_buf()
+}
+
+/// A file under `examples/`, as the string `fpgfx` takes on its command line.
+pub fn example(rel: &str) -> String {
+    workspace().join("examples").join(rel).display().to_string()
+}
+
+/// A path for a scratch file in this test binary's own directory (one per process, so
+/// concurrent test binaries and earlier runs never collide). The directory is left in
+/// place: after a failure the files are what one wants to look at.
+pub fn tmp(name: &str) -> String {
+    let dir = std::env::temp_dir().join(format!(
+        "fpgfx-{}-{}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name).display().to_string()
+}
+
+/// An image file as RGB8, named in the panic when it is missing or unreadable (the usual
+/// cause: the command that should have written it did not).
+pub fn rgb(path: &str) -> image::RgbImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{path}: {e}"))
+        .to_rgb8()
+}
+
+/// Kills its child when the test ends, passed or failed: a panicking test must not leave
+/// an emulator holding a pty or QEMU spinning.
+pub struct KillOnDrop(pub Child);
+
+impl Drop for KillOnDrop {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Everything `from` yields until its end, collected by a thread (a child's pipe that
+/// nobody reads fills up and blocks the child). Join the handle to have all of it.
+pub fn collect<R: Read + Send + 'static>(mut from: R) -> (Arc<Mutex<Vec<u8>>>, JoinHandle<()>) {
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let sink = log.clone();
+    let reader = std::thread::spawn(move || {
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = from.read(&mut buf) {
+            if n == 0 {
+                break;
+            }
+            sink.lock().expect("log lock").extend_from_slice(&buf[..n]);
+        }
+    });
+    (log, reader)
+}
+
+/// A running `fpgfx-sim`, killed on drop.
+pub struct Sim {
+    child: KillOnDrop,
+    /// What the sim printed first, i.e. what `fpgfx --port` takes: its pty path
+    /// ([`start_sim`]) or `tcp:ADDR` ([`start_tcp_sim`]).
+    pub pty: String,
+    /// Its stderr, collected in the background: a sim that logs a lot must never block
+    /// on a full pipe while the test waits for it.
+    stderr: Arc<Mutex<Vec<u8>>>,
+    reader: Option<JoinHandle<()>>,
+}
+
+/// A `Command` for the emulator binary, for the tests that do not want [`start_sim`]'s
+/// handshake (e.g. `--fpga-link`, which prints no port).
+pub fn sim_command() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
+}
+
+fn spawn_sim(args: &[&str]) -> Sim {
+    let mut child = sim_command()
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("fpgfx-sim starts");
+    let stdout = child.stdout.take().expect("piped stdout");
+    let (log, reader) = collect(child.stderr.take().expect("piped stderr"));
+    let child = KillOnDrop(child);
+    let mut line = String::new();
+    BufReader::new(stdout)
+        .read_line(&mut line)
+        .expect("fpgfx-sim prints where it listens");
+    Sim {
+        child,
+        pty: line.trim().to_string(),
+        stderr: log,
+        reader: Some(reader),
+    }
+}
+
+/// `fpgfx-sim --pty EXTRA…`, once it has printed its pty.
+pub fn start_sim(extra: &[&str]) -> Sim {
+    let sim = spawn_sim(&[&["--pty"], extra].concat());
+    assert!(
+        sim.pty.starts_with("/dev/"),
+        "unexpected pty path {:?}",
+        sim.pty
+    );
+    sim
+}
+
+/// `fpgfx-sim --tcp 127.0.0.1:0`, once it has printed its address; `pty` is `tcp:ADDR`.
+pub fn start_tcp_sim() -> Sim {
+    let mut sim = spawn_sim(&["--tcp", "127.0.0.1:0"]);
+    assert!(!sim.pty.is_empty(), "fpgfx-sim printed no address");
+    sim.pty = format!("tcp:{}", sim.pty);
+    sim
+}
+
+/// The sim's whole stderr after it ended (killed first if it would not end by itself).
+pub fn sim_stderr(mut sim: Sim) -> String {
+    let _ = sim.child.0.kill();
+    let _ = sim.child.0.wait();
+    if let Some(reader) = sim.reader.take() {
+        let _ = reader.join();
+    }
+    let log = sim.stderr.lock().expect("log lock");
+    String::from_utf8_lossy(&log).into_owned()
+}
+
+/// `fpgfx ARGS…`, hermetic: no `FPGFX_PORT` from the caller's shell, no config file
+/// (`FPGFX_CONFIG=/dev/null`; a test sets its own with `.env` afterwards), and
+/// `RUST_BACKTRACE=1` so that a panic could not hide behind a short message.
+pub fn fpgfx_command(args: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_fpgfx"));
+    c.args(args)
+        .env_remove("FPGFX_PORT")
+        .env("FPGFX_CONFIG", "/dev/null")
+        .env("RUST_BACKTRACE", "1");
+    c
+}
+
+/// What a finished `fpgfx` run left behind.
+pub struct Run {
+    /// The exit status; `None` when a signal ended it.
+    pub code: Option<i32>,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+/// Nothing the user can type makes `fpgfx` panic (the brief's rule): checked on every run.
+pub fn assert_no_panic(stderr: &str) {
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(!stderr.contains("Stack backtrace"), "{stderr}");
+}
+
+/// Runs a command built by [`fpgfx_command`] to the end.
+pub fn run(cmd: &mut Command) -> Run {
+    let out = cmd.output().expect("fpgfx runs");
+    let run = Run {
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    };
+    assert_no_panic(&run.stderr);
+    run
+}
+
+/// `fpgfx ARGS…` (hermetic) to the end.
+pub fn fpgfx(args: &[&str]) -> Run {
+    run(&mut fpgfx_command(args))
+}
+
+/// Asserts that a run succeeded; `args` only name it in the failure message.
+pub fn assert_ok(run: Run, args: &[&str]) -> Run {
+    assert!(
+        run.code == Some(0),
+        "fpgfx {args:?} failed ({:?}):\nstdout: {}\nstderr: {}",
+        run.code,
+        run.stdout,
+        run.stderr
+    );
+    run
+}
+
+/// Asserts that a run failed the way user errors do (status 1); returns its stderr.
+pub fn assert_fails(run: Run, args: &[&str]) -> String {
+    assert_eq!(
+        run.code,
+        Some(1),
+        "fpgfx {args:?} should fail with status 1:\nstdout: {}\nstderr: {}",
+        run.stdout,
+        run.stderr
+    );
+    run.stderr
+}
+
+/// `fpgfx ARGS…` must succeed.
+pub fn ok(args: &[&str]) -> Run {
+    assert_ok(fpgfx(args), args)
+}
+
+/// `fpgfx ARGS…` must fail with status 1; returns its stderr.
+pub fn fails(args: &[&str]) -> String {
+    assert_fails(fpgfx(args), args)
+}
+
+/// A raster job with every primitive (Gouraud triangle, line, filled circle, 8-connected
+/// seed fill, Bézier) at sub-pixel positions, spread over a `width`×`height` frame; `aa`
+/// is extra TOML (e.g. an `[aa]` table) or empty. At 96×64 the numbers are the ones the
+/// QEMU test always used; other sizes scale them.
+pub fn every_primitive(width: u32, height: u32, aa: &str) -> String {
+    let (sx, sy) = (f64::from(width) / 96.0, f64::from(height) / 64.0);
+    let p = |x: f64, y: f64| format!("[{:?}, {:?}]", x * sx, y * sy);
+    format!(
+        r##"
+size = [{width}, {height}]
+background = "#102030"
+{aa}
+[[cmd]]
+op = "triangle"
+v = [{}, {}, {}]
+colors = ["#ff0000", "#00ff00", "#0000ff"]
+[[cmd]]
+op = "line"
+from = {}
+to = {}
+color = "#ffffff"
+[[cmd]]
+op = "circle"
+center = {}
+radius = {:?}
+color = "#00ff00"
+fill = true
+[[cmd]]
+op = "fill"
+seed = [1, {}]
+color = "#808000"
+connectivity = 8
+[[cmd]]
+op = "bezier"
+points = [{}, {}, {}, {}]
+color = "#ffff00"
+"##,
+        p(4.5, 6.25),
+        p(90.0, 10.0),
+        p(30.0, 60.75),
+        p(2.0, 3.0),
+        p(94.0, 60.0),
+        p(64.0, 32.0),
+        18.5 * sx.min(sy),
+        height - 2,
+        p(5.0, 60.0),
+        p(30.0, 5.0),
+        p(60.0, 62.0),
+        p(94.0, 8.0),
+    )
+}
+
+/// The frame after a first one, in the other packing (KCU116) and without AOVs: returns
+/// how many register words crossed the link, which must be only the ones that changed
+/// (the renderer keeps the device's register image; the packing is no register).
+pub fn words_for_next_frame<T: host_cli::session::Transport>(
+    renderer: &mut host_cli::render::Renderer,
+    session: &mut host_cli::session::Session<T>,
+    regs: &sim_target::scene_regs::Regs,
+    numeric: protocol::frame::Numeric,
+) -> usize {
+    use host_cli::render::{Aovs, Packing};
+    let (_, words) = renderer
+        .frame(session, regs, numeric, Packing::Kcu116, Aovs::default())
+        .expect("the next frame renders");
+    words
+}
+
+/// A fresh pty pair with its slave end closed again: the path is a port on which only
+/// the test, through the master end, answers (or nobody, if it keeps quiet).
+pub fn pty_pair() -> (serialport::TTYPort, String) {
+    let (master, slave) = serialport::TTYPort::pair().expect("pty pair");
+    let path = serialport::SerialPort::name(&slave).expect("pty path");
+    drop(slave);
+    (master, path)
+}
