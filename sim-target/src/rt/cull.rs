@@ -524,15 +524,16 @@ impl Model {
             dwlo: 0.5 / sq,
             dw: 2.0 * sq,
         };
-        if cap.is_nan() || cap <= 0.0 || !self.admits(&ray(0.0)) {
+        // geometric bisection: the answer spans 10⁻³ (Q8.24, small objects) to 10⁹
+        let (mut lo, mut hi) = (1e-6f64, cap.min(1e15));
+        if cap.is_nan() || hi <= lo || !self.admits(&ray(lo)) {
             return 0.0;
         }
-        let (mut lo, mut hi) = (0.0f64, cap.min(1e15));
         if self.admits(&ray(hi)) {
             return hi;
         }
-        for _ in 0..80 {
-            let mid = 0.5 * (lo + hi);
+        for _ in 0..40 {
+            let mid = (lo * hi).sqrt();
             if self.admits(&ray(mid)) {
                 lo = mid;
             } else {
@@ -580,7 +581,7 @@ impl Model {
             return None;
         }
         let (mut lo, mut hi) = (0.0f64, amax);
-        for _ in 0..60 {
+        for _ in 0..40 {
             let mid = 0.5 * (lo + hi);
             if self.admits(&ray(mid)) {
                 hi = mid;
