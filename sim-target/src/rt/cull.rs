@@ -93,8 +93,8 @@ pub struct Primary {
 /// and Q32.32 are admitted, f16 (2⁻¹¹) and Q24.8 (2⁻⁸) are always tested exhaustively.
 ///
 /// With [`Quadratic::Stable`] each object is gated by the per-shape error model
-/// ([`stable_error`]); with [`Quadratic::Textbook`] (the seed's b² − 4ac) by the older,
-/// shape-blind discriminant model ([`textbook_safe_distance`]).
+/// (`Model`, whose docs derive it); with [`Quadratic::Textbook`] (the seed's b² − 4ac)
+/// by the older, shape-blind discriminant model (`textbook_safe_distance`).
 pub fn bounds<S: Scalar>(scene: &Scene, math: &Math) -> Vec<Option<Bound>> {
     let rounding = match S::rounding() {
         Some((rel, abs)) if rel <= 2f64.powi(-20) && abs <= 2f64.powi(-14) => Some((rel, abs)),
