@@ -215,10 +215,23 @@ fn culling_removes_work_where_it_is_admitted() {
     // of primary rays tests fewer than half of them on average
     let f32_mean = rt::primary_candidates::<f32>(&scene, 1920, 1080, &d);
     assert!(f32_mean < 0.5 * n, "f32: {f32_mean} of {n}");
-    // Q16.16's 2⁻¹⁶ step admits the spheres, floor and disk from the camera's distance,
-    // not the cylinder, cone and cube (their |o′| is beyond the rounding budget)
+    // Q16.16's 2⁻¹⁶ step admits every bounded object from the camera's distance under
+    // the Stable model (the old shape-blind model left out the cylinder, cone and cube:
+    // 5.14), so its tiles list exactly what f32's do
     let q_mean = rt::primary_candidates::<sim_target::num::Q16_16>(&scene, 1920, 1080, &d);
-    assert!(q_mean < n && q_mean >= f32_mean, "Q16.16: {q_mean} of {n}");
+    assert_eq!(q_mean, f32_mean, "Q16.16: {q_mean} of {n}");
+    // the seed's textbook quadratic keeps the old model: fewer objects admitted
+    let textbook = Math {
+        quadratic: sim_target::rt::shapes::Quadratic::Textbook,
+        ..d
+    };
+    let q_tb = rt::primary_candidates::<sim_target::num::Q16_16>(&scene, 1920, 1080, &textbook);
+    assert!(q_tb > q_mean && q_tb < n, "Q16.16 textbook: {q_tb} of {n}");
+    // Q8.24's ±128 cannot hold |o′|² from the camera's distance: nothing culled
+    assert_eq!(
+        rt::primary_candidates::<sim_target::num::Q8_24>(&scene, 1920, 1080, &d),
+        n
+    );
     // f16 and Q24.8 are too coarse: every object is tested
     assert_eq!(
         rt::primary_candidates::<half::f16>(&scene, 1920, 1080, &d),

@@ -93,8 +93,8 @@ pub struct Primary {
 /// and Q32.32 are admitted, f16 (2⁻¹¹) and Q24.8 (2⁻⁸) are always tested exhaustively.
 ///
 /// With [`Quadratic::Stable`] each object is gated by the per-shape error model
-/// ([`stable_error`]); with [`Quadratic::Textbook`] (the seed's b² − 4ac) by the older,
-/// shape-blind discriminant model ([`textbook_safe_distance`]).
+/// (`Model`, whose docs derive it); with [`Quadratic::Textbook`] (the seed's b² − 4ac)
+/// by the older, shape-blind discriminant model (`textbook_safe_distance`).
 pub fn bounds<S: Scalar>(scene: &Scene, math: &Math) -> Vec<Option<Bound>> {
     let rounding = match S::rounding() {
         Some((rel, abs)) if rel <= 2f64.powi(-20) && abs <= 2f64.powi(-14) => Some((rel, abs)),
@@ -524,15 +524,16 @@ impl Model {
             dwlo: 0.5 / sq,
             dw: 2.0 * sq,
         };
-        if cap.is_nan() || cap <= 0.0 || !self.admits(&ray(0.0)) {
+        // geometric bisection: the answer spans 10⁻³ (Q8.24, small objects) to 10⁹
+        let (mut lo, mut hi) = (1e-6f64, cap.min(1e15));
+        if cap.is_nan() || hi <= lo || !self.admits(&ray(lo)) {
             return 0.0;
         }
-        let (mut lo, mut hi) = (0.0f64, cap.min(1e15));
         if self.admits(&ray(hi)) {
             return hi;
         }
-        for _ in 0..80 {
-            let mid = 0.5 * (lo + hi);
+        for _ in 0..40 {
+            let mid = (lo * hi).sqrt();
             if self.admits(&ray(mid)) {
                 lo = mid;
             } else {
@@ -580,7 +581,7 @@ impl Model {
             return None;
         }
         let (mut lo, mut hi) = (0.0f64, amax);
-        for _ in 0..60 {
+        for _ in 0..40 {
             let mid = 0.5 * (lo + hi);
             if self.admits(&ray(mid)) {
                 hi = mid;
