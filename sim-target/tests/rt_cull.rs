@@ -7,8 +7,10 @@
 
 use sim_target::num::{Scalar, Q16_16, Q32_32, Q8_24};
 use sim_target::rt::{
-    self, cull, scene_file, shapes, vec::V3, Math, Numeric, Reflection, RenderOptions, Scene, Shape,
+    self, cull, scene_file, shapes, vec::V3, Math, Numeric, Reflection, Scene, Shape,
 };
+
+mod common;
 
 struct Rng(u64);
 impl Rng {
@@ -126,33 +128,19 @@ fn obj(
     }
 }
 
-fn render(scene: &Scene, numeric: Numeric, cull: bool) -> rt::Frame {
-    rt::render(
-        scene,
-        &RenderOptions {
-            numeric,
-            aovs: true,
-            size: Some((64, 36)),
-            cull,
-            ..Default::default()
-        },
-    )
-    .expect("renders")
+/// Culled and unculled renders at 64×36: RGB, depth and normal AOVs bit for bit.
+fn assert_cull_invisible(scene: &Scene, numeric: Numeric, what: &str) {
+    common::assert_cull_invisible(scene, numeric, Some((64, 36)), what);
 }
 
-/// Culled and unculled renders: RGB, depth and normal AOVs bit for bit.
-fn assert_cull_invisible(scene: &Scene, numeric: Numeric, what: &str) {
-    let (c, n) = (render(scene, numeric, true), render(scene, numeric, false));
-    let diff = c.rgb8.iter().zip(&n.rgb8).filter(|(x, y)| x != y).count();
-    assert!(diff == 0, "{what} {numeric:?}: {diff} bytes differ");
-    let bits = |v: &Option<Vec<f32>>| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&c.depth), bits(&n.depth), "{what} {numeric:?}: depth");
-    assert_eq!(
-        bits(&c.normal),
-        bits(&n.normal),
-        "{what} {numeric:?}: normal"
-    );
-}
+/// The formats the culling admits.
+const ADMITTED: [Numeric; 5] = [
+    Numeric::F64,
+    Numeric::F32,
+    Numeric::Q16_16,
+    Numeric::Q8_24,
+    Numeric::Q32_32,
+];
 
 fn numeric_of<S: Scalar>() -> Numeric {
     rt::parse_numeric(S::NAME).expect("known format")
@@ -311,13 +299,7 @@ fn degenerate_and_grazing_primary_rays() {
         }
     }
     for (name, s) in &scenes {
-        for numeric in [
-            Numeric::F64,
-            Numeric::F32,
-            Numeric::Q16_16,
-            Numeric::Q8_24,
-            Numeric::Q32_32,
-        ] {
+        for numeric in ADMITTED {
             assert_cull_invisible(s, numeric, name);
         }
     }
@@ -375,13 +357,7 @@ fn secondary_rays_along_axes_and_near_the_range_limit() {
         }
     }
     for (name, s) in &list {
-        for numeric in [
-            Numeric::F64,
-            Numeric::F32,
-            Numeric::Q16_16,
-            Numeric::Q8_24,
-            Numeric::Q32_32,
-        ] {
+        for numeric in ADMITTED {
             assert_cull_invisible(s, numeric, name);
         }
     }

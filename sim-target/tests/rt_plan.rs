@@ -12,6 +12,9 @@ use sim_target::rt::{
 };
 use sim_target::scene_regs::{from_regs, to_regs};
 
+mod common;
+use common::assert_same_frame;
+
 const SCENES: &[(&str, &str)] = &[
     ("reference", include_str!("../../examples/reference.toml")),
     ("fresnel", include_str!("../../examples/rt/fresnel.toml")),
@@ -44,20 +47,6 @@ fn frame(scene: &Scene, numeric: Numeric, math: Math, kernel: Kernel) -> rt::Fra
         },
     )
     .expect("renders")
-}
-
-/// RGB, depth and normal AOVs bit for bit, and the ray counts.
-fn assert_same_frame(a: &rt::Frame, b: &rt::Frame, what: &str) {
-    assert!(
-        a.rgb8 == b.rgb8,
-        "{what}: {} of {} bytes differ",
-        a.rgb8.iter().zip(&b.rgb8).filter(|(x, y)| x != y).count(),
-        a.rgb8.len()
-    );
-    let bits = |v: &Option<Vec<f32>>| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&a.depth), bits(&b.depth), "{what}: depth");
-    assert_eq!(bits(&a.normal), bits(&b.normal), "{what}: normal");
-    assert_eq!(a.stats.rays(), b.stats.rays(), "{what}: ray count");
 }
 
 #[test]

@@ -227,13 +227,35 @@ fn footprint<S: Scalar>(fx: S, fy: S) -> ((i64, i64), (S, S)) {
     ((x0.int_to_i64(), y0.int_to_i64()), (fx - x0, fy - y0))
 }
 
-/// Sample a slot at (u, v) after its transform, repeat wrap. Returns the texel value as a
-/// colour (for grey textures every channel is the mix factor).
-#[inline]
-pub fn sample<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> V3<S> {
-    let fetch = |x: i64, y: i64| -> V3<S> {
-        unpack(mem.get(slot.addr(x, y)).copied().unwrap_or(0), &slot.levels)
-    };
+/// What a filter interpolates: a colour or a grey texture's mix factor, each channel
+/// scaled by the format's rounded product (`V3::scale` is `mul_rn` per channel, so both
+/// filter the same way bit for bit).
+trait Texel<S>: Copy + core::ops::Add<Output = Self> {
+    fn times(self, k: S) -> Self;
+}
+
+impl<S: Scalar> Texel<S> for S {
+    #[inline(always)]
+    fn times(self, k: S) -> S {
+        self.mul_rn(k)
+    }
+}
+
+impl<S: Scalar> Texel<S> for V3<S> {
+    #[inline(always)]
+    fn times(self, k: S) -> V3<S> {
+        self.scale(k)
+    }
+}
+
+/// The slot's filter at (u, v) over texels read by `fetch` (repeat wrap).
+#[inline(always)]
+fn filtered<S: Scalar, T: Texel<S>>(
+    slot: &TexSlot<S>,
+    u: S,
+    v: S,
+    fetch: impl Fn(i64, i64) -> T,
+) -> T {
     let (fu, fv) = slot.texel_uv(u, v);
     match slot.filter {
         Filter::Nearest => fetch(fu.floor_i64(), fv.floor_i64()),
@@ -244,11 +266,20 @@ pub fn sample<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> V3<S> {
             let c10 = fetch(xi + 1, yi);
             let c01 = fetch(xi, yi + 1);
             let c11 = fetch(xi + 1, yi + 1);
-            let top = c00.scale(one - ax) + c10.scale(ax);
-            let bot = c01.scale(one - ax) + c11.scale(ax);
-            top.scale(one - ay) + bot.scale(ay)
+            let top = c00.times(one - ax) + c10.times(ax);
+            let bot = c01.times(one - ax) + c11.times(ax);
+            top.times(one - ay) + bot.times(ay)
         }
     }
+}
+
+/// Sample a slot at (u, v) after its transform, repeat wrap. Returns the texel value as a
+/// colour (for grey textures every channel is the mix factor).
+#[inline]
+pub fn sample<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> V3<S> {
+    filtered(slot, u, v, |x, y| {
+        unpack(mem.get(slot.addr(x, y)).copied().unwrap_or(0), &slot.levels)
+    })
 }
 
 /// [`sample`]'s first channel alone, bit for bit: a grey texture's mix factor. Grey texels
@@ -257,23 +288,8 @@ pub fn sample<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> V3<S> {
 /// (tests/rt_texture_fast.rs compares the two for every format).
 #[inline]
 pub fn sample_grey<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> S {
-    let fetch = |x: i64, y: i64| -> S {
+    filtered(slot, u, v, |x, y| {
         let w = mem.get(slot.addr(x, y)).copied().unwrap_or(0);
         slot.levels[((w >> 16) & 255) as usize]
-    };
-    let (fu, fv) = slot.texel_uv(u, v);
-    match slot.filter {
-        Filter::Nearest => fetch(fu.floor_i64(), fv.floor_i64()),
-        Filter::Bilinear => {
-            let one = S::one();
-            let ((xi, yi), (ax, ay)) = footprint(fu, fv);
-            let c00 = fetch(xi, yi);
-            let c10 = fetch(xi + 1, yi);
-            let c01 = fetch(xi, yi + 1);
-            let c11 = fetch(xi + 1, yi + 1);
-            let top = c00.mul_rn(one - ax) + c10.mul_rn(ax);
-            let bot = c01.mul_rn(one - ax) + c11.mul_rn(ax);
-            top.mul_rn(one - ay) + bot.mul_rn(ay)
-        }
-    }
+    })
 }
