@@ -476,7 +476,7 @@ fn prepare<S: Scalar>(
     cull: bool,
 ) -> Prepared<S> {
     let eye = V3::<S>::from_f64(scene.camera.position);
-    let objs = scene
+    let objs: Vec<PObj<S>> = scene
         .objects
         .iter()
         .map(|o| {
@@ -588,14 +588,12 @@ fn prepare<S: Scalar>(
     // rounding (not an instrumented wrapper), and only with a positive CORE_BIAS
     let bias = S::from_f64(scene.bias);
     let side_test = cull && S::rounding().is_some() && bias > S::zero();
-    let flats: Vec<pretest::Flat> = scene
-        .objects
+    let flats: Vec<pretest::Flat> = objs
         .iter()
-        .map(|o| {
-            let flat = matches!(o.shape, Shape::Plane | Shape::Disk | Shape::Square);
-            let rotated = o.rotate.iter().any(|a| *a != 0.0);
-            (side_test && flat && !rotated && o.scale[1] != 0.0)
-                .then(|| S::from_f64(o.translate[1]).to_f64() as f32)
+        .map(|ob| {
+            let flat = matches!(ob.shape, Shape::Plane | Shape::Disk | Shape::Square);
+            // unrotated: the object transforms rays by M⁻¹'s diagonal
+            (side_test && flat && ob.diag.is_some()).then(|| ob.translate.y.to_f64() as f32)
         })
         .collect();
     Prepared {

@@ -84,9 +84,6 @@ pub fn oren_nayar<S: Scalar>(n: V3<S>, wi: V3<S>, wo: V3<S>, p: &DiffuseParams<S
     S::from_f64(FRAC_1_PI) * (p.a + p.b * cos_phi * sin_a * tan_b)
 }
 
-/// Diffuse BRDF signature.
-pub type DiffuseFn<S> = fn(V3<S>, V3<S>, V3<S>, &DiffuseParams<S>) -> S;
-
 /// Precomputed specular constants.
 #[derive(Debug, Clone, Copy)]
 pub struct SpecParams<S> {
@@ -143,9 +140,6 @@ pub fn torrance_sparrow<S: Scalar>(n: V3<S>, wi: V3<S>, wo: V3<S>, p: &SpecParam
     let f = fresnel(oh, p.eta, p.k, p.sqrt);
     d * g * f / (S::from_f64(4.0) * co * ci)
 }
-
-/// Specular BRDF signature.
-pub type SpecularFn<S> = fn(V3<S>, V3<S>, V3<S>, &SpecParams<S>) -> S;
 
 /// Spot factor clamp((l_dir·(−ωi) − cos α/2)/(cos β/2 − cos α/2), 0, 1); `inv_width` is
 /// 1/(cos_inner − cos_outer), precomputed (∞ → a hard edge).
