@@ -175,7 +175,8 @@ fn approximations_in_q16_16_stay_close() {
 }
 
 mod exact_ops {
-    //! The hand-written fixed-point multiply/divide and the libm-free floors must be
+    //! The hand-written fixed-point arithmetic (saturation on a cold branch) and the
+    //! libm-free floors must be
     //! bit-identical to what they replace (`fixed`'s saturating ops, `f32/f64::floor`):
     //! the golden images depend on it.
     use fixed::types::{I16F16, I24F8, I32F32, I8F24};
@@ -192,6 +193,9 @@ mod exact_ops {
                     for (a, b) in [(a, b), (a >> sh, b >> sh), (a >> sh, b), (a, b >> sh)] {
                         let (fa, fb) = (<$inner>::from_bits(a), <$inner>::from_bits(b));
                         prop_assert_eq!(($q(fa) * $q(fb)).0, fa.saturating_mul(fb));
+                        prop_assert_eq!(($q(fa) + $q(fb)).0, fa.saturating_add(fb));
+                        prop_assert_eq!(($q(fa) - $q(fb)).0, fa.saturating_sub(fb));
+                        prop_assert_eq!((-$q(fa)).0, fa.saturating_neg());
                         if b != 0 {
                             prop_assert_eq!(($q(fa) / $q(fb)).0, fa.saturating_div(fb));
                         }
@@ -222,6 +226,9 @@ mod exact_ops {
                 let (fa, fb) = (I16F16::from_bits(a), I16F16::from_bits(b));
                 assert_eq!((Q16_16(fa) / Q16_16(fb)).0, fa.saturating_div(fb));
                 assert_eq!((Q16_16(fa) * Q16_16(fb)).0, fa.saturating_mul(fb));
+                assert_eq!((Q16_16(fa) + Q16_16(fb)).0, fa.saturating_add(fb));
+                assert_eq!((Q16_16(fa) - Q16_16(fb)).0, fa.saturating_sub(fb));
+                assert_eq!((-Q16_16(fa)).0, fa.saturating_neg());
                 let (fa, fb) = (I24F8::from_bits(a), I24F8::from_bits(b));
                 assert_eq!((Q24_8(fa) / Q24_8(fb)).0, fa.saturating_div(fb));
             }

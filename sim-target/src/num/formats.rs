@@ -65,14 +65,20 @@ macro_rules! fixed_scalar {
             type Output = Self;
             #[inline(always)]
             fn add(self, o: Self) -> Self {
-                Self(self.0.saturating_add(o.0))
+                match self.0.to_bits().checked_add(o.0.to_bits()) {
+                    Some(r) => Self(<$inner>::from_bits(r)),
+                    None => Self::sat_add(self, o),
+                }
             }
         }
         impl Sub for $name {
             type Output = Self;
             #[inline(always)]
             fn sub(self, o: Self) -> Self {
-                Self(self.0.saturating_sub(o.0))
+                match self.0.to_bits().checked_sub(o.0.to_bits()) {
+                    Some(r) => Self(<$inner>::from_bits(r)),
+                    None => Self::sat_sub(self, o),
+                }
             }
         }
         impl Mul for $name {
@@ -84,9 +90,7 @@ macro_rules! fixed_scalar {
                 // the shifted result, and clamping it saturates exactly as
                 // `fixed::saturating_mul` (sign of the true product).
                 let p = (self.0.to_bits() as $wide * o.0.to_bits() as $wide) >> $frac;
-                Self(<$inner>::from_bits(
-                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
-                ))
+                Self::narrow(p)
             }
         }
         impl Div for $name {
@@ -111,10 +115,53 @@ macro_rules! fixed_scalar {
             type Output = Self;
             #[inline(always)]
             fn neg(self) -> Self {
-                Self(self.0.saturating_neg())
+                match self.0.to_bits().checked_neg() {
+                    Some(r) => Self(<$inner>::from_bits(r)),
+                    None => Self(<$inner>::MAX),
+                }
             }
         }
         impl $name {
+            /// A double-width result clipped to the word: the saturation of `*`, `dot2`,
+            /// `dot3` and `mul_rn`. Why a branch and not a clamp: a clipped result is rare
+            /// (a value beyond the format's range), so the predicted compare-and-branch
+            /// costs two instructions where the clamp's two compares and two
+            /// conditional moves sit on every product's dependency chain; the clipping
+            /// itself is out of line.
+            #[inline(always)]
+            fn narrow(p: $wide) -> Self {
+                let r = p as $bits;
+                if r as $wide == p {
+                    Self(<$inner>::from_bits(r))
+                } else {
+                    Self::clip(p)
+                }
+            }
+            #[cold]
+            #[inline(never)]
+            fn clip(p: $wide) -> Self {
+                Self(<$inner>::from_bits(
+                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
+                ))
+            }
+            /// The saturating sum of double-width products, out of line (see
+            /// [`Self::narrow`]).
+            #[cold]
+            #[inline(never)]
+            fn sat_sum3(a: $wide, b: $wide, c: $wide) -> $wide {
+                a.saturating_add(b).saturating_add(c)
+            }
+            /// The saturating sum, out of line for the same reason as [`Self::clip`].
+            #[cold]
+            #[inline(never)]
+            fn sat_add(self, o: Self) -> Self {
+                Self(self.0.saturating_add(o.0))
+            }
+            #[cold]
+            #[inline(never)]
+            fn sat_sub(self, o: Self) -> Self {
+                Self(self.0.saturating_sub(o.0))
+            }
             /// [`Scalar::from_f64`] of x = r·2⁻ᶠ for a positive r already in units of the
             /// LSB: the same round half away from zero and saturation.
             #[inline(always)]
@@ -165,10 +212,11 @@ macro_rules! fixed_scalar {
             fn mul_rn(self, o: Self) -> Self {
                 // round half up: add half an LSB of the result before the floor shift
                 let p = self.0.to_bits() as $wide * o.0.to_bits() as $wide;
-                let p = p.saturating_add(1 << ($frac - 1)) >> $frac;
-                Self(<$inner>::from_bits(
-                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
-                ))
+                let p = match p.checked_add(1 << ($frac - 1)) {
+                    Some(p) => p,
+                    None => Self::sat_sum3(p, 1 << ($frac - 1), 0),
+                } >> $frac;
+                Self::narrow(p)
             }
             #[inline(always)]
             fn half_rn(self) -> Self {
@@ -179,11 +227,13 @@ macro_rules! fixed_scalar {
             #[inline(always)]
             fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
                 let w = |x: Self| x.0.to_bits() as $wide;
-                let p = (w(a) * w(b)).saturating_add(w(c) * w(d));
+                let (ab, cd) = (w(a) * w(b), w(c) * w(d));
+                let p = match ab.checked_add(cd) {
+                    Some(p) => p,
+                    None => Self::sat_sum3(ab, cd, 0),
+                };
                 let p = round_shift!(p, $frac);
-                Self(<$inner>::from_bits(
-                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
-                ))
+                Self::narrow(p)
             }
             #[inline(always)]
             fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self {
@@ -193,13 +243,13 @@ macro_rules! fixed_scalar {
                 // clips anyway: the saturating adds keep the sign, so the clamp below gives
                 // the word's limit just as the exact sum would.
                 let w = |x: Self| x.0.to_bits() as $wide;
-                let p = (w(a) * w(b))
-                    .saturating_add(w(c) * w(d))
-                    .saturating_add(w(e) * w(f));
+                let (ab, cd, ef) = (w(a) * w(b), w(c) * w(d), w(e) * w(f));
+                let p = match ab.checked_add(cd).and_then(|s| s.checked_add(ef)) {
+                    Some(p) => p,
+                    None => Self::sat_sum3(ab, cd, ef),
+                };
                 let p = round_shift!(p, $frac);
-                Self(<$inner>::from_bits(
-                    p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
-                ))
+                Self::narrow(p)
             }
             fn max_value() -> Self {
                 Self(<$inner>::MAX)
