@@ -418,8 +418,21 @@ pub fn rsqrt_nr<S: Scalar>(x: S, y0: S, iters: u8) -> S {
 }
 
 /// √x by the chosen method (0 for x ≤ 0).
-#[inline]
+///
+/// Why two functions: the exact core is a few instructions and runs for every
+/// normalisation, so it is inlined into the kernel; the seed's iterative methods are
+/// large, and inlining them too made the compiler keep the whole match out of line
+/// (a call per √ even for the core).
+#[inline(always)]
 pub fn sqrt<S: Scalar>(x: S, kind: SqrtKind) -> S {
+    match kind {
+        SqrtKind::Exact if x > S::zero() => x.sqrt(),
+        _ => sqrt_iterative(x, kind),
+    }
+}
+
+#[inline(never)]
+fn sqrt_iterative<S: Scalar>(x: S, kind: SqrtKind) -> S {
     if x <= S::zero() {
         return S::zero();
     }
@@ -431,9 +444,18 @@ pub fn sqrt<S: Scalar>(x: S, kind: SqrtKind) -> S {
     }
 }
 
-/// 1/√x by the chosen method (the format's maximum for x ≤ 0).
-#[inline]
+/// 1/√x by the chosen method (the format's maximum for x ≤ 0); inlined for the exact
+/// core as [`sqrt`].
+#[inline(always)]
 pub fn rsqrt<S: Scalar>(x: S, kind: SqrtKind) -> S {
+    match kind {
+        SqrtKind::Exact if x > S::zero() => x.rsqrt(),
+        _ => rsqrt_iterative(x, kind),
+    }
+}
+
+#[inline(never)]
+fn rsqrt_iterative<S: Scalar>(x: S, kind: SqrtKind) -> S {
     if x <= S::zero() {
         return S::max_value();
     }
