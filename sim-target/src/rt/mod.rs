@@ -781,7 +781,8 @@ impl<S: Scalar> Prepared<S> {
     /// mask says which objects to test; the object that blocked this row's previous
     /// shadow ray (`cache`) goes first, since neighbouring pixels share occluders (an
     /// any(): the order cannot change the answer).
-    #[inline]
+    /// Inlined for the same reason as `closest` (Q16.16: −1.4 % instructions).
+    #[inline(always)]
     fn occluded<const SO: bool>(&self, o: V3<S>, d: V3<S>, tmax: S, cache: &mut usize) -> bool {
         let rf = RayF32::new(o, d);
         let blocks = |i: usize| self.blocks::<SO>(i, o, d, tmax);
