@@ -99,8 +99,8 @@ pub struct Bound {
 ///   √3·e(3|d|/smin) (each component rounded once), so with |d′| ≤ |d|/smin and ‖J‖ = 1,
 ///   |a(d̂′) − dᵀFd| ≤ 2ε|d|/smin + ε²;
 /// - the pretest's value: d rounded to f32 (relative 2⁻²⁴ per component, two factors),
-///   F rounded to f32 (one), the six products d_i·d_j (one rounding each, in [`super::
-///   pretest`]'s ray), six coefficient products and five sums (at most six roundings on
+///   F rounded to f32 (one), the six products d_i·d_j (one rounding each, formed once per
+///   ray by the pretest), six coefficient products and five sums (at most six roundings on
 ///   any term): at most 10 roundings of u = 2⁻²⁴ on each term, so the error is at most
 ///   (1 + u)¹⁰ − 1 < 10.01u times Σ|F_ij||d_i||d_j| ≤ ‖F‖_F·|d|² (Cauchy–Schwarz). The
 ///   model uses 16u (room for the f64 evaluation of F and the f32 threshold's own

@@ -31,10 +31,6 @@ pub struct RayF32 {
     d: [f32; 3],
     /// |d|²
     dd: f32,
-    /// d_x², d_y², d_z², d_x·d_y, d_x·d_z, d_y·d_z (one rounding each), for the gates'
-    /// quadratic forms; all 0 when |d|² is outside the gates' window
-    /// ([`super::cull::GATE_DD`]).
-    dp: [f32; 6],
     /// |o|₁, for the rounding allowance.
     omag: f32,
 }
@@ -45,27 +41,10 @@ impl RayF32 {
     pub fn new<S: Scalar>(o: V3<S>, d: V3<S>) -> Self {
         let g = |v: S| v.to_f64() as f32;
         let (o, d) = ([g(o.x), g(o.y), g(o.z)], [g(d.x), g(d.y), g(d.z)]);
-        let p = [
-            d[0] * d[0],
-            d[1] * d[1],
-            d[2] * d[2],
-            d[0] * d[1],
-            d[0] * d[2],
-            d[1] * d[2],
-        ];
-        let dd = p[0] + p[1] + p[2];
-        // outside the gates' window the forms see a zero direction: a = 0 passes the
-        // ungated lanes (threshold −1) and fails every gate (threshold > 0)
-        let dp = if dd > GATE_DD.0 && dd < GATE_DD.1 {
-            p
-        } else {
-            [0.0; 6]
-        };
         RayF32 {
             o,
             d,
-            dd,
-            dp,
+            dd: d[0] * d[0] + d[1] * d[1] + d[2] * d[2],
             omag: o[0].abs() + o[1].abs() + o[2].abs(),
         }
     }
@@ -96,8 +75,8 @@ struct Block {
     flat: f32x4,
     /// Its plane's height T.y.
     ty: f32x4,
-    /// The gate's form as coefficients of [`RayF32::dp`] (F₀₀, F₁₁, F₂₂, 2F₀₁, 2F₀₂,
-    /// 2F₁₂); 0 for a lane without a gate.
+    /// The gate's form as coefficients of the ray's products ([`gate_products`]: F₀₀,
+    /// F₁₁, F₂₂, 2F₀₁, 2F₀₂, 2F₁₂); 0 for a lane without a gate.
     f: [f32x4; 6],
     /// The gate's threshold on |a| (rounded up); −1 for a lane without a gate, which
     /// every ray passes (a unit ray's products are finite, so a = 0 there).
@@ -259,23 +238,47 @@ impl Spheres {
         let mut culled = 0u64;
         let blocks = self.blocks.iter().skip(first / LANES).take(CHUNK / LANES);
         if self.gated {
+            let p = gate_products(r).map(f32x4::splat);
             for (j, b) in blocks.enumerate() {
-                culled |= (cull_lanes::<true>(b, r) as u64) << (j * LANES);
+                culled |= (cull_lanes::<true>(b, r, &p) as u64) << (j * LANES);
             }
         } else {
+            let p = [f32x4::ZERO; 6];
             for (j, b) in blocks.enumerate() {
-                culled |= (cull_lanes::<false>(b, r) as u64) << (j * LANES);
+                culled |= (cull_lanes::<false>(b, r, &p) as u64) << (j * LANES);
             }
         }
         all & !culled
     }
 }
 
-/// Bit l set: the ray certainly misses lane l's sphere (the scalar test's operations, lane
-/// by lane, without branches). `GATE`: evaluate the lanes' gates (without it every lane
-/// must be ungated, which passes every ray).
+/// The ray's d_x², d_y², d_z², d_x·d_y, d_x·d_z, d_y·d_z (one rounding each) for the
+/// gates' quadratic forms, formed only when a scene has gates (an f32 frame has none and
+/// does not pay for them); all 0 when |d|² is outside the gates' window
+/// ([`super::cull::GATE_DD`]), so that a = 0 passes the ungated lanes (threshold −1) and
+/// fails every gate (threshold > 0).
 #[inline(always)]
-fn cull_lanes<const GATE: bool>(b: &Block, r: &RayF32) -> u8 {
+fn gate_products(r: &RayF32) -> [f32; 6] {
+    let d = r.d;
+    if r.dd > GATE_DD.0 && r.dd < GATE_DD.1 {
+        [
+            d[0] * d[0],
+            d[1] * d[1],
+            d[2] * d[2],
+            d[0] * d[1],
+            d[0] * d[2],
+            d[1] * d[2],
+        ]
+    } else {
+        [0.0; 6]
+    }
+}
+
+/// Bit l set: the ray certainly misses lane l's sphere (the scalar test's operations, lane
+/// by lane, without branches). `GATE`: evaluate the lanes' gates on the ray's products
+/// `p` (without it every lane must be ungated, which passes every ray).
+#[inline(always)]
+fn cull_lanes<const GATE: bool>(b: &Block, r: &RayF32, p: &[f32x4; 6]) -> u8 {
     // `wide` maps each operation onto SSE (NEON, wasm SIMD, or plain arrays elsewhere):
     // every lane rounds exactly as scalar f32 does, and the compares are ordered (false
     // on NaN) exactly as Rust's `<`, `>`, `<=`.
@@ -299,7 +302,6 @@ fn cull_lanes<const GATE: bool>(b: &Block, r: &RayF32) -> u8 {
     let sphere = near & (behind | apart);
     let sphere = if GATE {
         // |dᵀFd| at or above the gate (`cull::Secondary`); ungated lanes have a = 0 ≥ −1
-        let p = r.dp.map(s);
         let a = b.f[0] * p[0]
             + b.f[1] * p[1]
             + b.f[2] * p[2]
