@@ -12,7 +12,8 @@
 //! A fixed-point cylinder or cone carries a gate on the ray's own quadratic coefficient
 //! |a| = |dᵀFd| ([`super::cull::Secondary`]): its lane culls only where the sphere test
 //! says "miss" and |a| is at least the gate's threshold. The coefficient is six products
-//! per lane (the ray's d_i·d_j are formed once per ray); a scene without gates skips them.
+//! per lane (the ray's d_i·d_j are formed once per mask word); a scene without gates skips
+//! them.
 
 use super::cull::{Bound, GATE_DD};
 use crate::num::Scalar;
