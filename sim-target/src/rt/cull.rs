@@ -8,7 +8,9 @@
 //! a margin that covers the kernel's rounding of the ray direction; it is used only for
 //! formats and scenes where the format's intersection arithmetic stays far from
 //! saturation ([`bounds`]). Secondary (shadow and reflected) rays use the same spheres
-//! through a cheap f32 pretest in the kernel, with a rounding allowance. `fpgfx stress`
+//! through a cheap f32 pretest in the kernel, with a rounding allowance (and, for the
+//! fixed-point cylinder and cone, a per-ray gate on the quadratic's leading coefficient:
+//! [`Secondary`]). `fpgfx stress`
 //! renders random scenes both ways and fails on any difference.
 
 use super::scene::{Object, Scene, Shape};
@@ -62,11 +64,65 @@ pub struct Bound {
     /// away are tested exhaustively, since a badly rounded or saturated term could invent
     /// a hit the geometry does not have. 0 when no origin qualifies (the cylinder and cone
     /// in fixed point, whose error grows without bound for rays along the axis or a
-    /// generator, which the secondary pretest cannot see).
+    /// generator, which the sphere test alone cannot see: they have [`Secondary`]).
     pub safe_distance: f64,
     /// Primary rays: the gate evaluated at the camera position, None when the tiles must
     /// always list the object.
     pub primary: Option<Primary>,
+    /// Secondary rays against a fixed-point cylinder or cone: the per-ray gate on |a|
+    /// under which they are culled after all (within its own safe distance); None for
+    /// every other object and format.
+    pub secondary: Option<Secondary>,
+}
+
+/// The secondary-ray gate of a fixed-point cylinder or cone.
+///
+/// **Why a gate.** The Stable quadratic's error grows as 1/|a| (a = d′ₓ² + d′z² for the
+/// cylinder, d′ₓ² − d′ᵧ² + d′z² for the cone, d′ the object-space direction), and fixed
+/// point's absolute step gives no floor to |a| (a ray along the axis or a generator makes
+/// it ≈ 0: `tests/rt_cull.rs` pins a real Q16.16 false hit there). The sphere pretest
+/// cannot see the direction, so without a gate these objects are never culled for
+/// shadow and reflected rays. The gate lets a ray through to the sphere test only where
+/// its own |a| is large enough for the error model: a ray is culled when it misses the
+/// sphere from within `safe_distance` **and** the pretest's f32 value of |dᵀFd| is at
+/// least `a_min` **and** its f32 |d|² is within [`GATE_DD`] (|d| ∈ (0.9, 1.1)).
+///
+/// **The threshold.** `bounds` picks the smallest |a| (`a_model`) at which [`Model`]
+/// admits every origin within a distance that covers the scene's other objects and the
+/// eye (`reach`; shortened where the model cannot reach it), for any direction in the
+/// window, with |a| taken as an absolute lower bound as in the primary gate's model.
+/// `safe_distance` is then the farthest origin that `a_model` admits. The pretest
+/// compares a different number with `a_model`, so `a_min` is `a_model` plus two margins:
+///
+/// - the datapath's object-space direction d̂′ = M̂⁻¹d is M⁻¹d off by
+///   ε ≤ 3e(1/smin)|d| (M⁻¹ rounded entry by entry, ‖ΔM⁻¹‖₂ ≤ ‖ΔM⁻¹‖_F ≤ 3e) plus
+///   √3·e(3|d|/smin) (each component rounded once), so with |d′| ≤ |d|/smin and ‖J‖ = 1,
+///   |a(d̂′) − dᵀFd| ≤ 2ε|d|/smin + ε²;
+/// - the pretest's value: d rounded to f32 (relative 2⁻²⁴ per component, two factors),
+///   F rounded to f32 (one), the six products d_i·d_j (one rounding each, formed once per
+///   ray by the pretest), six coefficient products and five sums (at most six roundings on
+///   any term): at most 10 roundings of u = 2⁻²⁴ on each term, so the error is at most
+///   (1 + u)¹⁰ − 1 < 10.01u times Σ|F_ij||d_i||d_j| ≤ ‖F‖_F·|d|² (Cauchy–Schwarz). The
+///   model uses 16u (room for the f64 evaluation of F and the f32 threshold's own
+///   rounding, which `pretest` rounds up), |d| < 1.1(1 + 2⁻²⁰) (the window, widened by
+///   the rounding of d and of the f32 |d|², < 6u), and an absolute 2⁻¹²⁰·(1 + ‖F‖_F) for
+///   f32 underflow.
+///
+/// The first margin is about 1 % of `a_model` in Q16.16 (the format's step against
+/// |a| ≈ 0.07), the second 10⁻⁶ of it; they are there because a ray exactly at the gate
+/// must not be culled on a rounding.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Secondary {
+    /// World-space quadratic form F = M⁻ᵀ·J·M⁻¹ (J = diag(1, 0, 1) for the cylinder,
+    /// diag(1, −1, 1) for the cone): a = dᵀFd for a world direction d.
+    pub form: [[f64; 3]; 3],
+    /// Threshold on the pretest's f32 |dᵀFd|: `a_model` plus both margins.
+    pub a_min: f64,
+    /// The |a| at which the model admits `safe_distance` (for tests and docs).
+    pub a_model: f64,
+    /// Distance from the centre within which a gated ray's origin keeps the model's
+    /// guarantee (as [`Bound::safe_distance`] for the other objects).
+    pub safe_distance: f64,
 }
 
 /// The primary-ray gate of a [`Bound`]. Primary rays all start at the eye, so the model
@@ -147,6 +203,7 @@ pub fn bounds<S: Scalar>(scene: &Scene, math: &Math) -> Vec<Option<Bound>> {
                             form_norm: 0.0,
                             a_min: 0.0,
                         }),
+                        secondary: None,
                     }
                 }
                 Quadratic::Stable => {
@@ -157,17 +214,20 @@ pub fn bounds<S: Scalar>(scene: &Scene, math: &Math) -> Vec<Option<Bound>> {
                         range,
                     };
                     let m = Model::new(o, f, smin, smax);
-                    let safe = if fixed && quadric {
-                        0.0
+                    let (safe, secondary) = if fixed && quadric {
+                        (
+                            0.0,
+                            m.secondary(world_cap, reach(scene, centre, r, eye_dist)),
+                        )
                     } else {
-                        m.safe_distance(world_cap)
+                        (m.safe_distance(world_cap), None)
                     };
                     let primary = if eye_dist <= world_cap {
                         m.primary(eye)
                     } else {
                         None
                     };
-                    if safe <= 0.0 && primary.is_none() {
+                    if safe <= 0.0 && primary.is_none() && secondary.is_none() {
                         return None;
                     }
                     Bound {
@@ -175,12 +235,30 @@ pub fn bounds<S: Scalar>(scene: &Scene, math: &Math) -> Vec<Option<Bound>> {
                         radius,
                         safe_distance: safe,
                         primary,
+                        secondary,
                     }
                 }
             };
             Some(bound)
         })
         .collect()
+}
+
+/// How far from an object's centre `c` (bound radius `r`) the scene's secondary rays
+/// start, as far as the scene says: the far side of every bounded object's bound, and
+/// the eye's distance as a stand-in for the visible part of the unbounded planes. This
+/// only picks where the secondary gate is set ([`Model::secondary`]); origins beyond the
+/// safe distance are tested in full, so a wrong guess costs speed, never an image.
+fn reach(scene: &Scene, c: [f64; 3], r: f64, eye_dist: f64) -> f64 {
+    scene
+        .objects
+        .iter()
+        .filter_map(world_bound)
+        .map(|(cj, rj)| {
+            let v = f::sub(cj, c);
+            dot(v, v).sqrt() + rj * (1.0 + RADIUS_SLACK)
+        })
+        .fold(eye_dist.max(r), f64::max)
 }
 
 /// The discriminant's margin at a miss by the slack (≈ 0.16a) over the error constant
@@ -226,13 +304,21 @@ fn textbook_safe_distance(rel: f64, abs: f64, range: f64, smin: f64, smax: f64) 
 /// two errors, the hit point's own small offset from the shape in the magnitudes).
 pub const SAFETY: f64 = 4.0;
 
+/// The window of the pretest's f32 |d|² within which a ray may pass a [`Secondary`]
+/// gate: |d| ∈ (0.9, 1.1). The kernel's shadow and reflected directions are unit to the
+/// √'s accuracy (culling requires ≤ 10⁻³) and the format's rounding, so every real ray
+/// is inside; the narrow window (against the sphere test's (½, 2)) halves the model's
+/// far-hit parameter t ≤ W/|d| and lets the gate reach twice as far.
+pub const GATE_DD: (f32, f32) = (0.81, 1.21);
+
 /// Smallest conditioning κ = |a|/|d′|² assumed for secondary rays against a cylinder or
 /// cone in floating point (rays within ≈ 2° of the axis, or of a generator, have less).
 /// Floating-point errors are relative, so the terms that grow as 1/κ all carry `rel`:
 /// at κ = 1/16 they are far below the margin in f32 at the distances admitted, and the
 /// near-degenerate rays are covered by the exhaustive probes in `tests/rt_cull.rs`. Fixed
 /// point has no such floor (its absolute step makes a ≈ 0 meaningless: a real
-/// counter-example is in that test), so its quadrics are not culled for secondary rays.
+/// counter-example is in that test), so its quadrics are culled for secondary rays only
+/// behind a per-ray gate on |a| ([`Secondary`]), which the pretest evaluates.
 const FLOAT_KAPPA: f64 = 1.0 / 16.0;
 
 /// The format as the model sees it: one operation whose exact result has magnitude m is
@@ -327,7 +413,7 @@ const SQRT3: f64 = 1.732_050_807_568_877_2;
 /// For the sphere |a| = |d′|² ≥ 1/smax². For the cylinder (a = |d′ₓ,z|²) and cone
 /// (a = d′ₓ² − d′ᵧ² + d′z²) a can be arbitrarily small; the bound grows as 1/|a| in fixed
 /// point (its step is absolute), so primary rays are gated per tile on a lower bound of
-/// |a| ([`Primary`]), and secondary rays are not culled in fixed point at all.
+/// |a| ([`Primary`]) and secondary rays per ray ([`Secondary`]).
 ///
 /// Plane shapes (disk, square): t̂ = −ôy/d̂y has a division error e(t); at t̂ the exact
 /// |y| ≤ |d′|·e(t), and x̂ = ox + dx·t̂ is off by e(|d′|t) + e(|o′| + 2): the error is a
@@ -543,6 +629,106 @@ impl Model {
         lo
     }
 
+    /// The secondary-ray gate of a fixed-point cylinder or cone ([`Secondary`]): the
+    /// smallest |a| at which the model admits every origin within `need` (capped at
+    /// `cap`) for any direction whose length is in the gate's window ([`GATE_DD`]), then
+    /// the largest distance that |a| admits, and the margins of the pretest's f32
+    /// evaluation on top. Where `need` is out of reach even at |a| = dlo²/2 (half the
+    /// smallest |d′|² of a direction in the window: a higher threshold would stop most
+    /// rays), the distance shrinks by steps of 0.8 until it is admitted. None when no
+    /// distance beyond the bound is.
+    fn secondary(&self, cap: f64, need: f64) -> Option<Secondary> {
+        let j = match self.shape {
+            Shape::Cylinder => [1.0, 0.0, 1.0],
+            Shape::Cone => [1.0, -1.0, 1.0],
+            _ => return None,
+        };
+        // the window on |d|, widened by f32's rounding of d and of |d|² (< 6·2⁻²⁴)
+        let (dwlo, dw) = (
+            f64::from(GATE_DD.0).sqrt() * (1.0 - 2f64.powi(-20)),
+            f64::from(GATE_DD.1).sqrt() * (1.0 + 2f64.powi(-20)),
+        );
+        let (dlo, dhi) = (dwlo / self.smax, dw / self.smin);
+        let ray = |w: f64, a: f64| Ray {
+            l: w / self.smin,
+            dlo,
+            dhi,
+            a,
+            kappa: false,
+            w,
+            dwlo,
+            dw,
+        };
+        let a_cap = dlo * dlo / 2.0;
+        let mut need = need.min(cap);
+        for _ in 0..20 {
+            if need <= self.r * self.smax || self.admits(&ray(need, a_cap)) {
+                break;
+            }
+            need *= 0.8;
+        }
+        if need.is_nan() || need <= self.r * self.smax || !self.admits(&ray(need, a_cap)) {
+            return None;
+        }
+        // the model's error falls as |a| grows (and grows with the distance): bisect
+        let (mut lo, mut hi) = (0.0f64, a_cap);
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            if self.admits(&ray(need, mid)) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let a_model = hi;
+        // the same |a| may admit farther origins than `need`
+        let (mut wlo, mut whi) = (need, cap.min(1e15));
+        if self.admits(&ray(whi, a_model)) {
+            wlo = whi;
+        } else {
+            for _ in 0..30 {
+                let mid = (wlo * whi).sqrt();
+                if self.admits(&ray(mid, a_model)) {
+                    wlo = mid;
+                } else {
+                    whi = mid;
+                }
+            }
+        }
+        let form = self.form(j);
+        let norm = form.iter().flatten().map(|v| v * v).sum::<f64>().sqrt();
+        // the datapath's rounding of d′ (see `Secondary`)
+        let d = dw;
+        let eps = 3.0 * self.f.e(1.0 / self.smin) * d + SQRT3 * self.f.e(3.0 * d / self.smin);
+        let datapath = 2.0 * eps * d / self.smin + eps * eps;
+        // the pretest's f32 evaluation
+        let pretest = 16.0 * 2f64.powi(-24) * norm * d * d + 2f64.powi(-120) * (1.0 + norm);
+        let a_min = a_model + datapath + pretest;
+        // the pretest holds F and the threshold in f32: keep both far inside its range
+        if !(a_min.is_finite() && norm < 1e30 && a_min < 1e30) {
+            return None;
+        }
+        Some(Secondary {
+            form,
+            a_min,
+            a_model,
+            safe_distance: wlo,
+        })
+    }
+
+    /// The world-space quadratic form M⁻ᵀ·diag(j)·M⁻¹ of a cylinder or cone.
+    fn form(&self, j: [f64; 3]) -> [[f64; 3]; 3] {
+        let mut q = [[0.0; 3]; 3];
+        for (r, row) in q.iter_mut().enumerate() {
+            for (c, v) in row.iter_mut().enumerate() {
+                *v = (0..3)
+                    .map(|k| self.minv[k][r] * j[k] * self.minv[k][c])
+                    .sum();
+            }
+        }
+        q
+    }
+
     /// The primary-ray gate at the eye: world directions of unit length (to the √'s
     /// accuracy and the format's rounding).
     fn primary(&self, eye: [f64; 3]) -> Option<Primary> {
@@ -591,14 +777,7 @@ impl Model {
         }
         // Q = M⁻ᵀ J M⁻¹; the datapath's M⁻¹ is rounded entry by entry (‖ΔM⁻¹‖ ≤ 3e),
         // which moves a(d) by up to 2‖M⁻¹‖·3e for a unit d
-        let mut q = [[0.0; 3]; 3];
-        for (r, row) in q.iter_mut().enumerate() {
-            for (c, v) in row.iter_mut().enumerate() {
-                *v = (0..3)
-                    .map(|k| self.minv[k][r] * j[k] * self.minv[k][c])
-                    .sum();
-            }
-        }
+        let q = self.form(j);
         let norm = q.iter().flatten().map(|v| v * v).sum::<f64>().sqrt();
         let slop = 6.0 * self.f.e(1.0 / self.smin) / self.smin * (1.0 + rel) * (1.0 + rel);
         // the tiles bound a(d) for unit d; the datapath's |d| may be 1 − rel

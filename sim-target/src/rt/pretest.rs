@@ -8,12 +8,18 @@
 //! SIMD; the answer is a bit mask of the objects the ray may hit. Every lane performs the
 //! same IEEE f32 operations in the same order as the scalar test did, so the mask is that
 //! test's answer bit for bit (checked against [`may_hit_scalar`] in the tests below).
+//!
+//! A fixed-point cylinder or cone carries a gate on the ray's own quadratic coefficient
+//! |a| = |dᵀFd| ([`super::cull::Secondary`]): its lane culls only where the sphere test
+//! says "miss" and |a| is at least the gate's threshold. The coefficient is six products
+//! per lane (the ray's d_i·d_j are formed once per mask word); a scene without gates skips
+//! them.
 
-use super::cull::Bound;
+use super::cull::{Bound, GATE_DD};
 use crate::num::Scalar;
 
 use super::vec::V3;
-use wide::{f32x4, CmpGt, CmpLe, CmpLt};
+use wide::{f32x4, CmpGe, CmpGt, CmpLe, CmpLt};
 
 /// Objects per block: one SSE register of f32.
 const LANES: usize = 4;
@@ -70,6 +76,12 @@ struct Block {
     flat: f32x4,
     /// Its plane's height T.y.
     ty: f32x4,
+    /// The gate's form as coefficients of the ray's products ([`gate_products`]: F₀₀,
+    /// F₁₁, F₂₂, 2F₀₁, 2F₀₂, 2F₁₂); 0 for a lane without a gate.
+    f: [f32x4; 6],
+    /// The gate's threshold on |a| (rounded up); −1 for a lane without a gate, which
+    /// every ray passes (a unit ray's products are finite, so a = 0 there).
+    amin: f32x4,
 }
 
 /// An unrotated flat object (plane, disk or square) for the side test: the height T.y of
@@ -94,6 +106,8 @@ struct Lane {
     safe2: f32,
     cmag: f32,
     flat: Flat,
+    f: [f32; 6],
+    amin: f32,
 }
 
 const EMPTY: Lane = Lane {
@@ -102,7 +116,38 @@ const EMPTY: Lane = Lane {
     safe2: -1.0,
     cmag: 0.0,
     flat: None,
+    f: [0.0; 6],
+    amin: -1.0,
 };
+
+/// A bound's sphere test as the pretest holds it: its squared safe distance (−1: never
+/// culled by the sphere) and its gate (coefficients and threshold; zeros and −1 without
+/// one). A gated object's safe distance is the gate's own ([`super::cull::Secondary`]).
+fn lane_gate(b: &Bound) -> (f32, [f32; 6], f32) {
+    let sq = |d: f64| (d * d).min(1e30) as f32;
+    if b.safe_distance > 0.0 {
+        return (sq(b.safe_distance), [0.0; 6], -1.0);
+    }
+    match &b.secondary {
+        Some(g) if g.safe_distance > 0.0 => {
+            let q = &g.form;
+            let f = [
+                q[0][0],
+                q[1][1],
+                q[2][2],
+                2.0 * q[0][1],
+                2.0 * q[0][2],
+                2.0 * q[1][2],
+            ]
+            .map(|v| v as f32);
+            // rounded up: f32(x·(1 + 2⁻²²)) ≥ x for x above f32's normal range's floor
+            let amin = (g.a_min * (1.0 + 2f64.powi(-22))) as f32;
+            (sq(g.safe_distance), f, amin)
+        }
+        // no origin qualifies: as unbounded (never culled by the sphere)
+        _ => (-1.0, [0.0; 6], -1.0),
+    }
+}
 
 /// Every object's culling sphere, in blocks of [`LANES`].
 pub struct Spheres {
@@ -111,6 +156,8 @@ pub struct Spheres {
     /// False when no object has a bound: every ray tests every object, without the
     /// pretest's arithmetic.
     any: bool,
+    /// True when some lane has a gate: only then does the pretest evaluate the forms.
+    gated: bool,
 }
 
 impl Spheres {
@@ -125,18 +172,18 @@ impl Spheres {
                 let flat = flats.get(k).copied().flatten();
                 match b {
                     None => Lane { flat, ..EMPTY },
-                    Some(b) => Lane {
-                        c: b.centre.map(|v| v as f32),
-                        r2: (b.radius * b.radius) as f32,
-                        // no origin qualifies: as unbounded (never culled by the sphere)
-                        safe2: if b.safe_distance > 0.0 {
-                            (b.safe_distance * b.safe_distance).min(1e30) as f32
-                        } else {
-                            -1.0
-                        },
-                        cmag: b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32,
-                        flat,
-                    },
+                    Some(b) => {
+                        let (safe2, f, amin) = lane_gate(b);
+                        Lane {
+                            c: b.centre.map(|v| v as f32),
+                            r2: (b.radius * b.radius) as f32,
+                            safe2,
+                            cmag: b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32,
+                            flat,
+                            f,
+                            amin,
+                        }
+                    }
                 }
             })
             .collect();
@@ -155,6 +202,8 @@ impl Spheres {
                     cmag: get(&|l| l.cmag),
                     flat: get(&|l| if l.flat.is_some() { 1.0 } else { 0.0 }),
                     ty: get(&|l| l.flat.unwrap_or(0.0)),
+                    f: core::array::from_fn(|i| get(&|l| l.f[i])),
+                    amin: get(&|l| l.amin),
                 }
             })
             .collect();
@@ -162,6 +211,7 @@ impl Spheres {
             len: bounds.len(),
             blocks,
             any: lanes.iter().any(|l| l.safe2 >= 0.0 || l.flat.is_some()),
+            gated: lanes.iter().any(|l| l.amin >= 0.0),
         }
     }
 
@@ -188,17 +238,48 @@ impl Spheres {
         }
         let mut culled = 0u64;
         let blocks = self.blocks.iter().skip(first / LANES).take(CHUNK / LANES);
-        for (j, b) in blocks.enumerate() {
-            culled |= (cull_lanes(b, r) as u64) << (j * LANES);
+        if self.gated {
+            let p = gate_products(r).map(f32x4::splat);
+            for (j, b) in blocks.enumerate() {
+                culled |= (cull_lanes::<true>(b, r, &p) as u64) << (j * LANES);
+            }
+        } else {
+            let p = [f32x4::ZERO; 6];
+            for (j, b) in blocks.enumerate() {
+                culled |= (cull_lanes::<false>(b, r, &p) as u64) << (j * LANES);
+            }
         }
         all & !culled
     }
 }
 
-/// Bit l set: the ray certainly misses lane l's sphere (the scalar test's operations, lane
-/// by lane, without branches).
+/// The ray's d_x², d_y², d_z², d_x·d_y, d_x·d_z, d_y·d_z (one rounding each) for the
+/// gates' quadratic forms, formed only when a scene has gates (an f32 frame has none and
+/// does not pay for them); all 0 when |d|² is outside the gates' window
+/// ([`super::cull::GATE_DD`]), so that a = 0 passes the ungated lanes (threshold −1) and
+/// fails every gate (threshold > 0).
 #[inline(always)]
-fn cull_lanes(b: &Block, r: &RayF32) -> u8 {
+fn gate_products(r: &RayF32) -> [f32; 6] {
+    let d = r.d;
+    if r.dd > GATE_DD.0 && r.dd < GATE_DD.1 {
+        [
+            d[0] * d[0],
+            d[1] * d[1],
+            d[2] * d[2],
+            d[0] * d[1],
+            d[0] * d[2],
+            d[1] * d[2],
+        ]
+    } else {
+        [0.0; 6]
+    }
+}
+
+/// Bit l set: the ray certainly misses lane l's sphere (the scalar test's operations, lane
+/// by lane, without branches). `GATE`: evaluate the lanes' gates on the ray's products
+/// `p` (without it every lane must be ungated, which passes every ray).
+#[inline(always)]
+fn cull_lanes<const GATE: bool>(b: &Block, r: &RayF32, p: &[f32x4; 6]) -> u8 {
     // `wide` maps each operation onto SSE (NEON, wasm SIMD, or plain arrays elsewhere):
     // every lane rounds exactly as scalar f32 does, and the compares are ordered (false
     // on NaN) exactly as Rust's `<`, `>`, `<=`.
@@ -219,7 +300,20 @@ fn cull_lanes(b: &Block, r: &RayF32) -> u8 {
     let up = y.cmp_gt(b.ty) & dy.cmp_gt(zero);
     let down = y.cmp_lt(b.ty) & dy.cmp_lt(zero);
     let away = b.flat.cmp_gt(zero) & (up | down);
-    ((near & (behind | apart)) | away).move_mask() as u8
+    let sphere = near & (behind | apart);
+    let sphere = if GATE {
+        // |dᵀFd| at or above the gate (`cull::Secondary`); ungated lanes have a = 0 ≥ −1
+        let a = b.f[0] * p[0]
+            + b.f[1] * p[1]
+            + b.f[2] * p[2]
+            + b.f[3] * p[3]
+            + b.f[4] * p[4]
+            + b.f[5] * p[5];
+        sphere & a.abs().cmp_ge(b.amin)
+    } else {
+        sphere
+    };
+    (sphere | away).move_mask() as u8
 }
 
 /// The same test on one sphere with branches, as the kernel did it before the lanes: the
@@ -242,10 +336,15 @@ fn may_hit_scalar(b: Option<&Bound>, flat: Flat, r: &RayF32) -> bool {
 fn may_hit_sphere(b: &Bound, r: &RayF32) -> bool {
     let c = b.centre.map(|v| v as f32);
     let r2 = (b.radius * b.radius) as f32;
-    if b.safe_distance <= 0.0 {
+    // the gated quadrics' own safe distance
+    let (safe, gate) = match b.secondary {
+        Some(g) if b.safe_distance <= 0.0 => (g.safe_distance, Some(g)),
+        _ => (b.safe_distance, None),
+    };
+    if safe <= 0.0 {
         return true;
     }
-    let safe2 = (b.safe_distance * b.safe_distance).min(1e30) as f32;
+    let safe2 = (safe * safe).min(1e30) as f32;
     let cmag = b.centre.iter().map(|v| v.abs()).sum::<f64>() as f32;
     let oc = [c[0] - r.o[0], c[1] - r.o[1], c[2] - r.o[2]];
     let oc2 = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2];
@@ -259,11 +358,44 @@ fn may_hit_sphere(b: &Bound, r: &RayF32) -> bool {
     let behind = tca < 0.0 && oc2 > r2;
     let mag = cmag + r.omag;
     let apart = oc2 * r.dd - tca * tca > (r2 + 1e-6 * mag * mag) * r.dd;
-    !(behind || apart)
+    if !(behind || apart) {
+        return true;
+    }
+    gate.is_some_and(|g| !steep_scalar(&g, r))
+}
+
+/// The gate of `cull::Secondary` on one ray in plain f32: the coefficients and their
+/// order as the lanes hold them, the threshold rounded up the same way.
+#[cfg(test)]
+fn steep_scalar(g: &super::cull::Secondary, r: &RayF32) -> bool {
+    if !(r.dd > GATE_DD.0 && r.dd < GATE_DD.1) {
+        return false;
+    }
+    let q = &g.form;
+    let f = [
+        q[0][0] as f32,
+        q[1][1] as f32,
+        q[2][2] as f32,
+        (2.0 * q[0][1]) as f32,
+        (2.0 * q[0][2]) as f32,
+        (2.0 * q[1][2]) as f32,
+    ];
+    let d = r.d;
+    let p = [
+        d[0] * d[0],
+        d[1] * d[1],
+        d[2] * d[2],
+        d[0] * d[1],
+        d[0] * d[2],
+        d[1] * d[2],
+    ];
+    let a = f[0] * p[0] + f[1] * p[1] + f[2] * p[2] + f[3] * p[3] + f[4] * p[4] + f[5] * p[5];
+    a.abs() >= (g.a_min * (1.0 + 2f64.powi(-22))) as f32
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::cull::Secondary;
     use super::*;
     use proptest::prelude::*;
 
@@ -273,12 +405,27 @@ mod tests {
             radius: r,
             safe_distance: safe,
             primary: None,
+            secondary: None,
+        }
+    }
+
+    /// A symmetric form from its six distinct entries.
+    fn form(e: [f64; 6]) -> [[f64; 3]; 3] {
+        [[e[0], e[3], e[4]], [e[3], e[1], e[5]], [e[4], e[5], e[2]]]
+    }
+
+    fn gate(e: [f64; 6], a_min: f64, safe: f64) -> Secondary {
+        Secondary {
+            form: form(e),
+            a_min,
+            a_model: a_min,
+            safe_distance: safe,
         }
     }
 
     /// The lanes answer exactly what the scalar test answers, for any mix of bounded and
-    /// unbounded objects (more than one block and more than one mask word included),
-    /// NaN and huge origins, degenerate directions.
+    /// unbounded objects, with and without gates (more than one block and more than one
+    /// mask word included), NaN and huge origins, degenerate directions.
     #[test]
     fn lanes_match_the_scalar_test() {
         let coord = prop_oneof![
@@ -293,7 +440,17 @@ mod tests {
                 (
                     prop::array::uniform3(-10.0f64..10.0),
                     0.01f64..5.0,
-                    prop_oneof![4 => 0.5f64..50.0, 1 => Just(0.0)],
+                    prop_oneof![4 => 0.5f64..50.0, 2 => Just(0.0)],
+                    // a cylinder's or cone's gate (used where the safe distance is 0):
+                    // forms of either sign, thresholds around the rays' |a|
+                    prop::option::weighted(
+                        0.5,
+                        (
+                            prop::array::uniform6(-2.0f64..2.0),
+                            prop_oneof![4 => 0.001f64..3.0, 1 => 1e-30f64..1e-20],
+                            prop_oneof![4 => 0.5f64..50.0, 1 => Just(0.0)],
+                        ),
+                    ),
                 ),
             ),
             prop::option::weighted(0.3, prop_oneof![-3.0f32..3.0, Just(0.0f32)]),
@@ -301,12 +458,24 @@ mod tests {
         let cases = (
             prop::collection::vec(obj, 1..140),
             prop::array::uniform3(coord),
-            prop::array::uniform3(-1.5f64..1.5),
+            prop_oneof![
+                prop::array::uniform3(-1.5f64..1.5),
+                // near-unit directions, where the gates apply (and their window's edges)
+                (prop::array::uniform3(-1.0f64..1.0), 0.85f64..1.15).prop_map(|(v, l)| {
+                    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-9);
+                    v.map(|x| x * l / n)
+                }),
+            ],
         );
         proptest!(ProptestConfig::with_cases(600), |((objs, o, d) in cases)| {
             let bounds: Vec<Option<Bound>> = objs
                 .iter()
-                .map(|(b, _)| b.map(|(c, r, s)| bound(c, r, s)))
+                .map(|(b, _)| {
+                    b.map(|(c, r, s, g)| Bound {
+                        secondary: g.map(|(e, a, gs)| gate(e, a, gs)),
+                        ..bound(c, r, s)
+                    })
+                })
                 .collect();
             let flats: Vec<Flat> = objs.iter().map(|(_, f)| *f).collect();
             let sph = Spheres::new(&bounds, &flats);
@@ -345,5 +514,36 @@ mod tests {
         // up: away from the floor; down: away from the ceiling
         assert_eq!(at([0.0, 0.6, -0.8]), 0b1010);
         assert_eq!(at([0.0, -0.6, 0.8]), 0b0110);
+    }
+
+    /// A gated lane (a cylinder's form diag(1, 0, 1), threshold 0.1) culls a ray that
+    /// misses its sphere only when the ray is far enough from the axis and of near-unit
+    /// length; the same sphere without a gate culls them all.
+    #[test]
+    fn gates_stop_rays_along_the_axis() {
+        let gated = Bound {
+            secondary: Some(gate([1.0, 0.0, 1.0, 0.0, 0.0, 0.0], 0.1, 100.0)),
+            ..bound([0.0, 0.0, -5.0], 1.0, 0.0)
+        };
+        let sph = Spheres::new(
+            &[Some(gated), Some(bound([0.0, 0.0, -5.0], 1.0, 100.0))],
+            &[None, None],
+        );
+        let at = |d: [f64; 3]| {
+            sph.may_hit(
+                0,
+                &RayF32::new(V3::new(0.0, 0.0, 0.0), V3::new(d[0], d[1], d[2])),
+            )
+        };
+        // along the axis (a = 0), just inside the gate (a = 0.09), well outside it
+        assert_eq!(at([0.0, 1.0, 0.0]), 0b01);
+        assert_eq!(at([0.3, 0.954, 0.0]), 0b01);
+        assert_eq!(at([0.4, 0.9165, 0.0]), 0b00);
+        assert_eq!(at([0.0, 0.0, 1.0]), 0b00);
+        // a direction outside the window |d| ∈ (0.9, 1.1) never passes a gate
+        assert_eq!(at([0.0, 0.0, 1.5]), 0b01);
+        assert_eq!(at([0.0, 0.0, 0.85]), 0b01);
+        // toward the sphere: tested, gate or not
+        assert_eq!(at([0.0, 0.0, -1.0]), 0b11);
     }
 }
