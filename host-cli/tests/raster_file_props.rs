@@ -2,7 +2,10 @@
 //! job or an error, never a panic; every non-finite number is refused; whatever parses
 //! draws on the raster block without a panic.
 
+mod hostile_text;
+
 use host_cli::raster_file;
+use hostile_text::{damage, edits, float_literals};
 use proptest::prelude::*;
 use sim_target::raster::Raster;
 
@@ -11,45 +14,6 @@ const EXAMPLES: [&str; 3] = [
     include_str!("../../examples/raster/fitkit.toml"),
     include_str!("../../examples/raster/gallery.toml"),
 ];
-
-/// Byte ranges of float literals outside strings and comments.
-fn float_literals(text: &str) -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let mut offset = 0;
-    for line in text.split_inclusive('\n') {
-        let code = line.split('#').next().unwrap_or("");
-        // `#rrggbb` colours live inside strings; a `#` in a string cuts `code` short,
-        // which only loses literals, never invents one.
-        let b = code.as_bytes();
-        let mut i = 0;
-        let mut in_str = false;
-        while i < b.len() {
-            if b[i] == b'"' {
-                in_str = !in_str;
-                i += 1;
-                continue;
-            }
-            let starts = !in_str
-                && (b[i].is_ascii_digit() || b[i] == b'-')
-                && (i == 0
-                    || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.'));
-            if starts {
-                let s = i;
-                while i < b.len() && (b[i].is_ascii_digit() || b"-+.eE_".contains(&b[i])) {
-                    i += 1;
-                }
-                let lit = &code[s..i];
-                if lit.contains(['.', 'e', 'E']) && lit.bytes().any(|d| d.is_ascii_digit()) {
-                    out.push((offset + s, offset + i));
-                }
-                continue;
-            }
-            i += 1;
-        }
-        offset += line.len();
-    }
-    out
-}
 
 fn to_json(text: &str) -> String {
     let v: toml::Value = toml::from_str(text).expect("example is TOML");
@@ -121,19 +85,10 @@ proptest! {
     fn damaged_examples_parse_or_fail(
         ex in 0usize..EXAMPLES.len(),
         json in any::<bool>(),
-        edits in proptest::collection::vec((any::<usize>(), 0u8..3, prop::sample::select(b"[]{}=\",.:\n0-9e#a ".to_vec())), 1..8),
+        edits in edits(b"[]{}=\",.:\n0-9e#a "),
     ) {
         let base = if json { to_json(EXAMPLES[ex]) } else { EXAMPLES[ex].to_string() };
-        let mut b = base.into_bytes();
-        for (i, op, v) in edits {
-            let n = b.len().max(1);
-            match op {
-                0 => { if let Some(x) = b.get_mut(i % n) { *x = v; } }
-                1 => b.insert(i % (b.len() + 1), v),
-                _ => { if !b.is_empty() { b.remove(i % n); } }
-            }
-        }
-        let text = String::from_utf8_lossy(&b);
+        let text = damage(&base, &edits);
         if let Ok(job) = raster_file::parse(&text, if json { "d.json" } else { "d.toml" }) {
             draw(&job);
         }

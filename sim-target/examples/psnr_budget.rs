@@ -9,16 +9,14 @@
 //!
 //! A measuring tool for docs/rt.md, not a shipped command.
 
-use sim_target::rt::{self, scene_file, Frame, Numeric, Reflection, RenderOptions, Scene};
+#[path = "../tests/common/mod.rs"]
+mod common;
 
+use sim_target::rt::{self, scene_file, Frame, Numeric, Reflection, Scene};
+
+/// With AOVs, culled: the render the tests compare (`tests/common`, shared by path).
 fn render(scene: &Scene, numeric: Numeric, w: u32, h: u32) -> Frame {
-    let opts = RenderOptions {
-        numeric,
-        size: Some((w, h)),
-        aovs: true,
-        ..Default::default()
-    };
-    rt::render(scene, &opts).expect("renders")
+    common::render_culled(scene, numeric, true, Some((w, h)))
 }
 
 fn sq_err(a: &[u8], b: &[u8]) -> Vec<f64> {

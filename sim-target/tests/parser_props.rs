@@ -3,6 +3,10 @@
 //! in any field is refused, naming a key and a line (found by `fpgfx stress`: the parser
 //! used to accept them everywhere but in `scale`).
 
+#[path = "../../host-cli/tests/hostile_text/mod.rs"]
+mod hostile_text;
+
+use hostile_text::{damage, edits, float_literals};
 use proptest::prelude::*;
 use sim_target::rt::scene_file;
 
@@ -13,43 +17,6 @@ const EXAMPLES: [&str; 5] = [
     include_str!("../../examples/rt/shapes.toml"),
     include_str!("../../examples/rt/textures.toml"),
 ];
-
-/// Byte ranges of float literals (with a `.` or an exponent) outside strings and comments.
-fn float_literals(text: &str) -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let mut offset = 0;
-    for line in text.split_inclusive('\n') {
-        let code = line.split('#').next().unwrap_or("");
-        let b = code.as_bytes();
-        let mut i = 0;
-        let mut in_str = false;
-        while i < b.len() {
-            if b[i] == b'"' {
-                in_str = !in_str;
-                i += 1;
-                continue;
-            }
-            let starts = !in_str
-                && (b[i].is_ascii_digit() || b[i] == b'-')
-                && (i == 0
-                    || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.'));
-            if starts {
-                let s = i;
-                while i < b.len() && (b[i].is_ascii_digit() || b"-+.eE_".contains(&b[i])) {
-                    i += 1;
-                }
-                let lit = &code[s..i];
-                if lit.contains(['.', 'e', 'E']) && lit.bytes().any(|d| d.is_ascii_digit()) {
-                    out.push((offset + s, offset + i));
-                }
-                continue;
-            }
-            i += 1;
-        }
-        offset += line.len();
-    }
-    out
-}
 
 /// Every float of every example, replaced in turn by every non-finite spelling, is
 /// refused with a located error: exhaustive, not sampled.
@@ -105,18 +72,9 @@ proptest! {
     #[test]
     fn damaged_examples_parse_or_fail(
         ex in 0usize..EXAMPLES.len(),
-        edits in proptest::collection::vec((any::<usize>(), 0u8..3, prop::sample::select(b"[]{}=\",.\n0-e#aZ ".to_vec())), 1..8),
+        edits in edits(b"[]{}=\",.\n0-e#aZ "),
     ) {
-        let mut b = EXAMPLES[ex].as_bytes().to_vec();
-        for (i, op, v) in edits {
-            let n = b.len().max(1);
-            match op {
-                0 => { if let Some(x) = b.get_mut(i % n) { *x = v; } }
-                1 => b.insert(i % (b.len() + 1), v),
-                _ => { if !b.is_empty() { b.remove(i % n); } }
-            }
-        }
-        let text = String::from_utf8_lossy(&b);
+        let text = damage(EXAMPLES[ex], &edits);
         if let Ok(scene) = scene_file::parse(&text, "d.toml") {
             // Whatever parses is finite everywhere the kernel will look.
             prop_assert!(scene.bias.is_finite() && scene.max_distance.is_finite());
@@ -126,4 +84,23 @@ proptest! {
             }
         }
     }
+}
+
+/// Found by the `scene_file` fuzz target (session 6): a value with a backtick in it
+/// (`mode = "`onstant"`) gives toml's message "unknown variant ``onstant`, expected one
+/// of …", and `key_from_message` (src/rt/scene_file.rs) takes the text between the first
+/// two backticks as the key: the empty string, so the user reads ``file:48: ``: …``.
+/// Ignored until that function is fixed (rt/ belongs to the ray-trace owner); the crash
+/// input is `fuzz/corpus/scene_file/seed-backtick-variant.toml`.
+#[test]
+#[ignore = "bug in rt::scene_file::key_from_message: empty key for a value with a backtick"]
+fn a_backtick_in_a_value_still_names_a_key() {
+    let damaged = EXAMPLES[0].replacen(r#"mode = "constant""#, r#"mode = "`onstant""#, 1);
+    assert_ne!(
+        damaged, EXAMPLES[0],
+        "the reference scene has a constant reflection"
+    );
+    let err = scene_file::parse(&damaged, "bad.toml").expect_err("unknown variant refused");
+    assert_eq!(err.line, 48, "{err}");
+    assert!(!err.key.is_empty(), "{err}");
 }

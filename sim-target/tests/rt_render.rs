@@ -1,6 +1,8 @@
 //! Whole-frame tests: the reference scene in every main format against f64, AOVs, the
 //! unit-sphere depth, packing round trips.
 
+mod common;
+
 use sim_target::rt::{self, scene_file, Frame, Numeric, RenderOptions};
 
 fn reference() -> rt::Scene {
@@ -8,14 +10,9 @@ fn reference() -> rt::Scene {
     scene_file::parse(text, "examples/reference.toml").expect("reference scene parses")
 }
 
+/// With AOVs, culled (the default options at a size).
 fn render(scene: &rt::Scene, numeric: Numeric, w: u32, h: u32) -> Frame {
-    let opts = RenderOptions {
-        numeric,
-        size: Some((w, h)),
-        aovs: true,
-        ..Default::default()
-    };
-    rt::render(scene, &opts).expect("renders")
+    common::render_culled(scene, numeric, true, Some((w, h)))
 }
 
 fn dump(name: &str, f: &Frame) {
