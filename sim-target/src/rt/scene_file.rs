@@ -275,18 +275,43 @@ fn line_of(text: &str, pos: usize) -> usize {
         + 1
 }
 
+/// The key an error is about. Why the source before the message: toml's message quotes
+/// the offending token between backticks, which is the key for an unknown field but the
+/// *value* for an unknown variant (and empty or cut short when the value itself holds a
+/// backtick: found by fuzzing). Where the error's span points at a value, the key is the
+/// token before that line's `=`.
 fn key_from_message(msg: &str, text: &str, span: Option<core::ops::Range<usize>>) -> String {
+    let key_like = |c: char| c.is_alphanumeric() || c == '_' || c == '-';
+    if let Some(r) = span.clone() {
+        let line_start = text
+            .get(..r.start)
+            .map_or(0, |t| t.rfind('\n').map_or(0, |i| i + 1));
+        if let Some(prefix) = text.get(line_start..r.start) {
+            if let Some(eq) = prefix.rfind('=') {
+                let before = prefix[..eq].trim_end();
+                let start = before
+                    .char_indices()
+                    .rev()
+                    .take_while(|(_, c)| key_like(*c))
+                    .last()
+                    .map_or(before.len(), |(i, _)| i);
+                if start < before.len() {
+                    return before[start..].to_string();
+                }
+            }
+        }
+    }
     if let Some(start) = msg.find('`') {
         if let Some(len) = msg[start + 1..].find('`') {
-            return msg[start + 1..start + 1 + len].to_string();
+            let k = &msg[start + 1..start + 1 + len];
+            if !k.is_empty() && k.chars().all(key_like) {
+                return k.to_string();
+            }
         }
     }
     if let Some(r) = span {
         if let Some(s) = text.get(r) {
-            let k: String = s
-                .chars()
-                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == '-')
-                .collect();
+            let k: String = s.chars().take_while(|c| key_like(*c)).collect();
             if !k.is_empty() {
                 return k;
             }
