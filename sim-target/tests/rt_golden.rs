@@ -7,11 +7,7 @@
 
 use sim_target::rt::{self, scene_file, Numeric, RenderOptions};
 
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ *b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
+mod common;
 
 const GOLDEN: &[(&str, &str, u64)] = &[
     (
@@ -52,7 +48,7 @@ fn gallery_matches_golden_hashes() {
             ..Default::default()
         };
         let f = rt::render(&scene, &opts).expect("renders");
-        let got = fnv1a(&f.rgb8);
+        let got = common::fnv1a(f.rgb8.iter().copied());
         if let Ok(dir) = std::env::var("RT_DUMP") {
             let full = rt::render(
                 &scene,

@@ -9,11 +9,7 @@
 
 use sim_target::rt::{self, scene_file, Math, Numeric, RenderOptions};
 
-fn fnv1a(bytes: impl IntoIterator<Item = u8>) -> u64 {
-    bytes.into_iter().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
+mod common;
 
 const SCENES: &[(&str, &str)] = &[
     ("reference", include_str!("../../examples/reference.toml")),
@@ -110,15 +106,7 @@ fn hash_of(name: &str, text: &str, numeric: Numeric, seed_math: bool) -> u64 {
         ..Default::default()
     };
     let f = rt::render(&scene, &opts).expect("renders");
-    let depth = f.depth.unwrap_or_default();
-    let normal = f.normal.unwrap_or_default();
-    fnv1a(
-        f.rgb8
-            .iter()
-            .copied()
-            .chain(depth.iter().flat_map(|v| v.to_le_bytes()))
-            .chain(normal.iter().flat_map(|v| v.to_le_bytes())),
-    )
+    common::frame_hash(&f)
 }
 
 #[test]

@@ -9,11 +9,7 @@
 
 use sim_target::rt::{self, scene_file, Kernel, Numeric, RenderOptions, ToneMap};
 
-fn fnv1a(bytes: impl IntoIterator<Item = u8>) -> u64 {
-    bytes.into_iter().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
+mod common;
 
 /// A glass sphere in front of a mirror and a textured floor, lit by a point light: every
 /// ray kind (primary, shadow, reflected, refracted) at depth 4.
@@ -103,15 +99,7 @@ fn hash(numeric: Numeric, label: &str) -> u64 {
         "a real image: {} grey levels",
         levels.len()
     );
-    let depth = f.depth.unwrap_or_default();
-    let normal = f.normal.unwrap_or_default();
-    fnv1a(
-        f.rgb8
-            .iter()
-            .copied()
-            .chain(depth.iter().flat_map(|v| v.to_le_bytes()))
-            .chain(normal.iter().flat_map(|v| v.to_le_bytes())),
-    )
+    common::frame_hash(&f)
 }
 
 #[test]
