@@ -138,7 +138,7 @@ pub struct Primary {
     /// Upper bound of ‖Q‖₂ (its Frobenius norm): |a(d) − a(c)| ≤ 2‖Q‖·∠(d, c) for unit d, c.
     pub form_norm: f64,
     /// Smallest |a| at which the model admits the eye's distance (with an allowance for
-    /// the rounding of M⁻¹ in the format).
+    /// the format's rounding of d′ = M⁻¹d: of M⁻¹ and of the products).
     pub a_min: f64,
 }
 
@@ -697,12 +697,9 @@ impl Model {
         }
         let form = self.form(j);
         let norm = form.iter().flatten().map(|v| v * v).sum::<f64>().sqrt();
-        // the datapath's rounding of d′ (see `Secondary`)
-        let d = dw;
-        let eps = 3.0 * self.f.e(1.0 / self.smin) * d + SQRT3 * self.f.e(3.0 * d / self.smin);
-        let datapath = 2.0 * eps * d / self.smin + eps * eps;
+        let datapath = self.datapath_a_error(dw);
         // the pretest's f32 evaluation
-        let pretest = 16.0 * 2f64.powi(-24) * norm * d * d + 2f64.powi(-120) * (1.0 + norm);
+        let pretest = 16.0 * 2f64.powi(-24) * norm * dw * dw + 2f64.powi(-120) * (1.0 + norm);
         let a_min = a_model + datapath + pretest;
         // the pretest holds F and the threshold in f32: keep both far inside its range
         if !(a_min.is_finite() && norm < 1e30 && a_min < 1e30) {
@@ -714,6 +711,15 @@ impl Model {
             a_model,
             safe_distance: wlo,
         })
+    }
+
+    /// How far the datapath's a = d′ᵀJd′ can be from the exact one for a world direction
+    /// of length at most `d`: d′ = M⁻¹d is rounded twice, in M⁻¹'s entries (‖ΔM⁻¹‖ ≤ 3e,
+    /// so 3e·d) and in its dot products (√3·e at |d′| ≤ 3d/smin), so |Δd′| ≤ ε and
+    /// |Δa| ≤ 2ε|d′| + ε² with |d′| ≤ d/smin (see `Secondary`).
+    fn datapath_a_error(&self, d: f64) -> f64 {
+        let eps = 3.0 * self.f.e(1.0 / self.smin) * d + SQRT3 * self.f.e(3.0 * d / self.smin);
+        2.0 * eps * d / self.smin + eps * eps
     }
 
     /// The world-space quadratic form M⁻ᵀ·diag(j)·M⁻¹ of a cylinder or cone.
@@ -775,11 +781,13 @@ impl Model {
                 lo = mid;
             }
         }
-        // Q = M⁻ᵀ J M⁻¹; the datapath's M⁻¹ is rounded entry by entry (‖ΔM⁻¹‖ ≤ 3e),
-        // which moves a(d) by up to 2‖M⁻¹‖·3e for a unit d
+        // Q = M⁻ᵀ J M⁻¹; the datapath's d′ = M⁻¹d is rounded in M⁻¹'s entries and in its
+        // dot products, which moves a(d) by up to `datapath_a_error` for |d| ≤ 1 + rel
+        // (before session 7 only the first rounding was allowed for: 6e/smin instead of
+        // ≈ 9.5e/smin in fixed point, still inside the model's factor-4 margin)
         let q = self.form(j);
         let norm = q.iter().flatten().map(|v| v * v).sum::<f64>().sqrt();
-        let slop = 6.0 * self.f.e(1.0 / self.smin) / self.smin * (1.0 + rel) * (1.0 + rel);
+        let slop = self.datapath_a_error(1.0 + rel);
         // the tiles bound a(d) for unit d; the datapath's |d| may be 1 − rel
         Some(Primary {
             form: Some(q),
