@@ -414,6 +414,7 @@ fn missing_capabilities_are_refused() {
         block: Block::RayTrace,
         numeric: protocol::frame::Numeric::F32,
         auto_restart: false,
+        aovs: false,
     }));
     rig.pump(10);
     assert_eq!(
@@ -495,6 +496,7 @@ fn auto_restart_steps_the_animation_until_stopped() {
         block: Block::RayTrace,
         numeric: protocol::frame::Numeric::F32,
         auto_restart: true,
+        aovs: false,
     }));
     rig.pump(6);
     rig.send(&HostFrame::Stop);

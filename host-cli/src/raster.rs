@@ -6,7 +6,7 @@ use protocol::frame::{
 };
 
 use crate::raster_file::RasterJob;
-use crate::session::{Session, SessionError, Transport};
+use crate::session::{Phase, Session, SessionError, Transport};
 
 /// What a raster run produced.
 #[derive(Debug)]
@@ -20,22 +20,6 @@ pub struct RasterOutput {
     pub send: Phase,
     /// Reading the framebuffer back.
     pub read_back: Phase,
-}
-
-/// Application bytes moved in one direction and how long it took, for throughput figures.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Phase {
-    /// Encoded messages (host → target) or pixel bytes (target → host).
-    pub payload_bytes: u64,
-    /// Wall time.
-    pub time: std::time::Duration,
-}
-
-impl Phase {
-    /// Payload bytes per second.
-    pub fn rate(&self) -> f64 {
-        self.payload_bytes as f64 / self.time.as_secs_f64().max(1e-9)
-    }
 }
 
 fn op_name(cmd: &RasterCmd) -> &'static str {
@@ -109,6 +93,7 @@ pub fn run<T: Transport>(
             block: Block::Raster,
             numeric: Numeric::F64,
             auto_restart: false,
+            aovs: false,
         }),
         Box::new(|_| "start of the raster frame".into()),
     )?;

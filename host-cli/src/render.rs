@@ -11,7 +11,7 @@ use protocol::frame::{
 use protocol::scene::diff;
 use sim_target::scene_regs::Regs;
 
-use crate::session::{Session, SessionError, Transport};
+use crate::session::{Phase, Session, SessionError, Transport};
 
 /// How the colour buffer is read back.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,6 +46,14 @@ pub struct RenderOutput {
     pub rays: u64,
     /// Both ends' counters.
     pub stats: Stats,
+    /// The changed register words and the start command, until the last was sent.
+    pub send: Phase,
+    /// From the start command to the target's "done": the target's compute time (plus one
+    /// small message each way), which is what its Mrays/s should be measured by — a
+    /// 1080p read-back over a link can take longer than the render itself.
+    pub render: std::time::Duration,
+    /// Every plane read back: its pixel bytes and the time from request to the last chunk.
+    pub read_back: Phase,
 }
 
 /// Keeps the register image the target holds, so each frame sends only the difference.
@@ -94,6 +102,8 @@ impl Renderer {
                 )));
             }
         }
+        let started = std::time::Instant::now();
+        let payload_before = session.traffic().payload_sent;
         let mut words = 0;
         for w in diff(&self.current, regs) {
             words += w.words.len();
@@ -112,9 +122,15 @@ impl Renderer {
                 block: Block::RayTrace,
                 numeric,
                 auto_restart: false,
+                aovs: aovs.depth || aovs.normal,
             }),
             Box::new(|_| "the start of the frame".into()),
         )?;
+        let send = Phase {
+            payload_bytes: session.traffic().payload_sent - payload_before,
+            time: started.elapsed(),
+        };
+        let started = std::time::Instant::now();
         let done = loop {
             match session.recv()? {
                 DeviceFrame::Done(d) if d.frame_id == id => break d,
@@ -126,21 +142,25 @@ impl Renderer {
                 }
             }
         };
+        let render_time = started.elapsed();
+        let started = std::time::Instant::now();
         let render = regs.render();
         let (w, h) = (render.width as u16, render.height as u16);
         let rect = Rect { x: 0, y: 0, w, h };
-        let image = match packing {
-            Packing::Rgb888 => session.read_back(ReadRequest {
-                plane: Plane::Color,
+        let mut read_bytes = 0u64;
+        let mut read = |session: &mut Session<T>, plane, format| {
+            let data = session.read_back(ReadRequest {
+                plane,
                 rect,
-                format: PixelFormat::Rgb888,
-            })?,
+                format,
+            })?;
+            read_bytes += data.len() as u64;
+            Ok::<_, SessionError>(data)
+        };
+        let image = match packing {
+            Packing::Rgb888 => read(session, Plane::Color, PixelFormat::Rgb888)?,
             Packing::Kcu116 => {
-                let data = session.read_back(ReadRequest {
-                    plane: Plane::Color,
-                    rect,
-                    format: PixelFormat::Kcu116,
-                })?;
+                let data = read(session, Plane::Color, PixelFormat::Kcu116)?;
                 let words: Vec<u16> = data
                     .chunks_exact(2)
                     .map(|b| u16::from_be_bytes([b[0], b[1]]))
@@ -157,22 +177,22 @@ impl Renderer {
                 .collect()
         };
         let depth = if aovs.depth {
-            Some(floats(session.read_back(ReadRequest {
-                plane: Plane::Depth,
-                rect,
-                format: PixelFormat::DepthF32,
-            })?))
+            Some(floats(read(session, Plane::Depth, PixelFormat::DepthF32)?))
         } else {
             None
         };
         let normal = if aovs.normal {
-            Some(floats(session.read_back(ReadRequest {
-                plane: Plane::Normal,
-                rect,
-                format: PixelFormat::NormalF32,
-            })?))
+            Some(floats(read(
+                session,
+                Plane::Normal,
+                PixelFormat::NormalF32,
+            )?))
         } else {
             None
+        };
+        let read_back = Phase {
+            payload_bytes: read_bytes,
+            time: started.elapsed(),
         };
         let stats = session.stats()?;
         Ok((
@@ -183,6 +203,9 @@ impl Renderer {
                 cycles: done.cycles,
                 rays: done.work,
                 stats,
+                send,
+                render: render_time,
+                read_back,
             },
             words,
         ))

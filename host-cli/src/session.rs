@@ -16,6 +16,23 @@ use protocol::frame::{
 use protocol::link::{Event, Link, LinkError, MAX_FRAME};
 use protocol::MAX_PAYLOAD;
 
+/// Application bytes moved in one direction and how long it took, for throughput figures
+/// (a link's speed, apart from the time the target spends computing).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Phase {
+    /// Encoded messages (host → target) or pixel bytes (target → host).
+    pub payload_bytes: u64,
+    /// Wall time.
+    pub time: Duration,
+}
+
+impl Phase {
+    /// Payload bytes per second.
+    pub fn rate(&self) -> f64 {
+        self.payload_bytes as f64 / self.time.as_secs_f64().max(1e-9)
+    }
+}
+
 /// A byte pipe to a target.
 pub trait Transport {
     /// Writes all of `bytes`.

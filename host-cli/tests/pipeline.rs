@@ -278,6 +278,65 @@ fn built_in_render_matches_direct_and_sends_only_changes() {
     assert_eq!(words, 1, "only translate.x changed");
 }
 
+/// A frame started without AOVs (`StartFrame::aovs`) has no depth or normal plane: the
+/// device skips them, and reading them back is refused with an error that names the
+/// read-back instead of returning zeros; the colour is the same either way.
+#[test]
+fn a_frame_without_aovs_refuses_their_read_back() {
+    use host_cli::render::{Aovs, Packing, Renderer};
+    use protocol::frame::{PixelFormat, Plane, ReadRequest, Rect};
+    let regs = sim_target::scene_regs::to_regs(&small_reference()).expect("fits");
+    let numeric = protocol::frame::Numeric::F32;
+    let mut session = Session::new(host_cli::builtin::sim_target());
+    session.handshake().expect("handshake");
+    let mut renderer = Renderer::new();
+    let (plain, _) = renderer
+        .frame(
+            &mut session,
+            &regs,
+            numeric,
+            Packing::Rgb888,
+            Aovs::default(),
+        )
+        .expect("renders");
+    assert!(plain.depth.is_none() && plain.normal.is_none());
+    assert_eq!(plain.read_back.payload_bytes, 96 * 54 * 3, "colour only");
+    let rect = Rect {
+        x: 0,
+        y: 0,
+        w: 96,
+        h: 54,
+    };
+    for (plane, format) in [
+        (Plane::Depth, PixelFormat::DepthF32),
+        (Plane::Normal, PixelFormat::NormalF32),
+    ] {
+        let err = session
+            .read_back(ReadRequest {
+                plane,
+                rect,
+                format,
+            })
+            .expect_err("no such plane");
+        let text = format!("{err:#}");
+        assert!(
+            text.contains("read-back") && text.contains(&format!("{plane:?}")),
+            "{plane:?}: {text}"
+        );
+    }
+    let aovs = Aovs {
+        depth: true,
+        normal: true,
+    };
+    let (with, _) = renderer
+        .frame(&mut session, &regs, numeric, Packing::Rgb888, aovs)
+        .expect("renders");
+    assert_eq!(with.image, plain.image, "AOVs change no colour");
+    assert_eq!(with.depth.map(|d| d.len()), Some(96 * 54));
+    assert_eq!(with.normal.map(|n| n.len()), Some(96 * 54 * 3));
+    assert_eq!(with.read_back.payload_bytes, 96 * 54 * (3 + 4 + 12));
+}
+
 /// A seed outside the framebuffer (which the file parser also refuses) is refused by the
 /// controller itself, so a foreign host cannot make the FPGA fault.
 #[test]

@@ -684,6 +684,11 @@ pub struct StartFrame {
     /// Render again as soon as a frame is done (ViRAY's driver auto-restart), until the
     /// next `StartFrame` or [`HostFrame::Stop`].
     pub auto_restart: bool,
+    /// Also write the ray tracer's depth and normal planes. A frame started without them
+    /// refuses their read-back; they cost the block memory bandwidth (in the golden model
+    /// 33 MB per 1080p frame, a fifth of the render time), so a host asks only when it
+    /// will read them.
+    pub aovs: bool,
 }
 
 /// Which buffer a read-back comes from.

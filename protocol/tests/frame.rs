@@ -8,7 +8,7 @@
 use heapless::{String, Vec};
 use proptest::prelude::*;
 use protocol::frame::*;
-use protocol::MAX_PAYLOAD;
+use protocol::{MAX_PAYLOAD, PROTOCOL_VERSION};
 
 fn vec<T: Clone, const N: usize>(items: &[T]) -> Vec<T, N> {
     Vec::from_slice(items).expect("test vector fits")
@@ -220,8 +220,9 @@ fn host_vectors() -> std::vec::Vec<(HostFrame, &'static [u8])> {
                 block: Block::RayTrace,
                 numeric: Numeric::Q16_16,
                 auto_restart: true,
+                aovs: false,
             }),
-            &[0x05, 0x07, 0x01, 0x03, 0x01],
+            &[0x05, 0x07, 0x01, 0x03, 0x01, 0x00],
         ),
         (HostFrame::Stop, &[0x06]),
         (HostFrame::Sync(300), &[0x07, 0xac, 0x02]),
@@ -364,7 +365,7 @@ fn schema_hash_is_pinned() {
     // by version rather than by hash.
     assert_eq!(SCHEMA_HASH, schema_hash());
     println!("schema hash {SCHEMA_HASH:#018x}");
-    assert_eq!(SCHEMA_HASH, 0x4f6e7cdbcf1659a2);
+    assert_eq!(SCHEMA_HASH, 0xaac6baeb60648326);
 }
 
 #[test]
@@ -381,7 +382,8 @@ fn handshake_names_both_sides() {
     );
     peer.protocol_version = 99;
     let text = peer.check().expect_err("mismatch").to_string();
-    assert!(text.contains("v99") && text.contains("v1"), "{text}");
+    let ours = format!("v{PROTOCOL_VERSION}");
+    assert!(text.contains("v99") && text.contains(&ours), "{text}");
 }
 
 #[test]
@@ -805,16 +807,22 @@ fn host_frame() -> impl Strategy<Value = HostFrame> {
                 offset,
                 words: Vec::from_slice(&w).expect("cap")
             })),
-        (any::<u32>(), any::<bool>(), numeric(), any::<bool>()).prop_map(
-            |(frame_id, rt, numeric, auto_restart)| {
+        (
+            any::<u32>(),
+            any::<bool>(),
+            numeric(),
+            any::<bool>(),
+            any::<bool>()
+        )
+            .prop_map(|(frame_id, rt, numeric, auto_restart, aovs)| {
                 HostFrame::Start(StartFrame {
                     frame_id,
                     block: if rt { Block::RayTrace } else { Block::Raster },
                     numeric,
                     auto_restart,
+                    aovs,
                 })
-            }
-        ),
+            }),
         Just(HostFrame::Stop),
         any::<u32>().prop_map(HostFrame::Sync),
         (0..3u8, any::<(u16, u16, u16, u16)>(), pixel_format()).prop_map(

@@ -2,15 +2,15 @@
 //! (`perf stat -e instructions:u`, or callgrind) when the shared machine is too busy for
 //! wall-clock figures:
 //! `cargo run --release -p sim-target --example rt_once -- SCENE.toml FORMAT [WxH]
-//! [general|nocull] [seed] [spheres|noshadows|notextures|depth1]` (the last: a feature subset,
-//! `rt::subset`).
+//! [general|nocull] [seed] [aovs] [spheres|noshadows|notextures|depth1]` (the last: a feature
+//! subset, `rt::subset`; `aovs` also fills the depth and normal planes, as the device does).
 
 use sim_target::rt::{self, scene_file, subset::Subset, Kernel, RenderOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let [path, format, rest @ ..] = args.as_slice() else {
-        return Err("usage: rt_once SCENE.toml FORMAT [WxH] [general|nocull] [seed] [spheres|noshadows|notextures|depth1]".into());
+        return Err("usage: rt_once SCENE.toml FORMAT [WxH] [general|nocull] [seed] [aovs] [spheres|noshadows|notextures|depth1]".into());
     };
     let text = std::fs::read_to_string(path)?;
     let mut scene = scene_file::parse(&text, path)?;
@@ -24,6 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "general" => opts.kernel = Kernel::General,
             "nocull" => opts.cull = false,
             "seed" => opts.math = rt::Math::SEED,
+            "aovs" => opts.aovs = true,
             "spheres" => scene = Subset::SpheresFlat.apply(&scene),
             "noshadows" => scene = Subset::NoShadows.apply(&scene),
             "notextures" => scene = Subset::NoTextures.apply(&scene),

@@ -5,6 +5,7 @@
 //! with, so a packing bug shows up as a wrong picture or a decode error here, exactly as it
 //! would on a board. Every mode (built-in, `fpgfx-sim`, QEMU) drives this one type.
 
+use std::borrow::Cow;
 use std::collections::VecDeque;
 
 use protocol::bus::{quantize_rgb332, rgb332_encode, unpack, BusError, BusLayout, MAX_RECORDS};
@@ -302,7 +303,7 @@ impl Device {
                 let scene = from_regs(&regs).map_err(DeviceError::Scene)?;
                 let opts = RenderOptions {
                     numeric: start.numeric,
-                    aovs: true,
+                    aovs: start.aovs,
                     ..Default::default()
                 };
                 let frame = crate::rt::render(&scene, &opts).map_err(DeviceError::Render)?;
@@ -338,7 +339,15 @@ impl Device {
             ) | (Plane::Depth, PixelFormat::DepthF32)
         ) || (req.plane, req.format, self.shown)
             == (Plane::Normal, PixelFormat::NormalF32, Block::RayTrace);
-        (inside && format_ok).then(|| r.area() * req.format.bytes_per_pixel() as u32)
+        // A ray-traced frame has its depth and normal planes only if its start asked for
+        // them (`StartFrame::aovs`); reading absent planes is refused, not zero-filled.
+        let plane_exists = match (self.shown, req.plane) {
+            (Block::RayTrace, Plane::Depth) => self.rt_frame.as_ref()?.depth.is_some(),
+            (Block::RayTrace, Plane::Normal) => self.rt_frame.as_ref()?.normal.is_some(),
+            _ => true,
+        };
+        (inside && format_ok && plane_exists)
+            .then(|| r.area() * req.format.bytes_per_pixel() as u32)
     }
 
     fn shown_size(&self) -> Option<(u32, u32)> {
@@ -369,21 +378,26 @@ impl Device {
     fn plane_bytes(&self, req: &ReadRequest) -> Option<Vec<u8>> {
         let (width, _) = self.shown_size()?;
         let r = req.rect;
-        let (rgb, depth, normal): (&[u8], Vec<f32>, Option<&[f32]>) = match self.shown {
+        // Only a depth read-back needs the depth plane: the raster's is converted from its
+        // Z-buffer on demand, the ray tracer's is borrowed.
+        let (rgb, depth, normal): (&[u8], Cow<[f32]>, Option<&[f32]>) = match self.shown {
             Block::Raster => {
                 let fb = self.raster.as_ref()?.framebuffer();
-                let z = fb
-                    .depth()
-                    .iter()
-                    .map(|&z| z as f32 / crate::raster::fb::Z_FAR as f32)
-                    .collect();
+                let z = if req.plane == Plane::Depth {
+                    fb.depth()
+                        .iter()
+                        .map(|&z| z as f32 / crate::raster::fb::Z_FAR as f32)
+                        .collect()
+                } else {
+                    Cow::Borrowed(&[][..])
+                };
                 (fb.rgb(), z, None)
             }
             Block::RayTrace => {
                 let f = self.rt_frame.as_ref()?;
                 (
                     &f.rgb8,
-                    f.depth.clone().unwrap_or_default(),
+                    Cow::Borrowed(f.depth.as_deref().unwrap_or_default()),
                     f.normal.as_deref(),
                 )
             }
