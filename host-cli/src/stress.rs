@@ -117,10 +117,15 @@ pub struct Counts {
     pub double_writes: u64,
     /// Pixels whose write count differs from the exact top-left reference.
     pub coverage: u64,
-    /// Lit pixels of a self-shadow-free scene that came out black.
+    /// Lit pixels of a self-shadow-free scene that came out black, in scenes within the
+    /// format's range.
     pub acne: u64,
-    /// Pixels the acne test looked at.
+    /// Pixels the acne test looked at in those scenes.
     pub acne_checked: u64,
+    /// Black lit pixels of scenes beyond the format's range ([`range_demand`]: e.g. a
+    /// light whose squared distance the format cannot hold, so its irradiance is lost),
+    /// which are the format's limit rather than acne.
+    pub acne_out_of_range: u64,
     /// Inputs the kernels or parsers refused with an error (expected for bad input).
     pub rejected: u64,
     /// Files with NaN/∞ a parser accepted.
@@ -145,6 +150,7 @@ impl Counts {
         self.coverage += o.coverage;
         self.acne += o.acne;
         self.acne_checked += o.acne_checked;
+        self.acne_out_of_range += o.acne_out_of_range;
         self.rejected += o.rejected;
         self.accepted_nonfinite += o.accepted_nonfinite;
         self.cull_mismatches += o.cull_mismatches;
@@ -179,10 +185,12 @@ pub struct FormatCounts {
     pub nonfinite_out_of_range: u64,
     /// NaN/∞ produced.
     pub nonfinite: u64,
-    /// Acne pixels.
+    /// Acne pixels in scenes within the format's range.
     pub acne: u64,
-    /// Pixels checked for acne.
+    /// Pixels checked for acne in those.
     pub acne_checked: u64,
+    /// Black lit pixels of scenes beyond the format's range.
+    pub acne_out_of_range: u64,
 }
 
 impl FormatCounts {
@@ -196,6 +204,7 @@ impl FormatCounts {
         self.nonfinite += o.nonfinite;
         self.acne += o.acne;
         self.acne_checked += o.acne_checked;
+        self.acne_out_of_range += o.acne_out_of_range;
     }
 }
 
@@ -293,7 +302,7 @@ impl Report {
         if self.by_format.iter().any(|f| f.renders > 0) {
             let _ = writeln!(
                 s,
-                "\nrt by format  {:>8}{:>12}{:>10}{:>9}{:>8}{:>9}{:>8}{:>10}",
+                "\nrt by format  {:>8}{:>12}{:>10}{:>9}{:>8}{:>9}{:>8}{:>10}{:>11}",
                 "renders",
                 "saturated",
                 "NaN(ovf)",
@@ -301,12 +310,13 @@ impl Report {
                 "acne",
                 "acne/of",
                 "beyond",
-                "NaN(bynd)"
+                "NaN(bynd)",
+                "acne(bynd)"
             );
             for (n, f) in Numeric::ALL.iter().zip(&self.by_format) {
                 let _ = writeln!(
                     s,
-                    "  {:<11}{:>8}{:>12}{:>10}{:>9}{:>8}{:>9}{:>8}{:>10}",
+                    "  {:<11}{:>8}{:>12}{:>10}{:>9}{:>8}{:>9}{:>8}{:>10}{:>11}",
                     numeric_name(*n),
                     f.renders,
                     f.saturations,
@@ -315,7 +325,8 @@ impl Report {
                     f.acne,
                     f.acne_checked,
                     f.out_of_range,
-                    f.nonfinite_out_of_range
+                    f.nonfinite_out_of_range,
+                    f.acne_out_of_range
                 );
             }
         }
@@ -425,15 +436,23 @@ fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Catego
         }
     };
     r.counts.cases = 1;
-    if r.counts.acne > 0 && list_acne() {
+    if r.counts.acne + r.counts.acne_out_of_range > 0 && list_acne() {
         // Debugging aid (FPGFX_STRESS_ACNE=1): which cases, in which format, have acne.
         let fmt = r.formats.iter().position(|f| f.renders > 0).unwrap_or(0);
-        eprintln!(
-            "acne: case {index} {} {}/{} pixels",
-            numeric_name(Numeric::ALL[fmt]),
-            r.counts.acne,
-            r.counts.acne_checked
-        );
+        if r.counts.acne > 0 {
+            eprintln!(
+                "acne: case {index} {} {}/{} pixels",
+                numeric_name(Numeric::ALL[fmt]),
+                r.counts.acne,
+                r.counts.acne_checked
+            );
+        } else {
+            eprintln!(
+                "acne: case {index} {} {} pixels, scene beyond the format's range",
+                numeric_name(Numeric::ALL[fmt]),
+                r.counts.acne_out_of_range
+            );
+        }
     }
     if r.failure.is_none() && r.counts.failed() {
         r.failure = Some(format!("{:?}", r.counts));
@@ -1434,8 +1453,12 @@ fn rt_case(rng: &mut SmallRng) -> CaseResult {
                     numeric_name(numeric)
                 );
             }
-            r.counts.acne = acne;
-            r.counts.acne_checked = checked;
+            if fits {
+                r.counts.acne = acne;
+                r.counts.acne_checked = checked;
+            } else {
+                r.counts.acne_out_of_range = acne;
+            }
         }
     }
     let f = &mut r.formats[fmt];
@@ -1447,6 +1470,7 @@ fn rt_case(rng: &mut SmallRng) -> CaseResult {
     f.nonfinite = r.counts.nonfinite;
     f.acne = r.counts.acne;
     f.acne_checked = r.counts.acne_checked;
+    f.acne_out_of_range = r.counts.acne_out_of_range;
     if r.counts.nonfinite + r.counts.wraps > 0 {
         r.failure = Some(format!(
             "{kind:?} scene in {}: {} NaN/inf, {} wraps; scene {scene:?}",

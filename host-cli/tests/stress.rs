@@ -198,3 +198,28 @@ fn inside_of_a_near_clipped_cube_is_not_acne() {
     assert_eq!(f64_counts.acne, 0, "{f64_counts:?}");
     assert!(f64_counts.acne_checked < 64, "{f64_counts:?}");
 }
+
+/// Black lit pixels of a scene beyond its format's range are counted apart from acne.
+/// Seed 1, rt case 24998: a plane of scale 3.8·10⁻⁴ lit from 1.4·10⁻³ away, whose squared
+/// distance (2·10⁻⁶) Q16.16 cannot hold (one step is 1.5·10⁻⁵), so the light is lost: all
+/// 64 pixels black, the format's limit, not self-shadowing. Rt case 8491 is in range and
+/// its black pixels stay acne: a plane hit at t ≈ 100–140, where the hit point's Q16.16
+/// error (≈ 2⁻¹⁶·t) exceeds the scene's bias of 10⁻³ and the shadow ray starts under the
+/// surface.
+#[test]
+fn black_pixels_beyond_the_format_are_not_counted_as_acne() {
+    let q16 = 3;
+    let (_, beyond) = stress::run_case(1, 24_998, Some(Category::Rt)).expect("pool");
+    let f = &beyond.formats[q16];
+    assert_eq!((f.renders, f.out_of_range), (1, 1), "{f:?}");
+    assert_eq!((f.acne, f.acne_checked), (0, 0), "{f:?}");
+    assert_eq!(f.acne_out_of_range, 64, "{f:?}");
+    let (_, inside) = stress::run_case(1, 8_491, Some(Category::Rt)).expect("pool");
+    let f = &inside.formats[q16];
+    assert_eq!((f.renders, f.out_of_range), (1, 0), "{f:?}");
+    assert_eq!(
+        (f.acne, f.acne_checked, f.acne_out_of_range),
+        (34, 51, 0),
+        "{f:?}"
+    );
+}
