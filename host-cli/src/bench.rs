@@ -261,7 +261,7 @@ pub fn op_mix(scene: &Scene, opts: &RenderOptions) -> Result<OpMix, rt::RtError>
     for c in &OPS {
         c.store(0, Ordering::Relaxed);
     }
-    let f = rt::render_scalar::<Counted>(scene, opts)?;
+    let f = rt::render_instrumented::<Counted>(scene, opts)?;
     let samples = f.width as f64 * f.height as f64 * opts.spp.unwrap_or(scene.spp).max(1) as f64;
     let mut per_sample = [0.0; 8];
     for (p, c) in per_sample.iter_mut().zip(&OPS) {

@@ -1445,7 +1445,13 @@ fn rt_case(rng: &mut SmallRng) -> CaseResult {
     r.counts.saturations = seen.saturations;
     r.counts.overflow_nans = seen.overflow_nans;
     if matches!(kind, RtKind::Acne | RtKind::Coincident) {
-        if let Ok(reference) = rt::render_scalar::<f64>(&scene, &opts) {
+        if let Ok(reference) = rt::render(
+            &scene,
+            &RenderOptions {
+                numeric: Numeric::F64,
+                ..opts
+            },
+        ) {
             let (acne, checked) = count_acne(&scene, &reference, &frame);
             if acne > 0 && list_acne_verbose() {
                 eprintln!(
@@ -1484,13 +1490,13 @@ fn rt_case(rng: &mut SmallRng) -> CaseResult {
 
 fn render_probed(scene: &Scene, opts: &RenderOptions, n: Numeric) -> Result<Frame, rt::RtError> {
     match n {
-        Numeric::F64 => rt::render_scalar::<Probe<f64>>(scene, opts),
-        Numeric::F32 => rt::render_scalar::<Probe<f32>>(scene, opts),
-        Numeric::F16 => rt::render_scalar::<Probe<half::f16>>(scene, opts),
-        Numeric::Q16_16 => rt::render_scalar::<Probe<Q16_16>>(scene, opts),
-        Numeric::Q8_24 => rt::render_scalar::<Probe<Q8_24>>(scene, opts),
-        Numeric::Q24_8 => rt::render_scalar::<Probe<Q24_8>>(scene, opts),
-        Numeric::Q32_32 => rt::render_scalar::<Probe<Q32_32>>(scene, opts),
+        Numeric::F64 => rt::render_instrumented::<Probe<f64>>(scene, opts),
+        Numeric::F32 => rt::render_instrumented::<Probe<f32>>(scene, opts),
+        Numeric::F16 => rt::render_instrumented::<Probe<half::f16>>(scene, opts),
+        Numeric::Q16_16 => rt::render_instrumented::<Probe<Q16_16>>(scene, opts),
+        Numeric::Q8_24 => rt::render_instrumented::<Probe<Q8_24>>(scene, opts),
+        Numeric::Q24_8 => rt::render_instrumented::<Probe<Q24_8>>(scene, opts),
+        Numeric::Q32_32 => rt::render_instrumented::<Probe<Q32_32>>(scene, opts),
     }
 }
 

@@ -46,10 +46,26 @@ fn prints(program: &str, args: &[&str], needle: &str) -> bool {
         .unwrap_or(false)
 }
 
-/// Debian packages the tests drive, as (program the test runs, package that provides it).
-const PACKAGES: &[(&str, &str)] = &[
-    ("qemu-system-arm", "qemu-system-arm"),
-    ("stm32flash", "stm32flash"),
+/// A Debian package a check needs: the program the check runs, the package that provides
+/// it, and why, which `setup` prints before it installs anything.
+struct Package {
+    program: &'static str,
+    package: &'static str,
+    why: &'static str,
+}
+
+/// The Debian packages the tests drive.
+const PACKAGES: &[Package] = &[
+    Package {
+        program: "qemu-system-arm",
+        package: "qemu-system-arm",
+        why: "runs the STM32F405 board binary end to end (host-cli/tests/qemu.rs)",
+    },
+    Package {
+        program: "stm32flash",
+        package: "stm32flash",
+        why: "the third-party AN3155 client `fpgfx-sim --bootloader` is checked against (host-cli/tests/flash.rs)",
+    },
 ];
 
 /// Whether `program` is on the PATH.
@@ -59,16 +75,21 @@ fn on_path(program: &str) -> bool {
         .unwrap_or(false)
 }
 
-/// Installs the missing Debian packages; `apt-get update` only if the first try fails
-/// (a fresh image may have no package lists), and through sudo when not root.
+/// Installs the missing Debian packages.
+///
+/// `--no-remove`: apt may otherwise resolve a conflict by removing an installed package
+/// (it once removed qemu-utils to make room for qemu-system-arm), and a test command must
+/// never take anything off a user's machine; with it apt refuses instead, and its own
+/// message says why. `apt-get update` runs only if the first try fails (a fresh image may
+/// have no package lists). Through sudo when not root.
 fn install_packages() -> Result<()> {
-    let missing: Vec<&str> = PACKAGES
-        .iter()
-        .filter(|(program, _)| !on_path(program))
-        .map(|&(_, package)| package)
-        .collect();
+    let missing: Vec<&Package> = PACKAGES.iter().filter(|p| !on_path(p.program)).collect();
     if missing.is_empty() {
         return Ok(());
+    }
+    eprintln!("xtask setup: installing from Debian (nothing is removed):");
+    for p in &missing {
+        eprintln!("  {:<16} {}", p.package, p.why);
     }
     let root = Command::new("id")
         .arg("-u")
@@ -84,17 +105,21 @@ fn install_packages() -> Result<()> {
             run("sudo", &full)
         }
     };
-    let mut install = vec!["install", "-y", "--no-install-recommends"];
-    install.extend_from_slice(&missing);
+    let mut install = vec!["install", "-y", "--no-install-recommends", "--no-remove"];
+    install.extend(missing.iter().map(|p| p.package));
     if apt(&install).is_err() {
         apt(&["update"])?;
-        apt(&install).with_context(|| format!("cannot install {missing:?} from Debian"))?;
+        let names: Vec<&str> = missing.iter().map(|p| p.package).collect();
+        apt(&install).with_context(|| {
+            format!("cannot install {names:?} from Debian without removing a package (apt's message is above)")
+        })?;
     }
     Ok(())
 }
 
 fn setup() -> Result<()> {
     if !prints("rustup", &["target", "list", "--installed"], MCU_TARGET) {
+        eprintln!("xtask setup: adding the Rust target {MCU_TARGET} (protocol and the board firmware build for it)");
         run("rustup", &["target", "add", MCU_TARGET])?;
     }
     install_packages()

@@ -7,6 +7,14 @@
 //! hot loop contains no test of a feature the scene does not use; the general kernel
 //! (everything compiled in, runtime checks) stays selectable through
 //! [`RenderOptions::kernel`] for comparison. Rows are rendered in parallel with rayon.
+//!
+//! Only the two formats the block is built in, f32 and Q16.16, get all 32 kernels. Each
+//! kernel is a whole inlined ray tracer, and 32 of them for each of seven formats (and
+//! again for every instrumented wrapper type) was most of a cold build. The other formats
+//! and the wrappers get four (`Prepared::compact_kernel`: reflection and spheres-only
+//! specialised, which change the operations that run; shadows, textures and specular
+//! tested at run time, which changes no arithmetic), so their images and operation counts
+//! are the same bits as the full set's.
 
 pub mod cull;
 pub mod output;
@@ -850,6 +858,24 @@ impl<S: Scalar> Prepared<S> {
         }
     }
 
+    /// The four kernels that the secondary formats and the instrumented number types
+    /// render with: shadows, textures and specular compiled in and tested at run time
+    /// (those tests do no arithmetic, so the operation stream and every bit equal the
+    /// planned kernel's), reflection and spheres-only as the plan says (they change which
+    /// operations run).
+    ///
+    /// Why not [`Self::kernel`]: each of its 32 kernels is a whole inlined ray tracer, and
+    /// a wrapper type such as an operation counter instantiated all 32 again in the crate
+    /// that names it. Four keep counts exact.
+    fn compact_kernel(f: Features) -> RowFn<S> {
+        match (f.reflect, f.spheres_only) {
+            (true, true) => Prepared::<S>::row::<true, true, true, true, true>,
+            (true, false) => Prepared::<S>::row::<true, true, true, true, false>,
+            (false, true) => Prepared::<S>::row::<true, true, true, false, true>,
+            (false, false) => Prepared::<S>::row::<true, true, true, false, false>,
+        }
+    }
+
     /// Radiance along a ray (d unit) that starts at recursion level `start` (0 for a
     /// primary ray, which `refracted` = false counts as primary); returns colour and the
     /// first hit. `eye_objs` lists the objects a primary ray from the eye can hit. The const parameters are the kernel's [`Features`] (shadows, textures,
@@ -1133,15 +1159,69 @@ fn camera(c: &Camera, width: u32, height: u32) -> Cam {
     }
 }
 
-fn render_generic<S: Scalar>(
-    scene: &Scene,
-    opts: &RenderOptions,
+/// How [`render_generic`] picks its kernel and runs its rows. The kernel chooser is a
+/// function pointer, not a flag, so that a format only instantiates the kernels its entry
+/// point names (a `match` on a flag would instantiate both sets for every format).
+#[derive(Clone, Copy)]
+struct Build<S: Scalar> {
+    kernel: fn(Features) -> RowFn<S>,
+    /// Rows on rayon's pool; `false`: on the calling thread, so that a wrapper type's
+    /// thread-local counters see every operation of the frame and nothing else.
+    parallel: bool,
+}
+
+impl<S: Scalar> Build<S> {
+    /// The plan's monomorphised kernel, rows in parallel: the model as users run it.
+    fn production() -> Self {
+        Self {
+            kernel: Prepared::<S>::kernel,
+            parallel: true,
+        }
+    }
+
+    /// [`Prepared::compact_kernel`]'s four kernels, rows in parallel: the formats
+    /// the block is not built in (f64, f16, Q8.24, Q24.8, Q32.32 serve as references and
+    /// in `fpgfx bench`'s sweeps). Same bits as [`Self::production`]; the cost is the
+    /// per-material tests for shadows, textures and specular in the hot loop, and the
+    /// gain is 140 fewer whole-ray-tracer instantiations in every cold build.
+    fn compact() -> Self {
+        Self {
+            kernel: Prepared::<S>::compact_kernel,
+            parallel: true,
+        }
+    }
+
+    /// [`Prepared::compact_kernel`], rows on the calling thread.
+    fn instrumented() -> Self {
+        Self {
+            kernel: Prepared::<S>::compact_kernel,
+            parallel: false,
+        }
+    }
+}
+
+/// One frame's inputs as the entry points resolved them (size and spp after overrides).
+#[derive(Clone, Copy)]
+struct Job<'a> {
+    scene: &'a Scene,
+    opts: &'a RenderOptions,
     width: u32,
     height: u32,
     spp: u32,
-    plan: &Plan,
-    progress: &(dyn Fn(u32, u32) + Sync),
-) -> Rendered {
+    plan: &'a Plan,
+    progress: &'a (dyn Fn(u32, u32) + Sync),
+}
+
+fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
+    let Job {
+        scene,
+        opts,
+        width,
+        height,
+        spp,
+        plan,
+        progress,
+    } = job;
     let rows_done = std::sync::atomic::AtomicU32::new(0);
     // culling is exact only where a ray missing an object's bound makes the datapath
     // answer "no hit" too: not with a coarse √ (see `SqrtKind::max_rel_error`)
@@ -1163,10 +1243,11 @@ fn render_generic<S: Scalar>(
         &bounds,
         cull,
     );
-    let row_fn = Prepared::<S>::kernel(match opts.kernel {
+    let features = match opts.kernel {
         Kernel::Planned => plan.features(),
         Kernel::General => Features::ALL,
-    });
+    };
+    let row_fn = (build.kernel)(features);
     let cam = camera(&scene.camera, width, height);
     let (cu, cv, cw) = (
         V3::<S>::from_f64(cam.u),
@@ -1207,15 +1288,17 @@ fn render_generic<S: Scalar>(
         })
         .collect();
     let aovs = opts.aovs;
-    let rows: Vec<Rendered<Vec<f32>>> = (0..height)
-        .into_par_iter()
-        .map(|j| {
-            let r = row_fn(&prep, &ctx, j);
-            let done = rows_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            progress(done, height);
-            r
-        })
-        .collect();
+    let one_row = |j: u32| {
+        let r = row_fn(&prep, &ctx, j);
+        let done = rows_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        progress(done, height);
+        r
+    };
+    let rows: Vec<Rendered<Vec<f32>>> = if build.parallel {
+        (0..height).into_par_iter().map(one_row).collect()
+    } else {
+        (0..height).map(one_row).collect()
+    };
     let mut rgb8 = Vec::with_capacity(width as usize * height as usize * 3);
     let mut depth = Vec::new();
     let mut normal = Vec::new();
@@ -1286,29 +1369,23 @@ pub fn render_with_progress(
     let spp = opts.spp.unwrap_or(scene.spp).max(1);
     let plan = plan(scene);
     let start = Instant::now();
-    let args = (scene, opts, width, height, spp, &plan, progress);
+    let job = Job {
+        scene,
+        opts,
+        width,
+        height,
+        spp,
+        plan: &plan,
+        progress,
+    };
     let (rgb8, depth, normal, c) = match opts.numeric {
-        Numeric::F64 => {
-            render_generic::<f64>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
-        }
-        Numeric::F32 => {
-            render_generic::<f32>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
-        }
-        Numeric::F16 => {
-            render_generic::<half::f16>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
-        }
-        Numeric::Q16_16 => {
-            render_generic::<Q16_16>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
-        }
-        Numeric::Q8_24 => {
-            render_generic::<Q8_24>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
-        }
-        Numeric::Q24_8 => {
-            render_generic::<Q24_8>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
-        }
-        Numeric::Q32_32 => {
-            render_generic::<Q32_32>(args.0, args.1, args.2, args.3, args.4, args.5, args.6)
-        }
+        Numeric::F32 => render_generic::<f32>(job, Build::production()),
+        Numeric::Q16_16 => render_generic::<Q16_16>(job, Build::production()),
+        Numeric::F64 => render_generic::<f64>(job, Build::compact()),
+        Numeric::F16 => render_generic::<half::f16>(job, Build::compact()),
+        Numeric::Q8_24 => render_generic::<Q8_24>(job, Build::compact()),
+        Numeric::Q24_8 => render_generic::<Q24_8>(job, Build::compact()),
+        Numeric::Q32_32 => render_generic::<Q32_32>(job, Build::compact()),
     };
     Ok(finish(
         scene,
@@ -1319,10 +1396,19 @@ pub fn render_with_progress(
     ))
 }
 
-/// [`render`] in any [`Scalar`] (`opts.numeric` is ignored): for formats outside
-/// [`Numeric`], e.g. an operation-counting wrapper that `fpgfx bench` uses for its
-/// hardware cost model.
-pub fn render_scalar<S: Scalar>(scene: &Scene, opts: &RenderOptions) -> Result<Frame, RtError> {
+/// [`render`] in an instrumented [`Scalar`] (`opts.numeric` is ignored): a wrapper
+/// that counts operations (`fpgfx bench`'s hardware cost model) or saturations and NaNs
+/// (`fpgfx stress`), see [`crate::num::instrumented`].
+///
+/// Same image, same operations in the same order as [`render`] in the wrapped format,
+/// but rows run one after another on the calling thread, so thread-local counters see
+/// exactly this frame, and only four kernels are instantiated per wrapper type (see
+/// `Prepared::compact_kernel`), which keeps the crates that name such types quick
+/// to compile.
+pub fn render_instrumented<S: Scalar>(
+    scene: &Scene,
+    opts: &RenderOptions,
+) -> Result<Frame, RtError> {
     validate(scene)?;
     let (width, height) = opts.size.unwrap_or((scene.width, scene.height));
     if width == 0 || height == 0 {
@@ -1333,7 +1419,16 @@ pub fn render_scalar<S: Scalar>(scene: &Scene, opts: &RenderOptions) -> Result<F
     let spp = opts.spp.unwrap_or(scene.spp).max(1);
     let plan = plan(scene);
     let start = Instant::now();
-    let r = render_generic::<S>(scene, opts, width, height, spp, &plan, &|_, _| {});
+    let job = Job {
+        scene,
+        opts,
+        width,
+        height,
+        spp,
+        plan: &plan,
+        progress: &|_, _| {},
+    };
+    let r = render_generic::<S>(job, Build::instrumented());
     Ok(finish(scene, (width, height, spp), start, plan, r))
 }
 
