@@ -46,9 +46,10 @@
 //! [`fields`] lists them for any layout and command, and [`efficiency_table`] reports the
 //! used fraction of the records.
 //!
-//! FITkit instance (SPEC §2.1), bit 44 … 0 of a line are `CB x0 y0 x1 y1 col`, i.e. record
-//! 0 = bits 44…9 and record 1 = bits 8…0 in its top nine bits; a triangle's 63 bits are
-//! `CB x0 y0 x1 y1 x2 y2 col`, record 0 = bits 62…27, record 1 = bits 26…0 shifted up 9.
+//! FITkit instance (docs/requirements.md §2.1), bit 44 … 0 of a line are
+//! `CB x0 y0 x1 y1 col`, i.e. record 0 = bits 44…9 and record 1 = bits 8…0 in its top nine
+//! bits; a triangle's 63 bits are `CB x0 y0 x1 y1 x2 y2 col`, record 0 = bits 62…27,
+//! record 1 = bits 26…0 shifted up 9.
 //!
 //! # Colour
 //!
@@ -124,8 +125,9 @@ pub struct BusLayout {
 
 const ALL_COMMANDS: u16 = (1 << 8) - 1;
 
-/// Seed 000's FITkit bus, exactly as SPEC §2.1: 9-bit unsigned whole-pixel coordinates,
-/// RGB332 colour, CB on top, 36-bit records, no opcode; lines, triangles and a clear.
+/// Seed 000's FITkit bus, exactly as docs/requirements.md §2.1: 9-bit unsigned
+/// whole-pixel coordinates, RGB332 colour, CB on top, 36-bit records, no opcode; lines,
+/// triangles and a clear.
 pub const FITKIT: BusLayout = BusLayout {
     name: "fitkit",
     record_bits: 36,

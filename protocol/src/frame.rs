@@ -71,7 +71,7 @@ impl Rgb {
 pub struct Point {
     /// Horizontal position, growing to the right.
     pub x: i32,
-    /// Vertical position, growing downwards (SPEC §0).
+    /// Vertical position, growing downwards (docs/requirements.md §0).
     pub y: i32,
 }
 

@@ -1,11 +1,11 @@
 //! The ray tracer's register image: 32-bit AXI4-Lite words the controller writes before a
 //! frame (seed 002, MicroBlaze driver, `WorldDescription`).
 //!
-//! The image carries everything the SPEC-RT scene file can express, so that the device
-//! needs no other input than these registers and the texture memory. Sizes are const
-//! parameters, `OBJ` objects and `LIGHTS` lights (the seed's OBJ_NUM = 8 and LIGHTS_NUM =
-//! 2; light 0 is the ambient light). Between frames the controller sends only what
-//! changed ([`diff`]), as [`RegWrite`] runs.
+//! The image carries everything the scene file (docs/requirements.md §4.11) can express,
+//! so that the device needs no other input than these registers and the texture memory.
+//! Sizes are const parameters, `OBJ` objects and `LIGHTS` lights (the seed's OBJ_NUM = 8
+//! and LIGHTS_NUM = 2; light 0 is the ambient light). Between frames the controller sends
+//! only what changed ([`diff`]), as [`RegWrite`] runs.
 //!
 //! # Number formats
 //!
@@ -421,7 +421,7 @@ code_enum!(
 );
 
 code_enum!(
-    /// Canonical shape of an object (SPEC-RT, all inside [−1, 1]³).
+    /// Canonical shape of an object (docs/requirements.md §4.3, all inside [−1, 1]³).
     Shape {
         /// Unit sphere.
         #[default]

@@ -615,9 +615,10 @@ fn show(name: &str, c: protocol::frame::LinkCounters) {
     );
 }
 
-/// Issue 4, item 6: 100 000 frames each way cross a channel that corrupts 1 % of bytes
-/// and drops, duplicates and reorders 1 % of frames; every frame must arrive exactly once,
-/// in order and intact (checked in `End::receive`). The sequence numbers wrap on the way.
+/// docs/requirements.md §7.1: 100 000 frames each way cross a channel that corrupts 1 % of
+/// bytes and drops, duplicates and reorders 1 % of frames; every frame must arrive exactly
+/// once, in order and intact (checked in `End::receive`). The sequence numbers wrap on the
+/// way.
 #[test]
 fn lossy_channel_delivers_everything_exactly_once_in_order() {
     const N: u64 = 100_000;

@@ -1,6 +1,7 @@
-//! Ray-tracer register image: golden offsets and words for the SPEC-RT example scene,
-//! Q16.16 conversion limits, and the diff (identical scenes give nothing, one field gives
-//! one one-word write, diff + apply reproduces the new scene for arbitrary images).
+//! Ray-tracer register image: golden offsets and words for the example scene of
+//! docs/requirements.md §4.11, Q16.16 conversion limits, and the diff (identical scenes
+//! give nothing, one field gives one one-word write, diff + apply reproduces the new scene
+//! for arbitrary images).
 
 use proptest::prelude::*;
 use protocol::frame::{RegWrite, REG_WRITE_WORDS};
@@ -15,7 +16,7 @@ use protocol::scene::Light as Light_;
 
 type Regs = SceneRegs; // the seed's defaults: 8 objects, 2 lights
 
-/// The example scene of SPEC-RT's "Scene file" section.
+/// The example scene of docs/requirements.md §4.11 ("Scene file and AOVs").
 fn example() -> Regs {
     let mut s = Regs::new();
     s.set_render(&Render {
