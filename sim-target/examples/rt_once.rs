@@ -40,7 +40,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let frame = rt::render(&scene, &opts)?;
     let s = frame.stats;
     println!(
-        "{numeric:?} {}x{} kernel {:?} cull {}: {:.3} s, {} rays as SPEC-RT counts ({:.2} Mrays/s), {} traced ({:.2} Mrays/s), image hash {:016x}",
+        "{numeric:?} {}x{} kernel {:?} cull {}: {:.3} s, {} rays nominal ({:.2} Mrays/s), {} traced ({:.2} Mrays/s), image hash {:016x}",
         frame.width,
         frame.height,
         opts.kernel,

@@ -775,8 +775,8 @@ mod published {
 
 mod rounded_ops {
     //! `Scalar::mul_rn` and `Scalar::dot3` of the fixed formats round once to nearest
-    //! (the kernel's vector operations rely on it, docs/rt.md "Where the Q16.16 error came
-    //! from"); the floats' defaults are the plain expressions, bit for bit.
+    //! (the kernel's vector operations rely on it, docs/rt.md "Q16.16 accuracy: the
+    //! error budget and what fixed it"); the floats' defaults are the plain expressions, bit for bit.
     use proptest::prelude::*;
     use sim_target::num::{Scalar, Q16_16, Q32_32};
 

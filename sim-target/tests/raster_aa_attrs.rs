@@ -1,4 +1,4 @@
-//! The anti-aliased triangle path honours the z-buffer and textures (SPEC §3): depth is
+//! The anti-aliased triangle path honours the z-buffer and textures (docs/requirements.md §3): depth is
 //! tested once per pixel at its centre, the texture is sampled at the centre, and the
 //! result is blended by the sample coverage.
 

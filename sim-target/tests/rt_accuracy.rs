@@ -1,5 +1,5 @@
 //! Accuracy of the Q16.16 datapath against f64 on the same (quantised) inputs, one test
-//! per fix of the PSNR work (docs/rt.md, "Where the Q16.16 error came from"): each bound
+//! per fix of the PSNR work (docs/rt.md, "Q16.16 accuracy: the error budget and what fixed it"): each bound
 //! sits between what the kernel reaches now and what it did before the fix, so that
 //! undoing a fix fails here and not only in the whole-frame PSNR of `rt_render`.
 

@@ -1,4 +1,4 @@
-//! The seed's precision case (SPEC-RT "Precision cases", seed 002 fig. 3.4/3.5): the
+//! The seed's precision case (docs/requirements.md §4.9, seed 002 fig. 3.4/3.5): the
 //! instruction processor's depth map of a unit sphere at (0, 0, −2.5) seen from the origin,
 //! 100 × 100, Q16.16, textbook quadratic, √Δ by PRE_S + 2 Newton–Raphson steps. Its
 //! profile shows a discontinuity near distance 1.75. Reproduced, then removed.

@@ -164,7 +164,7 @@ fn fast_bresenham(fb: &mut Framebuffer, a: (i64, i64), b: (i64, i64), c: Rgb) ->
     dm as u64 + 1
 }
 
-/// Thick line: pixel centres with |a·x + b·y + c| ≤ h·√(a² + b²)/2 (SPEC §3), squared to
+/// Thick line: pixel centres with |a·x + b·y + c| ≤ h·√(a² + b²)/2 (docs/requirements.md §3), squared to
 /// stay in integers, and between the perpendiculars through the end points (butt caps).
 fn thick(fb: &mut Framebuffer, l: &Line, bits: u8) -> u64 {
     let c1 = l.color_to.unwrap_or(l.color);

@@ -1,4 +1,4 @@
-//! The raster block's golden model (SPEC §3): bit-exact coverage, a framebuffer the
+//! The raster block's golden model (docs/requirements.md §3): bit-exact coverage, a framebuffer the
 //! device reads back, and a cycle/FIFO model for board-time estimates.
 //!
 //! The device calls [`Raster::new`] on a [`RasterSetup`], [`Raster::draw`] per command and

@@ -1,6 +1,6 @@
 //! Triangle setup (edge functions, fill rule, orientation) and the five traversals.
 //!
-//! # Integer widths (SPEC §0)
+//! # Integer widths (docs/requirements.md §0)
 //! Vertices arrive in sub-pixel units with at most [`MAX_SUBPIXEL_BITS`] fractional bits
 //! and `|x|, |y| ≤` [`COORD_LIMIT`] = 2^23 (a ±32 768-pixel guard band at 8 bits). The
 //! block works in *doubled* units so that pixel centres `(2i + 1)·2^b` are integers for
@@ -27,7 +27,7 @@ pub const TILE_SIZES: [u32; 2] = [32, 8];
 /// is inside this edge iff `a·i + b·j + c ≥ 0`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Edge {
-    /// Step per pixel in x (+A in SPEC §3 terms, scaled to a pixel).
+    /// Step per pixel in x (+A in the terms of docs/requirements.md §3, scaled to a pixel).
     pub a: i64,
     /// Step per pixel in y.
     pub b: i64,

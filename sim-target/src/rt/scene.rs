@@ -18,7 +18,7 @@ pub struct Camera {
     pub fov_y: f64,
 }
 
-/// Spot cone of a point light (SPEC-RT eq. 3.2.10 with l_dir in place of the seed's n).
+/// Spot cone of a point light (docs/requirements.md §4.4: seed eq. 3.2.10 with l_dir in place of the seed's n).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spot {
     /// Axis of the cone (need not be unit length).

@@ -1,4 +1,4 @@
-//! The scene file (TOML) of SPEC-RT: the contract shared by the CLI, the tests and other
+//! The scene file (TOML) of docs/requirements.md §4.11: the contract shared by the CLI, the tests and other
 //! tools. Unknown keys are errors (`deny_unknown_fields`) so that a typo never silently
 //! renders a different scene; every error names the file, the line and the key.
 

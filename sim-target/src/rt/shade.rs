@@ -1,4 +1,4 @@
-//! Shading terms of SPEC-RT (eq. 1.2.80–1.2.93, 3.2.8–3.2.10), each a free function so the
+//! Shading terms of docs/requirements.md §4.4 (seed eq. 1.2.80–1.2.93, 3.2.8–3.2.10), each a free function so the
 //! tests can check it against hand-computed values.
 
 use super::vec::V3;

@@ -1,5 +1,5 @@
 //! Feature subsets of a scene, so that the planned kernels can be measured on scenes that
-//! use only part of the block (issue 9: spheres only, no shadows, no textures, depth 1).
+//! use only part of the block (the subset of the plan's target, docs/requirements.md §7.4: spheres only, no shadows, no textures, depth 1).
 
 use super::scene::{Reflection, Scene, Shape};
 
