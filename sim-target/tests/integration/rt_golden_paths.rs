@@ -5,11 +5,11 @@
 //! recorded on 82b93aa, before the session-6 restructuring of the kernel (rows as the
 //! monomorphised unit, `trace` inlined, refraction out of line), so they pin that it
 //! changed no bit. After an intended change: `RT_GOLDEN_PRINT=1 cargo test -p sim-target
-//! --test rt_golden_paths -- --nocapture`, paste, and say why in docs/rt.md.
+//! --test integration rt_golden_paths:: -- --nocapture`, paste, and say why in docs/rt.md.
 
 use sim_target::rt::{self, scene_file, Kernel, Numeric, RenderOptions, ToneMap};
 
-mod common;
+use crate::common;
 
 /// A glass sphere in front of a mirror and a textured floor, lit by a point light: every
 /// ray kind (primary, shadow, reflected, refracted) at depth 4.

@@ -3,36 +3,37 @@
 //! is deterministic here (no fused operations, row order does not matter; sin/cos/tan come
 //! from the platform's libm, so the hashes are for x86-64 Linux like CI), so any change
 //! of the kernel's results shows up. After an intended change, run with
-//! `RT_GOLDEN_PRINT=1 cargo test -p sim-target --test rt_golden -- --nocapture` and paste.
+//! `RT_GOLDEN_PRINT=1 cargo test -p sim-target --test integration rt_golden:: -- --nocapture`
+//! and paste.
 
 use sim_target::rt::{self, scene_file, Numeric, RenderOptions};
 
-mod common;
+use crate::common;
 
 const GOLDEN: &[(&str, &str, u64)] = &[
     (
         "reference",
-        include_str!("../../examples/reference.toml"),
+        include_str!("../../../examples/reference.toml"),
         0x6401_f915_375f_787d,
     ),
     (
         "fresnel",
-        include_str!("../../examples/rt/fresnel.toml"),
+        include_str!("../../../examples/rt/fresnel.toml"),
         0x8b03_772d_4003_6aa4,
     ),
     (
         "shapes",
-        include_str!("../../examples/rt/shapes.toml"),
+        include_str!("../../../examples/rt/shapes.toml"),
         0xd1fd_77a2_0091_0d71,
     ),
     (
         "textures",
-        include_str!("../../examples/rt/textures.toml"),
+        include_str!("../../../examples/rt/textures.toml"),
         0x8812_bf84_0389_4bd6,
     ),
     (
         "brdf",
-        include_str!("../../examples/rt/brdf.toml"),
+        include_str!("../../../examples/rt/brdf.toml"),
         0x4b35_2506_bdf2_6721,
     ),
 ];

@@ -2,7 +2,7 @@
 //! from the wire, random or damaged versions of valid frames, reach the frame decoder,
 //! the message decoder, the raster-batch walker and the link receiver, which must give a
 //! value or an error and never panic — and must never deliver damaged data as good.
-//! `tests/frame.rs` and `tests/link.rs` already feed *random* bytes to `decode` and
+//! The `frame` and `link` modules already feed *random* bytes to `decode` and
 //! `Link::handle_input`; these start from *valid* frames and damage them, which reaches
 //! the deeper states (a correct COBS structure, a matching CRC, a known variant) that
 //! random bytes almost never reach.

@@ -1,6 +1,6 @@
 //! Helpers shared by the ray-trace tests that compare two renders bit for bit (planned
 //! vs general kernel, culled vs unculled, golden hashes), and their deterministic RNG.
-// Each test binary compiles this module and uses a subset of it.
+// The psnr_budget example includes this file by path and uses a subset of it.
 #![allow(dead_code)]
 
 use sim_target::rt::{self, Numeric, RenderOptions, Scene};

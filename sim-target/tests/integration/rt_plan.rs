@@ -12,15 +12,21 @@ use sim_target::rt::{
 };
 use sim_target::scene_regs::{from_regs, to_regs};
 
-mod common;
+use crate::common;
 use common::assert_same_frame;
 
 const SCENES: &[(&str, &str)] = &[
-    ("reference", include_str!("../../examples/reference.toml")),
-    ("fresnel", include_str!("../../examples/rt/fresnel.toml")),
-    ("shapes", include_str!("../../examples/rt/shapes.toml")),
-    ("textures", include_str!("../../examples/rt/textures.toml")),
-    ("brdf", include_str!("../../examples/rt/brdf.toml")),
+    (
+        "reference",
+        include_str!("../../../examples/reference.toml"),
+    ),
+    ("fresnel", include_str!("../../../examples/rt/fresnel.toml")),
+    ("shapes", include_str!("../../../examples/rt/shapes.toml")),
+    (
+        "textures",
+        include_str!("../../../examples/rt/textures.toml"),
+    ),
+    ("brdf", include_str!("../../../examples/rt/brdf.toml")),
 ];
 
 fn scenes() -> Vec<(String, Scene)> {

@@ -1,12 +1,12 @@
 //! Whole-frame tests: the reference scene in every main format against f64, AOVs, the
 //! unit-sphere depth, packing round trips.
 
-mod common;
+use crate::common;
 
 use sim_target::rt::{self, scene_file, Frame, Numeric, RenderOptions};
 
 fn reference() -> rt::Scene {
-    let text = include_str!("../../examples/reference.toml");
+    let text = include_str!("../../../examples/reference.toml");
     scene_file::parse(text, "examples/reference.toml").expect("reference scene parses")
 }
 

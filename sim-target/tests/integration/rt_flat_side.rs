@@ -6,7 +6,7 @@
 
 use sim_target::rt::{scene_file, Numeric, Scene};
 
-mod common;
+use crate::common;
 
 /// A room of flat objects: floor square (mirror), a disk hovering at `disk_y`, a ceiling
 /// plane, a sphere, the light at `light_y` (−1 puts it in the

@@ -18,7 +18,7 @@ fn obj(material: &str, scale: &str) -> String {
 #[test]
 fn parses_reference_and_examples() {
     let s = scene_file::parse(
-        include_str!("../../examples/reference.toml"),
+        include_str!("../../../examples/reference.toml"),
         "reference.toml",
     )
     .expect("reference");

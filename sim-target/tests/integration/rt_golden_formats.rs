@@ -5,18 +5,24 @@
 //! multiply/divide, literal folding, dispatch), so an optimisation that changes one bit of
 //! f32 or Q16.16 output fails here instead of slipping through the PSNR thresholds. After
 //! an intended change, run with `RT_GOLDEN_PRINT=1 cargo test -p sim-target --test
-//! rt_golden_formats -- --nocapture`, paste, and say why in docs/rt.md.
+//! integration rt_golden_formats:: -- --nocapture`, paste, and say why in docs/rt.md.
 
 use sim_target::rt::{self, scene_file, Math, Numeric, RenderOptions};
 
-mod common;
+use crate::common;
 
 const SCENES: &[(&str, &str)] = &[
-    ("reference", include_str!("../../examples/reference.toml")),
-    ("fresnel", include_str!("../../examples/rt/fresnel.toml")),
-    ("shapes", include_str!("../../examples/rt/shapes.toml")),
-    ("textures", include_str!("../../examples/rt/textures.toml")),
-    ("brdf", include_str!("../../examples/rt/brdf.toml")),
+    (
+        "reference",
+        include_str!("../../../examples/reference.toml"),
+    ),
+    ("fresnel", include_str!("../../../examples/rt/fresnel.toml")),
+    ("shapes", include_str!("../../../examples/rt/shapes.toml")),
+    (
+        "textures",
+        include_str!("../../../examples/rt/textures.toml"),
+    ),
+    ("brdf", include_str!("../../../examples/rt/brdf.toml")),
 ];
 
 const FORMATS: &[Numeric] = &[

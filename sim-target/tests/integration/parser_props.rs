@@ -3,7 +3,7 @@
 //! in any field is refused, naming a key and a line (found by `fpgfx stress`: the parser
 //! used to accept them everywhere but in `scale`).
 
-#[path = "../../host-cli/tests/hostile_text/mod.rs"]
+#[path = "../../../host-cli/tests/hostile_text/mod.rs"]
 mod hostile_text;
 
 use hostile_text::{damage, edits, float_literals};
@@ -11,11 +11,11 @@ use proptest::prelude::*;
 use sim_target::rt::scene_file;
 
 const EXAMPLES: [&str; 5] = [
-    include_str!("../../examples/reference.toml"),
-    include_str!("../../examples/rt/brdf.toml"),
-    include_str!("../../examples/rt/fresnel.toml"),
-    include_str!("../../examples/rt/shapes.toml"),
-    include_str!("../../examples/rt/textures.toml"),
+    include_str!("../../../examples/reference.toml"),
+    include_str!("../../../examples/rt/brdf.toml"),
+    include_str!("../../../examples/rt/fresnel.toml"),
+    include_str!("../../../examples/rt/shapes.toml"),
+    include_str!("../../../examples/rt/textures.toml"),
 ];
 
 /// Every float of every example, replaced in turn by every non-finite spelling, is

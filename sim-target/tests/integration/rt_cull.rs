@@ -10,7 +10,7 @@ use sim_target::rt::{
     self, cull, scene_file, shapes, vec::V3, Math, Numeric, Reflection, Scene, Shape,
 };
 
-mod common;
+use crate::common;
 
 use common::Rng;
 
@@ -78,8 +78,11 @@ fn probe<S: Scalar>(cone: bool, n: usize) -> usize {
 /// The reference scene's materials, light and settings with `objects` and a camera at
 /// `eye` looking at `at` with a field of view that frames a bound of radius `r`.
 fn scene(objects: Vec<rt::scene::Object>, eye: [f64; 3], at: [f64; 3], r: f64) -> Scene {
-    let mut s = scene_file::parse(include_str!("../../examples/reference.toml"), "reference")
-        .expect("parses");
+    let mut s = scene_file::parse(
+        include_str!("../../../examples/reference.toml"),
+        "reference",
+    )
+    .expect("parses");
     s.objects = objects;
     let d = ((eye[0] - at[0]).powi(2) + (eye[1] - at[1]).powi(2) + (eye[2] - at[2]).powi(2)).sqrt();
     s.camera.position = eye;

@@ -15,7 +15,7 @@ use sim_target::num::{Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
 use sim_target::rt::{cull, scene_file, shapes, vec::V3, Math, Numeric, Reflection, Scene};
 use sim_target::rt::{scene::Object, Shape};
 
-mod common;
+use crate::common;
 
 use common::Rng;
 
@@ -32,8 +32,11 @@ fn obj(shape: Shape, t: [f64; 3], scale: [f64; 3], rotate: [f64; 3], material: u
 /// The reference scene's materials and light with `objects` and a camera at `eye`
 /// looking at `at`, framing a radius `r`.
 fn scene(objects: Vec<Object>, eye: [f64; 3], at: [f64; 3], r: f64) -> Scene {
-    let mut s = scene_file::parse(include_str!("../../examples/reference.toml"), "reference")
-        .expect("parses");
+    let mut s = scene_file::parse(
+        include_str!("../../../examples/reference.toml"),
+        "reference",
+    )
+    .expect("parses");
     s.objects = objects;
     let d = ((eye[0] - at[0]).powi(2) + (eye[1] - at[1]).powi(2) + (eye[2] - at[2]).powi(2)).sqrt();
     s.camera.position = eye;
@@ -86,7 +89,7 @@ fn gate_f32(g: &cull::Secondary, d: [f64; 3]) -> (f32, f32) {
 /// Where a probe's rays start.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Mode {
-    /// Near the shape in object space (the origins of `tests/rt_cull.rs`'s probe, which
+    /// Near the shape in object space (the origins of `rt_cull`'s probe, which
     /// find the false hits of rays along a generator).
     Near,
     /// Lines that pass just outside the world bound, from origins near it.
@@ -180,7 +183,7 @@ fn probe<S: Scalar>(
                 [th.cos() + eps * rng.range(-1.0, 1.0), rng.sign(), th.sin()],
             )
         } else {
-            // out through an end, as in `tests/rt_cull.rs`
+            // out through an end, as in `rt_cull`
             let (th, r) = (rng.range(0.0, 6.3), rng.range(1.03, 1.3));
             let o = [
                 r * th.cos(),
@@ -310,7 +313,7 @@ fn gated_rays_never_hit_in_fixed_point() {
     );
 }
 
-/// The known false hit (`tests/rt_cull.rs`: a Q16.16 ray along the unit cone's
+/// The known false hit (`rt_cull`: a Q16.16 ray along the unit cone's
 /// generator that misses the widened bound from 1.5 units away and still gets t = 0.5)
 /// is culled by the sphere test from within the safe distance, and only the gate stops
 /// it: its |a| is far below the threshold, so a gate lowered below that |a| (or none)
@@ -364,8 +367,11 @@ fn q24_8_has_no_gate() {
 /// the scene's shadow rays (≈ 0.3 for rays from the floor to the light).
 #[test]
 fn the_reference_scene_gates_its_quadrics() {
-    let s = scene_file::parse(include_str!("../../examples/reference.toml"), "reference")
-        .expect("parses");
+    let s = scene_file::parse(
+        include_str!("../../../examples/reference.toml"),
+        "reference",
+    )
+    .expect("parses");
     let b = cull::bounds::<Q16_16>(&s, &Math::default());
     for (k, o) in s.objects.iter().enumerate() {
         let g = b[k].and_then(|b| b.secondary);
