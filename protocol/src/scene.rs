@@ -526,7 +526,7 @@ code_enum!(
 
 /// Global settings (`[render]` of the scene file).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Render {
+pub struct RenderRegs {
     /// Frame width in pixels.
     pub width: u32,
     /// Frame height in pixels.
@@ -550,7 +550,7 @@ pub struct Render {
 /// The camera in both the scene file's form and ViRAY's (basis + near plane); the host
 /// derives the latter from the former.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Camera {
+pub struct CameraRegs {
     /// Eye position.
     pub position: [f64; 3],
     /// Point looked at.
@@ -571,7 +571,7 @@ pub struct Camera {
 
 /// One light.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Light {
+pub struct LightRegs {
     /// Type.
     pub kind: LightKind,
     /// Position.
@@ -588,7 +588,7 @@ pub struct Light {
 
 /// A coefficient and a colour.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Term {
+pub struct TermRegs {
     /// Coefficient k.
     pub k: f64,
     /// Colour.
@@ -597,17 +597,17 @@ pub struct Term {
 
 /// The complete material of an object.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Material {
+pub struct MaterialRegs {
     /// k_a, c_a.
-    pub ambient: Term,
+    pub ambient: TermRegs,
     /// k_d, c_d.
-    pub diffuse: Term,
+    pub diffuse: TermRegs,
     /// Diffuse model.
     pub diffuse_model: DiffuseModel,
     /// Oren–Nayar σ².
     pub sigma2: f64,
     /// k_s, c_s.
-    pub specular: Term,
+    pub specular: TermRegs,
     /// Specular model.
     pub specular_model: SpecularModel,
     /// Exponent e ≤ 1023.
@@ -625,12 +625,12 @@ pub struct Material {
     /// Constant reflectance r.
     pub reflectance: f64,
     /// Texture.
-    pub texture: Texture,
+    pub texture: TextureRegs,
 }
 
 /// Texture of a material.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Texture {
+pub struct TextureRegs {
     /// Source.
     pub kind: TextureKind,
     /// Mapping.
@@ -655,7 +655,7 @@ pub struct Texture {
 
 /// One object.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Object {
+pub struct ObjectRegs {
     /// Canonical shape.
     pub shape: Shape,
     /// Translation.
@@ -665,7 +665,7 @@ pub struct Object {
     /// Rotation in degrees about x, y, z.
     pub rotate: [f64; 3],
     /// Material.
-    pub material: Material,
+    pub material: MaterialRegs,
 }
 
 // Block encoders: `w` is the block's words.
@@ -877,7 +877,7 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     }
 
     /// Writes the global settings.
-    pub fn set_render(&mut self, r: &Render) -> Result<(), SceneError> {
+    pub fn set_render(&mut self, r: &RenderRegs) -> Result<(), SceneError> {
         int("width", u64::from(r.width), 1, u64::from(u16::MAX))?;
         int("height", u64::from(r.height), 1, u64::from(u16::MAX))?;
         int("depth", u64::from(r.depth), 1, 16)?;
@@ -897,9 +897,9 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     }
 
     /// Reads the global settings.
-    pub fn render(&self) -> Render {
+    pub fn render(&self) -> RenderRegs {
         let h = &self.header;
-        Render {
+        RenderRegs {
             width: h[hdr::WIDTH],
             height: h[hdr::HEIGHT],
             depth: h[hdr::DEPTH],
@@ -913,7 +913,7 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     }
 
     /// Writes the camera.
-    pub fn set_camera(&mut self, c: &Camera) -> Result<(), SceneError> {
+    pub fn set_camera(&mut self, c: &CameraRegs) -> Result<(), SceneError> {
         let mut w = [0; cam::WORDS];
         put_v(&mut w, cam::POSITION, "camera.position", c.position)?;
         put_v(&mut w, cam::LOOK_AT, "camera.look_at", c.look_at)?;
@@ -928,9 +928,9 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     }
 
     /// Reads the camera.
-    pub fn camera(&self) -> Camera {
+    pub fn camera(&self) -> CameraRegs {
         let w = &self.camera;
-        Camera {
+        CameraRegs {
             position: get_v(w, cam::POSITION),
             look_at: get_v(w, cam::LOOK_AT),
             up: get_v(w, cam::UP),
@@ -967,7 +967,7 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     }
 
     /// Writes light `i`. Light 0 must be ambient and only light 0 may be.
-    pub fn set_light(&mut self, i: usize, l: &Light) -> Result<(), SceneError> {
+    pub fn set_light(&mut self, i: usize, l: &LightRegs) -> Result<(), SceneError> {
         Self::light_index(i)?;
         let at = At::Light(i);
         if (i == 0) != (l.kind == LightKind::Ambient) {
@@ -992,10 +992,10 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     }
 
     /// Reads light `i`.
-    pub fn light(&self, i: usize) -> Result<Light, SceneError> {
+    pub fn light(&self, i: usize) -> Result<LightRegs, SceneError> {
         Self::light_index(i)?;
         let w = &self.lights[i];
-        Ok(Light {
+        Ok(LightRegs {
             kind: code("kind", w[light::KIND], LightKind::from_code)
                 .map_err(|e| e.at(At::Light(i)))?,
             position: get_v(w, light::POSITION),
@@ -1007,20 +1007,20 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     }
 
     /// Writes object `i`.
-    pub fn set_object(&mut self, i: usize, o: &Object) -> Result<(), SceneError> {
+    pub fn set_object(&mut self, i: usize, o: &ObjectRegs) -> Result<(), SceneError> {
         Self::object_index(i)?;
         self.objects[i] = encode_object(o).map_err(|e| e.at(At::Object(i)))?;
         Ok(())
     }
 
     /// Reads object `i`.
-    pub fn object(&self, i: usize) -> Result<Object, SceneError> {
+    pub fn object(&self, i: usize) -> Result<ObjectRegs, SceneError> {
         Self::object_index(i)?;
         decode_object(&self.objects[i]).map_err(|e| e.at(At::Object(i)))
     }
 }
 
-fn encode_object(o: &Object) -> Result<[u32; obj::WORDS], SceneError> {
+fn encode_object(o: &ObjectRegs) -> Result<[u32; obj::WORDS], SceneError> {
     let m = &o.material;
     let t = &m.texture;
     int("material.specular.exponent", u64::from(m.exponent), 0, 1023)?;
@@ -1090,7 +1090,7 @@ fn encode_object(o: &Object) -> Result<[u32; obj::WORDS], SceneError> {
     Ok(w)
 }
 
-fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
+fn decode_object(w: &[u32; obj::WORDS]) -> Result<ObjectRegs, SceneError> {
     let size = w[obj::TEX_SIZE];
     int("material.texture.size", u64::from(size), 0, 0x0808)?;
     int("material.texture.width_log2", u64::from(size & 0xff), 0, 8)?;
@@ -1106,17 +1106,17 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
         0,
         (1 << 16) - 1,
     )?;
-    Ok(Object {
+    Ok(ObjectRegs {
         shape: code("shape", w[obj::SHAPE], Shape::from_code)?,
         translate: get_v(w, obj::TRANSLATE),
         scale: get_v(w, obj::SCALE),
         rotate: get_v(w, obj::ROTATE),
-        material: Material {
-            ambient: Term {
+        material: MaterialRegs {
+            ambient: TermRegs {
                 k: get_q(w, obj::AMBIENT_K),
                 color: get_v(w, obj::AMBIENT_COLOR),
             },
-            diffuse: Term {
+            diffuse: TermRegs {
                 k: get_q(w, obj::DIFFUSE_K),
                 color: get_v(w, obj::DIFFUSE_COLOR),
             },
@@ -1126,7 +1126,7 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
                 DiffuseModel::from_code,
             )?,
             sigma2: get_q(w, obj::SIGMA2),
-            specular: Term {
+            specular: TermRegs {
                 k: get_q(w, obj::SPECULAR_K),
                 color: get_v(w, obj::SPECULAR_COLOR),
             },
@@ -1146,7 +1146,7 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
             spec_eta: get_q(w, obj::SPEC_ETA),
             spec_kappa: get_q(w, obj::SPEC_KAPPA),
             reflectance: get_q(w, obj::REFLECTANCE),
-            texture: Texture {
+            texture: TextureRegs {
                 kind: code(
                     "material.texture.kind",
                     w[obj::TEX_KIND],
