@@ -20,6 +20,9 @@ use crate::fpga::FpgaBus;
 pub const INBOX: usize = 4;
 
 /// What stopped the controller: only transport failures; protocol errors are answered.
+// Exhaustive on purpose: one variant per transport parameter, so a caller whose host link
+// cannot fail (`H::Error = Infallible`) proves it with `match never {}`; another variant
+// would need another transport parameter, which breaks callers anyway.
 #[derive(Debug)]
 pub enum ControllerError<H, B> {
     /// Reading or writing the host link failed.

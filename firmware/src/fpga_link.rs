@@ -48,6 +48,7 @@ const WINDOW: usize = 4;
 
 /// What went wrong on the FPGA link.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum FpgaLinkError<E> {
     /// The UART failed.
     Io(E),

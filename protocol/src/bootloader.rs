@@ -154,6 +154,7 @@ pub const F405_COMMANDS: [Command; 11] = [
 
 /// What can be wrong with something to encode.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum EncodeError {
     /// Blocks carry 1..=256 bytes (the length travels as N-1 in one byte).
     #[error("a block carries 1..=256 bytes, not {0}")]

@@ -332,6 +332,7 @@ impl Kind {
 /// the field and the value, so that the host can tell the user which vertex of which
 /// command does not fit the board.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BusError {
     /// A value does not fit its field.
     #[error("{layout}: field `{field}` = {value} is outside {min}..={max}")]

@@ -250,6 +250,7 @@ pub struct Hello {
 
 /// Why a handshake was refused: the two sides' values, so the message can name both.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum HandshakeError {
     /// The protocol versions differ.
     #[error("protocol version mismatch: this side speaks v{ours}, the peer speaks v{theirs}")]
@@ -884,6 +885,7 @@ pub enum DeviceFrame {
 
 /// Errors encoding or decoding a message.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum CodecError {
     /// The bytes are not a valid message of this schema.
     #[error("malformed message: {0}")]
@@ -917,6 +919,7 @@ pub fn decode<'de, T: Deserialize<'de>>(bytes: &'de [u8]) -> Result<T, CodecErro
 
 /// Why a raster command cannot be batched.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BatchError {
     /// Even alone, the command does not fit in one frame.
     #[error("raster command does not fit in one {MAX_PAYLOAD}-byte frame")]

@@ -233,6 +233,7 @@ impl core::fmt::Display for At {
 
 /// Why a scene value cannot be put into (or read from) the registers.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// Not finite or outside the Q16.16 range.
     #[error("{at}`{field}` = {value} does not fit Q16.16 (finite, -32768 <= v < 32768)")]
