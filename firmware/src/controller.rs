@@ -81,7 +81,8 @@ where
         &mut self.host
     }
 
-    /// The engine, for inspection.
+    /// The engine: the way to its bus (a board reconnects its FPGA link through it) and
+    /// to whether a host has shaken hands.
     pub fn engine(&mut self) -> &mut Engine<B> {
         &mut self.engine
     }

@@ -712,6 +712,13 @@ fn code<T>(field: &'static str, value: u32, f: fn(u32) -> Option<T>) -> Result<T
     })
 }
 
+/// Words in the map of a device with room for `objects` objects and `lights` lights
+/// (ambient included): for a controller that learns the capacities at run time from the
+/// target's [`crate::frame::Caps`] and must refuse register writes past the end.
+pub const fn map_words(objects: usize, lights: usize) -> usize {
+    light::OFFSET + lights * light::WORDS + objects * obj::WORDS
+}
+
 /// The register image for `OBJ` objects and `LIGHTS` lights.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SceneRegs<const OBJ: usize = 8, const LIGHTS: usize = 2> {
@@ -728,8 +735,8 @@ impl<const OBJ: usize, const LIGHTS: usize> Default for SceneRegs<OBJ, LIGHTS> {
 }
 
 impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
-    /// Words in the map.
-    pub const WORDS: usize = hdr::WORDS + cam::WORDS + LIGHTS * light::WORDS + OBJ * obj::WORDS;
+    /// Words in the map ([`map_words`] of its capacities): 420 for the defaults.
+    pub const WORDS: usize = map_words(OBJ, LIGHTS);
     /// First word of the object blocks.
     pub const OBJECTS_OFFSET: usize = light::OFFSET + LIGHTS * light::WORDS;
     /// Word 1: version and capacities, so that a map built for other sizes is refused.
