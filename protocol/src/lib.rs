@@ -1,7 +1,11 @@
 //! The only place an fpgfx wire format is defined.
 //!
-//! Three boundaries cross this crate, and each has its own module so that a reader who
-//! holds a captured byte string knows where to look:
+//! Each wire format has its own module, so that a reader who holds a captured byte string
+//! knows where to look. These modules are the crate's surface: everything a caller needs
+//! is one level down (`protocol::frame::HostFrame`, `protocol::scene::SceneRegs`), and the
+//! root holds only the limits the formats share. Only the register map's word offsets sit
+//! one level further, grouped per block (`scene::obj::SHAPE`), because blocks share field
+//! names.
 //!
 //! * [`frame`] — the messages between the host (`fpgfx`) and the controller firmware,
 //!   serialised with postcard. Both ends compare a [`frame::schema_hash`] in the

@@ -7,7 +7,10 @@
 //! quantised to Q16.16 exactly as the MicroBlaze would write it. Materials are per object
 //! in the registers (ViRAY has no material table), so shared materials are expanded.
 
-use protocol::scene::{self as regs, SceneError, SceneRegs};
+use protocol::scene::{
+    self as regs, CameraRegs, LightRegs, MaterialRegs, ObjectRegs, RenderRegs, SceneError,
+    SceneRegs, TermRegs, TextureRegs,
+};
 
 use crate::rt::{
     Camera, DiffuseModel, Light, Material, Object, Reflection, Scene, Specular, SpecularModel,
@@ -48,17 +51,17 @@ fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
     (n > 1e-12).then(|| [a[0] / n, a[1] / n, a[2] / n])
 }
 
-fn term(t: &Option<Term>) -> regs::Term {
-    t.as_ref().map_or(regs::Term::default(), |t| regs::Term {
+fn term(t: &Option<Term>) -> TermRegs {
+    t.as_ref().map_or(TermRegs::default(), |t| TermRegs {
         k: t.k,
         color: t.color,
     })
 }
 
-fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
-    let mut out = regs::Material {
+fn material(m: &Material) -> Result<MaterialRegs, SceneRegsError> {
+    let mut out = MaterialRegs {
         ambient: term(&m.ambient),
-        diffuse: regs::Term {
+        diffuse: TermRegs {
             k: m.diffuse.k,
             color: m.diffuse.color,
         },
@@ -69,7 +72,7 @@ fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
         out.sigma2 = sigma2;
     }
     if let Some(s) = &m.specular {
-        out.specular = regs::Term {
+        out.specular = TermRegs {
             k: s.k,
             color: s.color,
         };
@@ -104,7 +107,7 @@ fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
             TextureKind::Marble { seed } => (regs::TextureKind::Marble, seed),
             TextureKind::Wood { seed } => (regs::TextureKind::Wood, seed),
         };
-        out.texture = regs::Texture {
+        out.texture = TextureRegs {
             kind,
             mapping: t.mapping,
             scale: t.scale,
@@ -124,7 +127,7 @@ fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
 pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
     let mut r = Regs::new();
     r.set_counts(scene.objects.len(), 1 + scene.lights.len())?;
-    r.set_render(&regs::Render {
+    r.set_render(&RenderRegs {
         width: scene.width,
         height: scene.height,
         depth: scene.depth,
@@ -141,7 +144,7 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
     let w = normalize(sub(c.position, c.look_at)).ok_or(SceneRegsError::Camera)?;
     let u = normalize(cross(c.up, w)).ok_or(SceneRegsError::Camera)?;
     let v = cross(w, u);
-    r.set_camera(&regs::Camera {
+    r.set_camera(&CameraRegs {
         position: c.position,
         look_at: c.look_at,
         up: c.up,
@@ -153,14 +156,14 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
     })?;
     r.set_light(
         0,
-        &regs::Light {
+        &LightRegs {
             kind: regs::LightKind::Ambient,
             color: scene.ambient,
             ..Default::default()
         },
     )?;
     for (i, l) in scene.lights.iter().enumerate() {
-        let mut light = regs::Light {
+        let mut light = LightRegs {
             kind: regs::LightKind::Point,
             position: l.position,
             color: l.color,
@@ -182,7 +185,7 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
         })?;
         r.set_object(
             i,
-            &regs::Object {
+            &ObjectRegs {
                 shape: o.shape,
                 translate: o.translate,
                 scale: o.scale,
@@ -194,7 +197,7 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
     Ok(r)
 }
 
-fn some_term(t: regs::Term) -> Option<Term> {
+fn some_term(t: TermRegs) -> Option<Term> {
     (t.k != 0.0).then_some(Term {
         k: t.k,
         color: t.color,

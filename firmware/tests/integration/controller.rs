@@ -170,7 +170,7 @@ fn caps() -> Caps {
         max_width: 640,
         max_height: 480,
         max_subpixel_bits: 8,
-        queue_depth: firmware::controller::INBOX as u16,
+        queue_depth: firmware::INBOX as u16,
         fifo_depth: 512,
         max_objects: 8,
         max_lights: 2,

@@ -6,20 +6,18 @@
 use proptest::prelude::*;
 use protocol::frame::{RegWrite, REG_WRITE_WORDS};
 use protocol::scene::{
-    apply, cam, diff, diff_with_gap, hdr, light, obj, q16_from_f64, q16_to_f64, At, Camera,
-    DiffuseModel, LightKind, Mapping, Material, Object, ReflectionMode, Render, SceneError,
-    SceneRegs, Shape, SpecularModel, Term, TexFilter, Texture, TextureKind, DEFAULT_MERGE_GAP,
-    FLAG_SHADOWS, MAGIC,
+    apply, cam, diff, diff_with_gap, hdr, light, obj, q16_from_f64, q16_to_f64, At, CameraRegs,
+    DiffuseModel, LightKind, LightRegs, Mapping, MaterialRegs, ObjectRegs, ReflectionMode,
+    RenderRegs, SceneError, SceneRegs, Shape, SpecularModel, TermRegs, TexFilter, TextureKind,
+    TextureRegs, DEFAULT_MERGE_GAP, FLAG_SHADOWS, MAGIC,
 };
-
-use protocol::scene::Light as Light_;
 
 type Regs = SceneRegs; // the seed's defaults: 8 objects, 2 lights
 
 /// The example scene of docs/requirements.md §4.11 ("Scene file and AOVs").
 fn example() -> Regs {
     let mut s = Regs::new();
-    s.set_render(&Render {
+    s.set_render(&RenderRegs {
         width: 1920,
         height: 1080,
         depth: 2,
@@ -31,7 +29,7 @@ fn example() -> Regs {
         seed: 7,
     })
     .unwrap();
-    s.set_camera(&Camera {
+    s.set_camera(&CameraRegs {
         position: [0.0, 1.0, 6.0],
         look_at: [0.0; 3],
         up: [0.0, 1.0, 0.0],
@@ -44,7 +42,7 @@ fn example() -> Regs {
     .unwrap();
     s.set_light(
         0,
-        &Light_ {
+        &LightRegs {
             kind: LightKind::Ambient,
             color: [0.1; 3],
             ..Default::default()
@@ -53,7 +51,7 @@ fn example() -> Regs {
     .unwrap();
     s.set_light(
         1,
-        &Light_ {
+        &LightRegs {
             kind: LightKind::Spot,
             position: [3.0, 5.0, 4.0],
             color: [30.0; 3],
@@ -68,24 +66,24 @@ fn example() -> Regs {
     s
 }
 
-fn floor() -> Object {
-    Object {
+fn floor() -> ObjectRegs {
+    ObjectRegs {
         shape: Shape::Disk,
         translate: [0.0, -2.0, 0.0],
         scale: [20.0; 3],
         rotate: [0.0; 3],
-        material: Material {
-            ambient: Term {
+        material: MaterialRegs {
+            ambient: TermRegs {
                 k: 1.0,
                 color: [0.9; 3],
             },
-            diffuse: Term {
+            diffuse: TermRegs {
                 k: 0.8,
                 color: [0.9; 3],
             },
             diffuse_model: DiffuseModel::Lambert,
             sigma2: 0.0,
-            specular: Term {
+            specular: TermRegs {
                 k: 0.2,
                 color: [1.0; 3],
             },
@@ -97,7 +95,7 @@ fn floor() -> Object {
             spec_eta: 0.0,
             spec_kappa: 0.0,
             reflectance: 0.0,
-            texture: Texture {
+            texture: TextureRegs {
                 kind: TextureKind::Checkerboard,
                 mapping: Mapping::Planar,
                 scale: [6.0, 6.0],
@@ -198,7 +196,7 @@ fn golden_words() {
 trait WithColor2 {
     fn with_color2(self, q: i32) -> Self;
 }
-impl WithColor2 for Texture {
+impl WithColor2 for TextureRegs {
     fn with_color2(mut self, q: i32) -> Self {
         self.color2 = [q16_to_f64(q); 3];
         self
@@ -280,7 +278,7 @@ fn q16_limits() {
         Err(SceneError::Index { index: 8, .. })
     ));
     assert!(matches!(
-        s.set_light(1, &Light_::default()),
+        s.set_light(1, &LightRegs::default()),
         Err(SceneError::Code {
             at: At::Light(1),
             field: "kind",
