@@ -86,6 +86,50 @@ pub enum AnimateError {
     },
 }
 
+/// Why a GIF was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum GifError {
+    /// The file cannot be created.
+    #[error("cannot create {}", .path.display())]
+    Create {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Encoding or writing a frame failed.
+    #[error("cannot write {}", .path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: image::ImageError,
+    },
+}
+
+/// Writes `frames` as a GIF that loops forever, one frame every 1/`fps` s with `fps`
+/// rounded to a whole number (the script's clock may run at any rate; the file's cannot).
+pub fn write_gif(path: &Path, frames: &[image::RgbImage], fps: f64) -> Result<(), GifError> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let write = |source| GifError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = std::fs::File::create(path).map_err(|source| GifError::Create {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut enc = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
+    enc.set_repeat(Repeat::Infinite).map_err(write)?;
+    let delay = image::Delay::from_numer_denom_ms(1000, (fps.round() as u32).max(1));
+    for f in frames {
+        let rgba = image::DynamicImage::ImageRgb8(f.clone()).into_rgba8();
+        enc.encode_frame(image::Frame::from_parts(rgba, 0, 0, delay))
+            .map_err(write)?;
+    }
+    Ok(())
+}
+
 /// A compiled animation script.
 pub struct Script {
     engine: Engine,

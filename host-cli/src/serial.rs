@@ -40,14 +40,24 @@ impl Transport for SerialTransport {
     }
 
     fn read(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
-        self.port
-            .set_timeout(timeout.max(Duration::from_millis(1)))
-            .map_err(io::Error::other)?;
-        match self.port.read(buf) {
-            Ok(n) => Ok(n),
-            Err(e) if e.kind() == io::ErrorKind::TimedOut => Ok(0),
-            Err(e) => Err(e),
-        }
+        read_within(self.port.as_mut(), buf, timeout)
+    }
+}
+
+/// [`Transport::read`] for any serial port, whatever its line settings (the link's 8N1
+/// here, the bootloader's 8E1 in `flash`): what arrives within `timeout`, 0 bytes when
+/// nothing does.
+pub(crate) fn read_within(
+    port: &mut dyn serialport::SerialPort,
+    buf: &mut [u8],
+    timeout: Duration,
+) -> io::Result<usize> {
+    port.set_timeout(timeout.max(Duration::from_millis(1)))
+        .map_err(io::Error::other)?;
+    match port.read(buf) {
+        Ok(n) => Ok(n),
+        Err(e) if e.kind() == io::ErrorKind::TimedOut => Ok(0),
+        Err(e) => Err(e),
     }
 }
 

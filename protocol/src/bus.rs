@@ -1195,18 +1195,21 @@ impl<I: Io> Walker<'_, I> {
     }
 }
 
-/// Largest caller sub-pixel precision: keeps every rescaled coordinate inside an i64.
-pub const MAX_SUBPIXEL_BITS: u8 = 24;
+/// Largest [`PackOptions::subpixel_bits`] (and `subpixel_bits` of [`unpack`]): the
+/// precision of the caller's values that the packer rescales to and from a layout's, kept
+/// low enough that every rescaled coordinate fits an i64. It bounds this conversion only;
+/// what a target accepts is [`crate::frame::MAX_SUBPIXEL_BITS`].
+pub const MAX_CALLER_SUBPIXEL_BITS: u8 = 24;
 
 fn check(layout: &BusLayout, subpixel_bits: u8) -> Result<(), BusError> {
     layout.validate()?;
-    if subpixel_bits > MAX_SUBPIXEL_BITS {
+    if subpixel_bits > MAX_CALLER_SUBPIXEL_BITS {
         return Err(BusError::OutOfRange {
             layout: layout.name,
             field: "subpixel_bits",
             value: i64::from(subpixel_bits),
             min: 0,
-            max: i64::from(MAX_SUBPIXEL_BITS),
+            max: i64::from(MAX_CALLER_SUBPIXEL_BITS),
         });
     }
     Ok(())

@@ -14,6 +14,7 @@ use heapless::{String, Vec};
 use postcard_schema::Schema;
 use serde::{Deserialize, Serialize};
 
+use crate::names::{named_impls, Named};
 use crate::{MAX_PAYLOAD, PROTOCOL_VERSION};
 
 /// Raster commands per [`HostFrame::Raster`] batch. Batching keeps the per-frame link
@@ -31,6 +32,17 @@ pub const TEXTURE_CHUNK: usize = 224;
 pub const READ_CHUNK: usize = 224;
 /// Bytes of the human-readable firmware identification in [`Hello`].
 pub const IDENT_LEN: usize = 32;
+/// Largest frame side in pixels, for the raster block and the ray tracer alike: the
+/// raster block's edge functions are proven exact up to it (sim-target's `raster::tri`),
+/// targets report it in [`Caps`], and the host refuses a larger frame before sending it.
+/// The FITkit SDRAM row is 512 columns; the extended layouts allow more; the wire's
+/// `u16` would carry more still.
+pub const MAX_FRAME_SIDE: u32 = 4096;
+/// Largest [`RasterSetup::subpixel_bits`] a target accepts: the raster block's
+/// edge-function bound is proven for this many fractional bits at [`MAX_FRAME_SIDE`].
+/// Not [`crate::bus::MAX_CALLER_SUBPIXEL_BITS`], which only bounds the bus packer's
+/// rescaling.
+pub const MAX_SUBPIXEL_BITS: u8 = 8;
 
 /// The schema hash of this build's message set: FNV-1a over the postcard-schema of
 /// [`HostFrame`] and [`DeviceFrame`] (names, field order and types). Two builds that would
@@ -149,6 +161,24 @@ impl Numeric {
     /// This format's bit in a [`NumericSet`].
     pub const fn bit(self) -> u16 {
         1 << self as u16
+    }
+}
+
+impl Named for Numeric {
+    const WHAT: &'static str = "number format";
+    const VALUES: &'static [Self] = &Numeric::ALL;
+    const IGNORE_CASE: bool = true;
+
+    fn spellings(self) -> &'static [&'static str] {
+        match self {
+            Numeric::F64 => &["f64"],
+            Numeric::F32 => &["f32"],
+            Numeric::F16 => &["f16"],
+            Numeric::Q16_16 => &["q16.16", "q16_16"],
+            Numeric::Q8_24 => &["q8.24", "q8_24"],
+            Numeric::Q24_8 => &["q24.8", "q24_8"],
+            Numeric::Q32_32 => &["q32.32", "q32_32"],
+        }
     }
 }
 
@@ -368,6 +398,35 @@ pub enum Traversal {
     /// Seed 000's eight pixels per step.
     Simd8,
 }
+
+impl Traversal {
+    /// Every strategy, in the order raster files and `--traversal` list them.
+    pub const ALL: [Traversal; 5] = [
+        Traversal::BoundingBox,
+        Traversal::Scanline,
+        Traversal::Zigzag,
+        Traversal::Tiles,
+        Traversal::Simd8,
+    ];
+}
+
+impl Named for Traversal {
+    const WHAT: &'static str = "traversal";
+    const VALUES: &'static [Self] = &Traversal::ALL;
+    const IGNORE_CASE: bool = false;
+
+    fn spellings(self) -> &'static [&'static str] {
+        match self {
+            Traversal::BoundingBox => &["bbox"],
+            Traversal::Scanline => &["scanline"],
+            Traversal::Zigzag => &["zigzag"],
+            Traversal::Tiles => &["tiles"],
+            Traversal::Simd8 => &["simd8"],
+        }
+    }
+}
+
+named_impls!(Numeric, Traversal);
 
 /// Frame-wide raster state. Sent before the first raster command of a frame; a new one
 /// resets the framebuffer size and clears it to `background`.

@@ -21,6 +21,8 @@
 //!   `fpgfx flash` speaks to the board and `fpgfx-sim --bootloader` emulates.
 //! * [`fpga`] — the same bus operations as messages, for an FPGA reached over a serial
 //!   line (the board's second UART when the FPGA is the `fpgfx-sim` emulator).
+//! * [`names`] — how the enums above are spelled in files and on the command line
+//!   (with the `clap` feature, as the flags' possible values).
 //!
 //! The crate is `#![no_std]` without `alloc`: everything here must fit a Cortex-M4 with
 //! 128 KiB of RAM, so buffers are `heapless` and bounded by the named constants below.
@@ -32,6 +34,7 @@ pub mod bus;
 pub mod fpga;
 pub mod frame;
 pub mod link;
+pub mod names;
 pub mod scene;
 
 /// Version of the host <-> controller protocol. Bump it whenever a change is not purely

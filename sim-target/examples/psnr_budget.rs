@@ -83,7 +83,7 @@ fn main() {
     let h: u32 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(216);
     let numeric = args
         .get(2)
-        .and_then(|s| rt::parse_numeric(s))
+        .and_then(|s| s.parse().ok())
         .unwrap_or(Numeric::Q16_16);
     let path = args
         .get(3)

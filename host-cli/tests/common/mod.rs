@@ -221,6 +221,20 @@ pub fn fails(args: &[&str]) -> String {
     assert_fails(fpgfx(args), args)
 }
 
+/// `fpgfx ARGS…` must be refused by the argument parser (clap: status 2, before anything
+/// runs); returns its stderr.
+pub fn refused(args: &[&str]) -> String {
+    let run = fpgfx(args);
+    assert_eq!(
+        run.code,
+        Some(2),
+        "fpgfx {args:?} should be refused with status 2:\nstdout: {}\nstderr: {}",
+        run.stdout,
+        run.stderr
+    );
+    run.stderr
+}
+
 /// A raster job with every primitive (Gouraud triangle, line, filled circle, 8-connected
 /// seed fill, Bézier) at sub-pixel positions, spread over a `width`×`height` frame; `aa`
 /// is extra TOML (e.g. an `[aa]` table) or empty. At 96×64 the numbers are the ones the

@@ -184,7 +184,7 @@ fn viewport_limit_vertices() {
             },
         ],
     ];
-    let dim = tri::MAX_DIM;
+    let dim = MAX_FRAME_SIDE;
     for v in cases {
         // The i64 bound documented in tri.rs: |E| < 2^52 anywhere in the viewport.
         let s = tri::setup(&v, 8, dim, dim, Cull::None).expect("covers the viewport");

@@ -127,7 +127,7 @@ const ADMITTED: [Numeric; 5] = [
 ];
 
 fn numeric_of<S: Scalar>() -> Numeric {
-    rt::parse_numeric(S::NAME).expect("known format")
+    S::NAME.parse().expect("known format")
 }
 
 /// The largest camera distance (along `dir` from the object's centre) at which format `S`

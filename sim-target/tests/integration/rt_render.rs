@@ -210,9 +210,9 @@ fn dispatch_variants_and_progress_agree() {
         ("F32", Numeric::F32),
         ("q32_32", Numeric::Q32_32),
     ] {
-        assert_eq!(rt::parse_numeric(s), Some(n));
+        assert_eq!(s.parse::<Numeric>(), Ok(n));
     }
-    assert_eq!(rt::parse_numeric("q7"), None);
+    assert!("q7".parse::<Numeric>().is_err());
 }
 
 #[test]
