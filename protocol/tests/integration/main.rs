@@ -9,4 +9,5 @@ mod fpga;
 mod frame;
 mod fuzz_props;
 mod link;
+mod names;
 mod scene;
