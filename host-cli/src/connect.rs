@@ -176,7 +176,7 @@ pub enum ConnectError {
 /// its bus layout).
 pub fn open(target: &Target) -> Result<Box<dyn Transport>, ConnectError> {
     match target {
-        Target::BuiltIn => Ok(Box::new(crate::builtin::sim_target())),
+        Target::BuiltIn => Ok(Box::new(sim_board::in_process::sim_target())),
         Target::Serial { path, baud } => {
             if !Path::new(path).exists() {
                 return Err(ConnectError::Missing(path.clone()));

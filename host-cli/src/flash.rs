@@ -1020,7 +1020,7 @@ pub fn run(port: Option<&str>, baud: Option<u32>, args: &FlashArgs) -> Result<Re
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sim_target::bootloader::Bootloader;
+    use sim_board::bootloader::Bootloader;
     use std::collections::VecDeque;
 
     /// The emulator as an in-process transport, optionally dropping one answer.
