@@ -237,7 +237,7 @@ impl ConnectError {
 /// its bus layout).
 pub fn open(target: &Target) -> Result<Box<dyn Transport>, ConnectError> {
     match target {
-        Target::BuiltIn => Ok(Box::new(crate::builtin::sim_target())),
+        Target::BuiltIn => Ok(Box::new(sim_board::in_process::sim_target())),
         Target::Serial { path, baud } => crate::serial::SerialTransport::open(path, *baud)
             .map(|t| Box::new(t) as Box<dyn Transport>)
             .map_err(|e| ConnectError::serial_open(path, *baud, e)),

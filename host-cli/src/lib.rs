@@ -4,7 +4,7 @@
 
 pub mod animate;
 pub mod bench;
-pub mod builtin;
+mod builtin;
 pub mod connect;
 pub mod flash;
 pub mod ports;

@@ -3,7 +3,7 @@
 //!
 //! Flashing a board needs no debug probe: with BOOT0 high the chip starts its ROM
 //! bootloader, which takes commands over USART1 at 8E1. `fpgfx flash` (the host) and the
-//! emulator in `sim-target` (the board) both build and check these byte strings, so the
+//! emulator in `sim-board` (the board) both build and check these byte strings, so the
 //! encoding lives here, once. Everything is `no_std` and allocation-free: encoders write
 //! into fixed arrays or caller buffers.
 //!

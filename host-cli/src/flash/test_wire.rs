@@ -4,7 +4,7 @@ use std::collections::VecDeque;
 use std::io;
 use std::time::Duration;
 
-use sim_target::bootloader::Bootloader;
+use sim_board::bootloader::Bootloader;
 
 use super::Client;
 use crate::session::Transport;

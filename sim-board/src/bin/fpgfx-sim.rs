@@ -7,8 +7,10 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use clap::Parser;
 use firmware::{Controller, ControllerError};
-use host_cli::builtin::SimBus;
-use host_cli::serial::{HostLink, Paced, Pending, Socket};
+use sim_board::host_link::{HostLink, Pending};
+use sim_board::in_process::SimBus;
+use sim_board::paced::Paced;
+use sim_board::socket::Socket;
 
 #[derive(Parser)]
 #[command(
@@ -202,7 +204,7 @@ fn serve_fpga_link(path: &str, baud: u32) -> Result<()> {
 /// `--bootloader`: the emulated ROM bootloader on a pty. A pty has no physical parity,
 /// so the 8E1 the host asks for is accepted and changes nothing: bytes arrive as sent.
 fn serve_bootloader(cli: &Cli) -> Result<()> {
-    use sim_target::bootloader::Bootloader;
+    use sim_board::bootloader::Bootloader;
     use std::io::Read;
 
     let mut flash_file = None;
