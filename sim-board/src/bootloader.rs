@@ -1,7 +1,7 @@
 //! The STM32F405's ROM bootloader (system memory, protocol v3.1, ST AN3155) as a sans-I/O
 //! emulator: bytes in, bytes out. The caller owns the port and the clock, so the same
-//! model runs behind a pseudo-terminal in `fpgfx-sim --bootloader`, inside host-cli's
-//! flash tests and in the unit tests below.
+//! model runs behind a pseudo-terminal ([`crate::bootloader_pty`], `fpgfx-sim
+//! --bootloader`), inside host-cli's flash tests and in the unit tests below.
 //!
 //! It exists so that `fpgfx flash` and third-party tools (`stm32flash`) can be tested end
 //! to end without a board. What it models, and where it knowingly differs from the real

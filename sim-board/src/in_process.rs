@@ -239,7 +239,7 @@ pub type LinkBus = FpgaLink<PipeEnd, StdClock>;
 /// The built-in target with the FPGA behind the serial FPGA link, as on a QEMU board:
 /// the controller talks [`protocol::fpga`] over an in-memory line to an emulated FPGA on
 /// its own thread, which stops when the target is dropped. Images must equal
-/// [`sim_target`]'s; the difference is only the transport.
+/// [`sim_target()`]'s; the difference is only the transport.
 pub fn sim_target_via_fpga_link() -> Result<BuiltIn<LinkBus>, firmware::FpgaLinkError<Infallible>> {
     let (controller_end, fpga_end) = PipeEnd::pair();
     std::thread::spawn(move || serve_fpga(fpga_end, &protocol::bus::WIDE));

@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::JoinHandle;
+use std::time::SystemTime;
 
 /// The workspace root (where `examples/` and the firmware crate live).
 pub fn workspace() -> PathBuf {
@@ -95,7 +96,8 @@ pub fn sim_command() -> Command {
 /// The `fpgfx-sim` binary. It is sim-board's, and cargo names only a crate's own binaries
 /// to its tests (`CARGO_BIN_EXE_*`), so it is looked for next to `fpgfx`, in the same
 /// target profile directory. `cargo test --workspace` has built it there; `cargo test -p
-/// host-cli` has not, so when it is missing it is built there once per test binary.
+/// host-cli` has not, so when it is missing, or older than its sources (a stale one would
+/// test old code without a word), it is built there, once per test binary.
 pub fn sim_binary() -> PathBuf {
     static SIM: OnceLock<PathBuf> = OnceLock::new();
     SIM.get_or_init(|| {
@@ -104,7 +106,7 @@ pub fn sim_binary() -> PathBuf {
             .parent()
             .expect("fpgfx lives in a target profile directory");
         let sim = profile_dir.join(format!("fpgfx-sim{}", std::env::consts::EXE_SUFFIX));
-        if !sim.is_file() {
+        if !newer_than_sources(&sim) {
             build_sim(profile_dir);
         }
         assert!(
@@ -117,13 +119,41 @@ pub fn sim_binary() -> PathBuf {
     .clone()
 }
 
+/// Whether `binary` exists and was built after every file of sim-board and the workspace
+/// crates it is built from last changed (cargo judges freshness by modification times too).
+fn newer_than_sources(binary: &Path) -> bool {
+    fn newest(path: &Path) -> SystemTime {
+        let Ok(meta) = path.metadata() else {
+            return SystemTime::UNIX_EPOCH;
+        };
+        let own = meta.modified().unwrap_or(SystemTime::UNIX_EPOCH);
+        if !meta.is_dir() {
+            return own;
+        }
+        std::fs::read_dir(path)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|entry| newest(&entry.path()))
+            .fold(own, SystemTime::max)
+    }
+    let Ok(built) = binary.metadata().and_then(|m| m.modified()) else {
+        return false;
+    };
+    let root = workspace();
+    ["sim-board", "firmware", "sim-target", "protocol"]
+        .iter()
+        .all(|krate| newest(&root.join(krate)) <= built)
+}
+
 /// `$CARGO build -p sim-board --bin fpgfx-sim` into `profile_dir` (`<target-dir>/debug` is
 /// the dev profile's; other profiles' directories carry their names).
 fn build_sim(profile_dir: &Path) {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| {
         panic!(
-            "fpgfx-sim is missing from {} and CARGO is not set to build it: run the tests \
-             through cargo, or `cargo build -p sim-board --bin fpgfx-sim` first",
+            "fpgfx-sim is missing from {} or older than its sources, and CARGO is not set \
+             to build it: run the tests through cargo, or `cargo build -p sim-board --bin \
+             fpgfx-sim` first",
             profile_dir.display()
         )
     });

@@ -1,16 +1,15 @@
 //! `fpgfx-sim`: a whole board on a serial line — the firmware's controller and the FPGA
-//! model behind a pseudo-terminal, so `fpgfx --port` is exercised over a real tty.
+//! model behind a pseudo-terminal, so `fpgfx --port` is exercised over a real tty. The
+//! serving is [`sim_board`]'s; this binary parses flags and reports.
 
-use std::io::{Read, Write};
-use std::time::{Duration, Instant};
+use std::io::Write;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Parser;
-use firmware::{Controller, ControllerError};
-use sim_board::host_link::{HostLink, Pending};
-use sim_board::in_process::SimBus;
-use sim_board::paced::Paced;
-use sim_board::socket::Socket;
+use sim_board::bootloader_pty::{self, Chip};
+use sim_board::fpga_port::FpgaPort;
+use sim_board::{board, pty};
+use sim_target::device::DeviceError;
 
 #[derive(Parser)]
 #[command(
@@ -62,36 +61,39 @@ fn main() -> std::process::ExitCode {
     }
 }
 
-/// EIO (read) or EPIPE (write) on a pty master: no process has the slave open.
-fn host_gone(e: &std::io::Error) -> bool {
-    e.kind() == std::io::ErrorKind::BrokenPipe || matches!(e.raw_os_error(), Some(5) | Some(32))
-}
-
 fn run(cli: Cli) -> Result<()> {
     if cli.bootloader {
         return serve_bootloader(&cli);
     }
-    if let Some(port) = &cli.fpga_link {
-        return serve_fpga_link(port, cli.baud);
+    if let Some(path) = &cli.fpga_link {
+        let port = FpgaPort::open(path, cli.baud)?;
+        eprintln!("fpgfx-sim: FPGA link on {path}");
+        port.serve(|text| eprintln!("fpgfx-sim: FPGA fault: {text}"))?;
+        // The board went away (QEMU exited): nothing left to serve.
+        eprintln!("fpgfx-sim: FPGA-link peer closed {path}");
+        return Ok(());
     }
+    let pace = cli.pace.then_some(cli.baud);
     if let Some(addr) = &cli.tcp {
-        return serve_tcp(addr, cli.pace.then_some(cli.baud));
+        let listener = board::listen(addr)?;
+        announce(&listener.local_addr()?.to_string())?;
+        let never = board::serve_tcp(listener, pace, model_fault)?;
+        match never {}
     }
     anyhow::ensure!(
         cli.pty,
         "nothing to serve: give --pty, --tcp ADDR or --fpga-link PORT"
     );
-    let (master, slave) =
-        serialport::TTYPort::pair().context("cannot create a pseudo-terminal pair")?;
-    let path = serialport::SerialPort::name(&slave).context("the pseudo-terminal has no path")?;
-    // The host opens the slave by path and takes the exclusive lock a serial port gets;
-    // our handle would hold it. The node lives as long as the master is open.
-    drop(slave);
+    let (master, path) = pty::open()?;
     announce(&path)?;
-    match cli.pace {
-        true => serve(Paced::new(master, cli.baud), |_| false),
-        false => serve(master, |_| false),
-    }
+    let never = board::serve(master, pace, model_fault)?;
+    match never {}
+}
+
+/// The host was answered with a Device error and the board keeps serving; the operator
+/// hears of it here.
+fn model_fault(e: &DeviceError) {
+    eprintln!("fpgfx-sim: FPGA model fault: {e}");
 }
 
 /// Prints where we listen on stdout's first line (tests and scripts read it).
@@ -102,212 +104,17 @@ fn announce(what: &str) -> Result<()> {
     Ok(())
 }
 
-/// A board: the controller and the FPGA model on `link`. `between` runs once per turn
-/// with the link (to plug in a new TCP client) and returns whether it did anything.
-fn serve<S: Read + Write + Pending>(
-    link: S,
-    mut between: impl FnMut(&mut S) -> bool,
-) -> Result<()> {
-    let layout = &protocol::bus::WIDE;
-    let device = sim_target::device::Device::new(layout);
-    let caps = device.caps();
-    let mut controller = Controller::new(HostLink(link), SimBus(device), caps, layout, "fpgfx-sim");
-    let epoch = Instant::now();
-    loop {
-        between(&mut controller.host().0);
-        let now = epoch.elapsed().as_millis() as u64;
-        match controller.poll(now) {
-            Ok(()) => {}
-            // EIO (read) or EPIPE (write) on the master while no one has the slave open:
-            // the host went away; wait for the next one (it will reset the link).
-            Err(ControllerError::Host(e)) if host_gone(&e) => {
-                std::thread::sleep(Duration::from_millis(20));
-            }
-            Err(ControllerError::Host(e)) => return Err(e).context("host link"),
-            // The host was answered with a Device error; like a board, keep serving.
-            Err(ControllerError::Fpga(e)) => eprintln!("fpgfx-sim: FPGA model fault: {e}"),
-        }
-        // Sleep only when the line is quiet: a UART (with its FIFO or DMA) keeps
-        // receiving while the MCU works, and a sleep per turn would cap the rate.
-        if !matches!(controller.host().0.pending(), Ok(n) if n > 0) {
-            std::thread::sleep(Duration::from_micros(100));
-        }
-    }
-}
-
-/// The board on TCP, one client at a time; a new client replaces a gone one (and resets
-/// the link itself in its handshake).
-fn serve_tcp(addr: &str, pace: Option<u32>) -> Result<()> {
-    let listener =
-        std::net::TcpListener::bind(addr).with_context(|| format!("cannot listen on {addr}"))?;
-    listener.set_nonblocking(true)?;
-    announce(&listener.local_addr()?.to_string())?;
-    let accept = move |socket: &mut Socket<std::net::TcpStream>| match listener.accept() {
-        Ok((stream, _)) => {
-            let ok = stream.set_nodelay(true).is_ok() && stream.set_nonblocking(false).is_ok();
-            socket.0 = ok.then_some(stream);
-            true
-        }
-        Err(_) => false,
-    };
-    match pace {
-        Some(baud) => serve(Paced::new(Socket(None), baud), move |p| accept(p.get_mut())),
-        None => serve(Socket(None), accept),
-    }
-}
-
-/// The FPGA alone behind a serial port: a board's controller (QEMU's USART2) talks to it.
-fn serve_fpga_link(path: &str, baud: u32) -> Result<()> {
-    let mut port = serialport::new(path, baud)
-        .timeout(Duration::from_millis(1))
-        .open_native()
-        .with_context(|| format!("cannot open FPGA-link port {path}"))?;
-    eprintln!("fpgfx-sim: FPGA link on {path}");
-    let layout = &protocol::bus::WIDE;
-    let mut server =
-        sim_target::fpga_link::FpgaServer::new(sim_target::device::Device::new(layout));
-    let epoch = Instant::now();
-    let mut buf = [0u8; 4096];
-    let mut out = [0u8; protocol::link::MAX_FRAME];
-    let mut busy = false;
-    loop {
-        // While the FIFO holds work, only peek at the line; when idle, sleep in the read.
-        use serialport::SerialPort;
-        port.set_timeout(if busy {
-            Duration::ZERO
-        } else {
-            Duration::from_millis(1)
-        })?;
-        let n = match port.read(&mut buf) {
-            Ok(n) => n,
-            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => 0,
-            Err(e) if host_gone(&e) => {
-                // The board went away (QEMU exited): nothing left to serve.
-                eprintln!("fpgfx-sim: FPGA-link peer closed {path}");
-                return Ok(());
-            }
-            Err(e) => return Err(e).with_context(|| format!("reading {path}")),
-        };
-        let now = epoch.elapsed().as_millis() as u64;
-        server.input(now, &buf[..n]);
-        while let Some(m) = server.poll_transmit(now, &mut out) {
-            port.write_all(&out[..m])
-                .with_context(|| format!("writing {path}"))?;
-        }
-        if let Some(text) = server.take_fault_text() {
-            eprintln!("fpgfx-sim: FPGA fault: {text}");
-        }
-        busy = server.work();
-    }
-}
-
-/// `--bootloader`: the emulated ROM bootloader on a pty. A pty has no physical parity,
-/// so the 8E1 the host asks for is accepted and changes nothing: bytes arrive as sent.
+/// `--bootloader`: the emulated ROM bootloader on a pty.
 fn serve_bootloader(cli: &Cli) -> Result<()> {
-    use sim_board::bootloader::Bootloader;
-    use std::io::Read;
-
-    let mut flash_file = None;
-    let mut chip = match &cli.flash_image {
-        Some(path) => {
-            let image = match std::fs::read(path) {
-                Ok(image) => image,
-                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                    let erased = vec![0xFF; protocol::bootloader::FLASH_SIZE as usize];
-                    std::fs::write(path, &erased)
-                        .with_context(|| format!("cannot create {}", path.display()))?;
-                    erased
-                }
-                Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
-            };
-            let chip = Bootloader::with_flash(image)
-                .with_context(|| format!("flash image {}", path.display()))?;
-            flash_file = Some(
-                std::fs::OpenOptions::new()
-                    .write(true)
-                    .open(path)
-                    .with_context(|| format!("cannot open {}", path.display()))?,
-            );
-            chip
-        }
-        None => Bootloader::new(),
+    let chip = match &cli.flash_image {
+        Some(path) => Chip::with_image(path)?,
+        None => Chip::new(),
     };
-
-    let (mut master, slave) =
-        serialport::TTYPort::pair().context("cannot create a pseudo-terminal pair")?;
-    let path = serialport::SerialPort::name(&slave).context("the pseudo-terminal has no path")?;
-    drop(slave);
-    serialport::SerialPort::set_timeout(&mut master, Duration::from_millis(5))
-        .context("pty timeout")?;
-    let mut stdout = std::io::stdout();
-    writeln!(stdout, "{path}")?;
-    stdout.flush()?;
-
-    let mut buf = [0u8; 1024];
-    let mut out = Vec::new();
-    let mut host_present = false;
-    loop {
-        let n = match master.read(&mut buf) {
-            Ok(n) => n,
-            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => 0,
-            Err(e) if host_gone(&e) => {
-                // Nobody has the slave open. Tools expect a fresh chip per session (on a
-                // board the adapter's DTR usually drives reset), so the next host starts
-                // with 0x7F; flash survives.
-                if host_present {
-                    chip.reset();
-                    host_present = false;
-                }
-                std::thread::sleep(Duration::from_millis(2));
-                continue;
-            }
-            Err(e) => return Err(e).context("pty read"),
-        };
-        if n == 0 {
-            continue;
-        }
-        host_present = true;
-        out.clear();
-        chip.feed(&buf[..n], &mut out);
-        let dirty = chip.take_dirty();
-        if let Some(file) = flash_file.as_mut() {
-            persist(file, chip.flash(), &dirty)?;
-        }
-        if !out.is_empty() {
-            match master.write_all(&out).and_then(|()| master.flush()) {
-                Ok(()) => {}
-                Err(e) if host_gone(&e) => continue,
-                Err(e) => return Err(e).context("pty write"),
-            }
-        }
-        if let Some(address) = chip.go_address() {
-            // The chip would now run user code. We report the jump and behave as if the
-            // board were reset into the bootloader again, so the sim keeps serving.
-            eprintln!("fpgfx-sim: Go {address:#010x}");
-            chip.reset();
-        }
-        if cli
-            .exit_after_writes
-            .is_some_and(|n| chip.stats().writes >= n)
-        {
-            eprintln!(
-                "fpgfx-sim: exiting after {} writes (--exit-after-writes)",
-                chip.stats().writes
-            );
-            return Ok(());
-        }
-    }
-}
-
-/// Writes the changed flash ranges through to the image file.
-fn persist(file: &mut std::fs::File, flash: &[u8], dirty: &[std::ops::Range<u32>]) -> Result<()> {
-    use std::io::{Seek, SeekFrom};
-    for r in dirty {
-        file.seek(SeekFrom::Start(u64::from(r.start)))?;
-        file.write_all(&flash[r.start as usize..r.end as usize])?;
-    }
-    if !dirty.is_empty() {
-        file.flush().context("flash image")?;
-    }
+    let (master, path) = pty::open()?;
+    announce(&path)?;
+    let writes = bootloader_pty::serve(master, chip, cli.exit_after_writes, |address| {
+        eprintln!("fpgfx-sim: Go {address:#010x}")
+    })?;
+    eprintln!("fpgfx-sim: exiting after {writes} writes (--exit-after-writes)");
     Ok(())
 }
