@@ -14,10 +14,7 @@
 mod controller;
 mod engine;
 mod fpga;
-// Public only because host-cli's built-in mode still names `firmware::fpga_link::Clock`;
-// new code uses `firmware::Clock`, and the module goes private once that caller does.
-#[doc(hidden)]
-pub mod fpga_link;
+mod fpga_link;
 mod log;
 
 pub use controller::{Controller, ControllerError, INBOX};

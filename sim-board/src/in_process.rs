@@ -227,7 +227,7 @@ pub fn sim_target_with(layout: &'static BusLayout) -> BuiltIn<SimBus> {
 /// Milliseconds since the line was made, as the firmware's link clock.
 pub struct StdClock(Instant);
 
-impl firmware::fpga_link::Clock for StdClock {
+impl firmware::Clock for StdClock {
     fn now_ms(&mut self) -> u64 {
         self.0.elapsed().as_millis() as u64
     }
