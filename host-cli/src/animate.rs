@@ -1,6 +1,6 @@
 //! `fpgfx animate`: a Rhai script moves a scene (or draws raster commands) frame by frame.
 //!
-//! The script works on the scene *file* (the SPEC-RT TOML as a Rhai object map), not on
+//! The script works on the scene *file* (the TOML of docs/requirements.md §4.11 as a Rhai object map), not on
 //! register words: it reads like the scene the user wrote, and every frame goes through
 //! the same parser and validation as `fpgfx render`, so a script that breaks the scene
 //! gets the parser's message with the frame number. The register diff of

@@ -22,9 +22,9 @@ struct Cli {
 enum Command {
     /// Draw a raster command file (TOML or JSON) and write the framebuffer as PNG.
     Raster(cmd::raster::Args),
-    /// Ray-trace a scene file (SPEC-RT's TOML) and write the frame as PNG.
+    /// Ray-trace a scene file (TOML) and write the frame as PNG.
     Render(cmd::render::Args),
-    /// Adversarial cases (SPEC §5) through the kernels; exits non-zero on any panic,
+    /// Adversarial cases (docs/stress.md) through the kernels; exits non-zero on any panic,
     /// NaN/∞, crack or wrap-around.
     Stress(cmd::stress::Args),
     /// Animate a scene (or raster commands) with a Rhai script; write a GIF or PNGs.

@@ -78,18 +78,18 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
             out.image.height()
         );
         println!("registers     {words} words sent");
-        // SPEC-RT counts DEPTH × (1 + lights) rays per sample whether they are traced or
+        // docs/requirements.md §4.10 counts DEPTH × (1 + lights) rays per sample whether they are traced or
         // not (the seed's Mrays/s); the target reports the rays it actually traced. The
         // rates are over the render alone: the read-back is the link's speed, not the
         // block's.
         let nominal = sim_target::rt::nominal_rays(&scene, scene.width, scene.height, scene.spp);
         let secs = out.render.as_secs_f64().max(1e-9);
         println!(
-            "rays          {nominal} as SPEC-RT counts them, {} traced",
+            "rays          {nominal} nominal (the seed's count), {} traced",
             out.rays
         );
         println!(
-            "render        {:.1} ms start to done: {:.2} Mrays/s as SPEC-RT counts them, {:.2} traced",
+            "render        {:.1} ms start to done: {:.2} Mrays/s nominal, {:.2} traced",
             secs * 1e3,
             nominal as f64 / secs / 1e6,
             out.rays as f64 / secs / 1e6
