@@ -183,7 +183,7 @@ fn cobs_encode(raw: &[u8]) -> Vec<u8> {
     let mut out = vec![0];
     let mut code_at = 0;
     let mut code = 1u8;
-    for &b in raw {
+    for (i, &b) in raw.iter().enumerate() {
         if b == 0 {
             out[code_at] = code;
             code_at = out.len();
@@ -192,7 +192,10 @@ fn cobs_encode(raw: &[u8]) -> Vec<u8> {
         } else {
             out.push(b);
             code += 1;
-            if code == 0xff {
+            // A full 254-byte block that ends the data opens no empty block after it
+            // (the `cobs` crate's encoding, which the link uses; a trailing 0x01 code
+            // would decode the same, but the wire bytes would differ).
+            if code == 0xff && i + 1 < raw.len() {
                 out[code_at] = code;
                 code_at = out.len();
                 out.push(0);
