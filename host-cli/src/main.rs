@@ -9,6 +9,11 @@ use clap::{Parser, Subcommand};
 use host_cli::raster_file;
 use host_cli::session::{Session, Transport};
 
+mod cmd {
+    pub mod bench;
+    pub mod stress;
+}
+
 #[derive(Parser)]
 #[command(
     name = "fpgfx",
@@ -85,7 +90,7 @@ enum Command {
     Render(RenderArgs),
     /// Adversarial cases (SPEC §5) through the kernels; exits non-zero on any panic,
     /// NaN/∞, crack or wrap-around.
-    Stress(StressArgs),
+    Stress(cmd::stress::Args),
     /// Animate a scene (or raster commands) with a Rhai script; write a GIF or PNGs.
     ///
     /// The script defines `fn scene(s, frame, time)` (gets the scene file as a map, returns
@@ -104,7 +109,7 @@ enum Command {
     Flash(host_cli::flash::FlashArgs),
     /// Sweep number formats × approximations (ray tracer) and sub-pixel bits × AA
     /// (rasterizer): error, host time and hardware cost, with Pareto plots.
-    Bench(BenchArgs),
+    Bench(cmd::bench::Args),
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -158,53 +163,9 @@ fn run(cli: Cli) -> Result<()> {
                 .map(|_| ())
                 .with_context(|| format!("flash {}", args.image.display()))
         }
-        Command::Bench(args) => bench(&args),
-        Command::Stress(args) => stress(&args),
+        Command::Bench(args) => cmd::bench::run(&args),
+        Command::Stress(args) => cmd::stress::run(&args),
     }
-}
-
-/// Arguments of `fpgfx stress`.
-#[derive(clap::Args)]
-struct StressArgs {
-    /// Number of cases.
-    #[arg(long, default_value_t = 100_000)]
-    cases: u64,
-    /// Generator seed: a case is a function of (seed, index).
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Only one category: raster, rt or parse.
-    #[arg(long)]
-    only: Option<String>,
-    /// Run only case K (as printed by a failure, with the same --seed and --only).
-    #[arg(long)]
-    case: Option<u64>,
-    /// Worker threads (0 = all cores).
-    #[arg(long, default_value_t = 0)]
-    threads: usize,
-}
-
-fn stress(a: &StressArgs) -> Result<()> {
-    use host_cli::stress;
-    let only = match &a.only {
-        Some(name) => Some(
-            stress::Category::parse(name)
-                .ok_or_else(|| anyhow::anyhow!("--only {name:?}: expected raster, rt or parse"))?,
-        ),
-        None => None,
-    };
-    let report = stress::run(&stress::Config {
-        cases: a.cases,
-        seed: a.seed,
-        only,
-        case: a.case,
-        threads: a.threads,
-    })?;
-    print!("{}", report.table());
-    anyhow::ensure!(
-        !report.failed(),
-        "stress found failures (panics, NaN/inf, cracks, double writes, coverage, wraps or accepted non-finite input)"
-    );
-    Ok(())
 }
 
 fn ports() -> Result<()> {
@@ -653,41 +614,5 @@ fn write_gif(path: &Path, frames: &[image::RgbImage], fps: f64) -> Result<()> {
         enc.encode_frame(image::Frame::from_parts(rgba, 0, 0, delay))
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
-    Ok(())
-}
-
-/// Arguments of `fpgfx bench`.
-#[derive(clap::Args)]
-struct BenchArgs {
-    /// Ray-trace scene files (default: examples/reference.toml and examples/rt/*).
-    #[arg(long = "scene")]
-    scenes: Vec<PathBuf>,
-    /// Raster command files (default: examples/raster/*.toml).
-    #[arg(long = "raster")]
-    raster: Vec<PathBuf>,
-    /// Small frames and a reduced sweep (what CI runs).
-    #[arg(long)]
-    quick: bool,
-    /// Timed runs per point; the median is reported.
-    #[arg(long, default_value_t = 3)]
-    repeats: usize,
-    /// Output directory (bench.csv, bench.md, pareto-rt.png, pareto-raster.png).
-    #[arg(short, long)]
-    output: PathBuf,
-}
-
-fn bench(a: &BenchArgs) -> Result<()> {
-    use std::io::IsTerminal;
-    let cfg = host_cli::bench::BenchConfig {
-        scenes: a.scenes.clone(),
-        raster_files: a.raster.clone(),
-        quick: a.quick,
-        repeats: a.repeats,
-        root: PathBuf::from("."),
-        progress: std::io::stderr().is_terminal(),
-    };
-    let report = host_cli::bench::run(&cfg)?;
-    host_cli::bench::write(&report, &a.output)?;
-    print!("{}", host_cli::bench::to_markdown(&report));
     Ok(())
 }
