@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the seed inputs of the fuzz targets into corpus/TARGET/seed-*.
 
-Sources: the golden message bytes of protocol/tests/frame.rs (raw, and framed with
+Sources: the golden message bytes of protocol/tests/integration/frame.rs (raw, and framed with
 COBS + CRC-32 as protocol::link::encode_frame does), the example scene files and the
 example raster files (as TOML and as JSON). Run from fuzz/: python3 make_seeds.py
 """
@@ -16,7 +16,7 @@ OUT = pathlib.Path(__file__).resolve().parent / "corpus"
 
 
 def golden_messages():
-    src = (ROOT / "protocol/tests/frame.rs").read_text()
+    src = (ROOT / "protocol/tests/integration/frame.rs").read_text()
     src = re.sub(r"//[^\n]*", "", src)
     seen = []
     for m in re.finditer(r"&\[\s*((?:0x[0-9a-fA-F]{2}\s*,?\s*)+)\]", src):

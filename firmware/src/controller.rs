@@ -20,6 +20,9 @@ use crate::fpga::FpgaBus;
 pub const INBOX: usize = 4;
 
 /// What stopped the controller: only transport failures; protocol errors are answered.
+// Exhaustive on purpose: one variant per transport parameter, so a caller whose host link
+// cannot fail (`H::Error = Infallible`) proves it with `match never {}`; another variant
+// would need another transport parameter, which breaks callers anyway.
 #[derive(Debug)]
 pub enum ControllerError<H, B> {
     /// Reading or writing the host link failed.
@@ -78,7 +81,8 @@ where
         &mut self.host
     }
 
-    /// The engine, for inspection.
+    /// The engine: the way to its bus (a board reconnects its FPGA link through it) and
+    /// to whether a host has shaken hands.
     pub fn engine(&mut self) -> &mut Engine<B> {
         &mut self.engine
     }

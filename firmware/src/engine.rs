@@ -33,7 +33,9 @@ struct ReadJob {
     crc: Digest<'static, u32>,
 }
 
-/// The controller's message semantics over an [`FpgaBus`].
+/// The controller's message semantics over an [`FpgaBus`]. Only the [`crate::Controller`]
+/// drives it; callers reach it through [`crate::Controller::engine`] to get at the bus (a
+/// board reconnects its FPGA link that way) or to see whether a host has shaken hands.
 pub struct Engine<B: FpgaBus> {
     bus: B,
     caps: Caps,
@@ -57,12 +59,12 @@ pub struct Engine<B: FpgaBus> {
 
 /// Ray-tracer registers mirrored in the controller (2 KiB): the whole map for the
 /// default 8 objects and 2 lights, with room to spare.
-pub const SHADOW_WORDS: usize = 512;
+const SHADOW_WORDS: usize = 512;
 
 impl<B: FpgaBus> Engine<B> {
     /// An engine for a target with these capabilities whose raster block reads records in
     /// `layout`. `ident` goes into the hello ("fpgfx-firmware 0.1.0 stm32f405").
-    pub fn new(bus: B, caps: Caps, layout: &'static BusLayout, ident: &'static str) -> Self {
+    pub(crate) fn new(bus: B, caps: Caps, layout: &'static BusLayout, ident: &'static str) -> Self {
         Self {
             bus,
             caps,
@@ -99,14 +101,14 @@ impl<B: FpgaBus> Engine<B> {
 
     /// Drops answers and read-backs meant for a host session that has ended; the next
     /// session must shake hands again. The FPGA keeps its state (a board does too).
-    pub fn forget_host(&mut self) {
+    pub(crate) fn forget_host(&mut self) {
         self.outbox.clear();
         self.read = None;
         self.handshaken = false;
     }
 
     /// Refuses a request the controller could not even hand to the engine.
-    pub fn refuse(&mut self, code: ErrorCode, seq: u16, index: u32) {
+    pub(crate) fn refuse(&mut self, code: ErrorCode, seq: u16, index: u32) {
         self.error(code, seq, index);
     }
 
@@ -116,14 +118,14 @@ impl<B: FpgaBus> Engine<B> {
     }
 
     /// Whether the engine can take another request now (its answers have been collected).
-    pub fn ready(&self) -> bool {
+    pub(crate) fn ready(&self) -> bool {
         self.outbox.is_empty()
     }
 
     /// Handles one request. `seq` identifies it in error answers; `link` is the
     /// controller's link counters, reported by [`HostFrame::GetStats`].
     /// Returns an error only when the FPGA transport itself fails.
-    pub fn handle(
+    pub(crate) fn handle(
         &mut self,
         seq: u16,
         frame: &HostFrame,
@@ -237,9 +239,10 @@ impl<B: FpgaBus> Engine<B> {
 
     /// Registers of the target's map (header, camera, its lights and objects).
     fn reg_words(&self) -> usize {
-        protocol::scene::light::OFFSET
-            + usize::from(self.caps.max_lights) * protocol::scene::light::WORDS
-            + usize::from(self.caps.max_objects) * protocol::scene::obj::WORDS
+        protocol::scene::map_words(
+            usize::from(self.caps.max_objects),
+            usize::from(self.caps.max_lights),
+        )
     }
 
     /// One animation step: the next values of the animated registers, written to the
@@ -281,7 +284,7 @@ impl<B: FpgaBus> Engine<B> {
     }
 
     /// Lets the link layer report its free slots in the stats.
-    pub fn set_queue_free(&mut self, free: u16) {
+    pub(crate) fn set_queue_free(&mut self, free: u16) {
         self.counters.queue_free = free;
     }
 
@@ -367,7 +370,7 @@ impl<B: FpgaBus> Engine<B> {
 
     /// The next answer for the host, if any: queued answers first, then the next chunk of
     /// a read-back, then a finished frame.
-    pub fn next_output(&mut self) -> Result<Option<DeviceFrame>, B::Error> {
+    pub(crate) fn next_output(&mut self) -> Result<Option<DeviceFrame>, B::Error> {
         if let Some(f) = self.outbox.pop_front() {
             return Ok(Some(f));
         }

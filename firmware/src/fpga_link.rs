@@ -23,7 +23,8 @@ use crate::fpga::FpgaBus;
 
 /// Milliseconds since some fixed point; the link's retransmission timers run on it.
 pub trait Clock {
-    /// The current time.
+    /// Milliseconds now; must never go backwards, or retransmissions and timeouts fire
+    /// late.
     fn now_ms(&mut self) -> u64;
 
     /// Called while waiting for an answer when nothing has arrived. A board sleeps until
@@ -48,8 +49,9 @@ const WINDOW: usize = 4;
 
 /// What went wrong on the FPGA link.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum FpgaLinkError<E> {
-    /// The UART failed.
+    /// The UART failed; the port's own error, as the board's driver reports it.
     Io(E),
     /// No answer within the time limit; `waiting_for` names the question.
     Timeout {
@@ -65,9 +67,9 @@ pub enum FpgaLinkError<E> {
     },
     /// The FPGA side was built from another message set.
     Schema {
-        /// Ours.
+        /// This build's [`FPGA_SCHEMA_HASH`].
         ours: u64,
-        /// Theirs.
+        /// The hash the FPGA side reported in its identity.
         theirs: u64,
     },
     /// The FPGA side restarted: everything it held is gone; reset and start over.

@@ -5,15 +5,19 @@
 //! [`Engine`] turns each request into bus records or register writes for an [`FpgaBus`].
 //! The library is `no_std` without alloc so the board binary and the host (built-in mode,
 //! `fpgfx-sim`, tests) run the same code.
+//!
+//! Everything a caller needs is at the crate root; the modules are private.
+//! [`FpgaLink`] is the [`FpgaBus`] of a board whose FPGA sits behind a second UART.
 #![no_std]
+#![warn(missing_docs)]
 
-pub mod controller;
-pub mod engine;
-pub mod fpga;
-pub mod fpga_link;
+mod controller;
+mod engine;
+mod fpga;
+mod fpga_link;
 mod log;
 
-pub use controller::{Controller, ControllerError};
+pub use controller::{Controller, ControllerError, INBOX};
 pub use engine::Engine;
 pub use fpga::FpgaBus;
-pub use fpga_link::{FpgaLink, FpgaLinkError};
+pub use fpga_link::{Clock, FpgaLink, FpgaLinkError};

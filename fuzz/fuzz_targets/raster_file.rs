@@ -8,14 +8,17 @@
 //!   (and the line, for a TOML command).
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use host_cli::raster_file::{self, RasterFileError, RasterJob, GUARD_BAND, MAX_SIDE, MAX_SUBPIXEL_BITS};
-use protocol::frame::{decode, AaPattern, HostFrame, Point, RasterBatcher, RasterCmd, MAX_POLYGON};
+use host_cli::raster_file::{self, RasterFileError, RasterJob, GUARD_BAND};
+use protocol::frame::{
+    decode, AaPattern, HostFrame, Point, RasterBatcher, RasterCmd, MAX_FRAME_SIDE, MAX_POLYGON,
+    MAX_SUBPIXEL_BITS,
+};
 use sim_target::raster::Raster;
 
 fn check(job: &RasterJob) {
     let s = &job.setup;
-    assert!((1..=MAX_SIDE).contains(&u32::from(s.width)));
-    assert!((1..=MAX_SIDE).contains(&u32::from(s.height)));
+    assert!((1..=MAX_FRAME_SIDE).contains(&u32::from(s.width)));
+    assert!((1..=MAX_FRAME_SIDE).contains(&u32::from(s.height)));
     assert!(s.subpixel_bits <= MAX_SUBPIXEL_BITS);
     // Without an `[aa]` table the set-up is `Aa::default()` (pattern None, samples 0):
     // the sample count only means something for a real pattern.

@@ -1,6 +1,6 @@
 //! `fpgfx animate`: a Rhai script moves a scene (or draws raster commands) frame by frame.
 //!
-//! The script works on the scene *file* (the SPEC-RT TOML as a Rhai object map), not on
+//! The script works on the scene *file* (the TOML of docs/requirements.md §4.11 as a Rhai object map), not on
 //! register words: it reads like the scene the user wrote, and every frame goes through
 //! the same parser and validation as `fpgfx render`, so a script that breaks the scene
 //! gets the parser's message with the frame number. The register diff of
@@ -84,6 +84,50 @@ pub enum AnimateError {
         /// Why.
         message: String,
     },
+}
+
+/// Why a GIF was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum GifError {
+    /// The file cannot be created.
+    #[error("cannot create {}", .path.display())]
+    Create {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Encoding or writing a frame failed.
+    #[error("cannot write {}", .path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: image::ImageError,
+    },
+}
+
+/// Writes `frames` as a GIF that loops forever, one frame every 1/`fps` s with `fps`
+/// rounded to a whole number (the script's clock may run at any rate; the file's cannot).
+pub fn write_gif(path: &Path, frames: &[image::RgbImage], fps: f64) -> Result<(), GifError> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let write = |source| GifError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = std::fs::File::create(path).map_err(|source| GifError::Create {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut enc = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
+    enc.set_repeat(Repeat::Infinite).map_err(write)?;
+    let delay = image::Delay::from_numer_denom_ms(1000, (fps.round() as u32).max(1));
+    for f in frames {
+        let rgba = image::DynamicImage::ImageRgb8(f.clone()).into_rgba8();
+        enc.encode_frame(image::Frame::from_parts(rgba, 0, 0, delay))
+            .map_err(write)?;
+    }
+    Ok(())
 }
 
 /// A compiled animation script.

@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use protocol::frame::{Aa, AaPattern, RasterSetup};
+use protocol::names::Named;
 use sim_target::num::instrumented::{self, Counted, OpKind};
-use sim_target::num::numeric_name;
 use sim_target::raster::Raster;
 use sim_target::rt::{self, scene_file, Math, Numeric, RenderOptions, Scene};
 
@@ -486,7 +486,7 @@ pub fn sweep_rt(
         let mi = MATH_SETS.iter().position(|(s, _)| s == set).unwrap_or(0);
         let mut p = Point {
             block: "rt",
-            config: format!("{}/{set}", numeric_name(*n)),
+            config: format!("{}/{set}", n.name()),
             cost: 0.0,
             host_ms: 0.0,
             psnr: 0.0,

@@ -82,6 +82,42 @@ pub fn load_config() -> Result<Option<(PathBuf, Config)>, ConfigError> {
     Ok(None)
 }
 
+/// Line rate of a serial target when neither `--baud` nor the config file sets one.
+pub const DEFAULT_BAUD: u32 = 115_200;
+/// Seconds to wait for the handshake when neither `--timeout` nor the config file says.
+pub const DEFAULT_TIMEOUT_S: f64 = 10.0;
+
+/// The options every command shares once the config file and the defaults have filled in
+/// what the flags left out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    /// The target, if anything named one ([`choose`] decides otherwise).
+    pub port: Option<String>,
+    /// Line rate of a serial target.
+    pub baud: u32,
+    /// Handshake timeout in seconds, as given (the caller checks it is usable).
+    pub timeout: f64,
+}
+
+impl Settings {
+    /// Each option from its flag (`flags`, shaped like the file), else from `file`, else
+    /// its default.
+    pub fn merge(flags: Config, file: Config) -> Settings {
+        Settings {
+            port: flags.port.or(file.port),
+            baud: flags.baud.or(file.baud).unwrap_or(DEFAULT_BAUD),
+            timeout: flags.timeout.or(file.timeout).unwrap_or(DEFAULT_TIMEOUT_S),
+        }
+    }
+}
+
+/// [`Settings::merge`] of the flags with the config file [`load_config`] finds (with
+/// none, the defaults).
+pub fn resolve(flags: Config) -> Result<Settings, ConfigError> {
+    let file = load_config()?.map(|(_, c)| c).unwrap_or_default();
+    Ok(Settings::merge(flags, file))
+}
+
 /// A target to talk to.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Target {
@@ -172,45 +208,39 @@ pub enum ConnectError {
     },
 }
 
+impl ConnectError {
+    /// What opening serial port `path` at `baud` failed with, in the user's terms: the
+    /// one reading of serialport's errors, for the link and for `flash` alike.
+    ///
+    /// serialport 4 on Linux opens with `O_NOCTTY`, then takes `TIOCEXCL` and an exclusive
+    /// `flock`. Another process holding the port makes `open` fail with EBUSY (its
+    /// `TIOCEXCL`; root passes that check) or the `flock` fail with EWOULDBLOCK, and it
+    /// reports both as [`serialport::ErrorKind::NoDevice`]: "busy", not "missing". A
+    /// missing node is ENOENT, i.e. `Io(NotFound)`, and EACCES is `Io(PermissionDenied)`.
+    pub fn serial_open(path: &str, baud: u32, e: serialport::Error) -> ConnectError {
+        use serialport::ErrorKind as K;
+        let path = path.to_string();
+        match e.kind {
+            K::NoDevice | K::Io(io::ErrorKind::ResourceBusy) => ConnectError::Busy(path),
+            K::Io(io::ErrorKind::NotFound) => ConnectError::Missing(path),
+            K::Io(io::ErrorKind::PermissionDenied) => ConnectError::Permission(path),
+            _ => ConnectError::Serial {
+                path,
+                baud,
+                message: e.description,
+            },
+        }
+    }
+}
+
 /// Opens a serial or TCP target (the built-in one is made by the caller, which chooses
 /// its bus layout).
 pub fn open(target: &Target) -> Result<Box<dyn Transport>, ConnectError> {
     match target {
-        Target::BuiltIn => Ok(Box::new(crate::builtin::sim_target())),
-        Target::Serial { path, baud } => {
-            if !Path::new(path).exists() {
-                return Err(ConnectError::Missing(path.clone()));
-            }
-            crate::serial::SerialTransport::open(path, *baud)
-                .map(|t| Box::new(t) as Box<dyn Transport>)
-                .map_err(|e| {
-                    // serialport reports EBUSY (TIOCEXCL held by another process) as
-                    // NoDevice; the path exists, so that is "busy".
-                    let busy = e.kind == serialport::ErrorKind::NoDevice
-                        || matches!(
-                            &e.kind,
-                            serialport::ErrorKind::Io(io::ErrorKind::ResourceBusy)
-                        )
-                        || e.description.contains("busy");
-                    let denied = matches!(
-                        &e.kind,
-                        serialport::ErrorKind::Io(io::ErrorKind::PermissionDenied)
-                    ) || e.description.contains("ermission denied");
-                    if busy {
-                        ConnectError::Busy(path.clone())
-                    } else if denied {
-                        ConnectError::Permission(path.clone())
-                    } else if e.kind == serialport::ErrorKind::Io(io::ErrorKind::NotFound) {
-                        ConnectError::Missing(path.clone())
-                    } else {
-                        ConnectError::Serial {
-                            path: path.clone(),
-                            baud: *baud,
-                            message: e.description,
-                        }
-                    }
-                })
-        }
+        Target::BuiltIn => Ok(Box::new(sim_board::in_process::sim_target())),
+        Target::Serial { path, baud } => crate::serial::SerialTransport::open(path, *baud)
+            .map(|t| Box::new(t) as Box<dyn Transport>)
+            .map_err(|e| ConnectError::serial_open(path, *baud, e)),
         Target::Tcp(addr) => TcpStream::connect(addr)
             .and_then(TcpTransport::new)
             .map(|t| Box::new(t) as Box<dyn Transport>)
@@ -256,5 +286,61 @@ impl Transport for TcpTransport {
             }
             Err(e) => Err(e),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_flag_beats_the_file_and_the_file_beats_the_default() {
+        let file = Config {
+            port: Some("/dev/ttyUSB1".into()),
+            baud: Some(921_600),
+            timeout: None,
+        };
+        let flags = Config {
+            port: Some("builtin".into()),
+            ..Config::default()
+        };
+        assert_eq!(
+            Settings::merge(flags, file),
+            Settings {
+                port: Some("builtin".into()),
+                baud: 921_600,
+                timeout: DEFAULT_TIMEOUT_S,
+            }
+        );
+        let none = Settings::merge(Config::default(), Config::default());
+        assert_eq!((none.port, none.baud), (None, DEFAULT_BAUD));
+    }
+
+    /// The errors serialport 4 gives on Linux for the ways an open fails, as its posix
+    /// back end words them.
+    #[test]
+    fn serial_open_errors_read_as_the_user_would_say_them() {
+        use serialport::{Error, ErrorKind as K};
+        let read =
+            |kind, text: &str| ConnectError::serial_open("/dev/x", 9600, Error::new(kind, text));
+        // Another process's TIOCEXCL (EBUSY), or its flock as root.
+        for text in [
+            "Device or resource busy",
+            "Unable to acquire exclusive lock on serial port",
+        ] {
+            let e = read(K::NoDevice, text);
+            assert!(matches!(&e, ConnectError::Busy(p) if p == "/dev/x"), "{e}");
+            assert!(e.to_string().contains("/dev/x is busy"), "{e}");
+        }
+        let e = read(K::Io(io::ErrorKind::NotFound), "No such file or directory");
+        assert!(matches!(e, ConnectError::Missing(_)), "{e}");
+        let e = read(K::Io(io::ErrorKind::PermissionDenied), "Permission denied");
+        assert!(matches!(e, ConnectError::Permission(_)), "{e}");
+        // ENXIO: a node whose device is gone.
+        let e = read(K::Unknown, "No such device or address");
+        assert_eq!(
+            e.to_string(),
+            "cannot open serial port /dev/x at 9600 baud: No such device or address"
+        );
     }
 }

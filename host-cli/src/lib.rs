@@ -1,9 +1,10 @@
 //! The `fpgfx` tool's library: file formats the user writes, and the pipeline that carries
-//! them to a target. The binary (`main.rs`) only parses arguments and reports errors.
+//! them to a target. The binary (`main.rs`, one file per command in `cmd/`) parses
+//! arguments, prints, and reports errors.
 
 pub mod animate;
 pub mod bench;
-pub mod builtin;
+mod builtin;
 pub mod connect;
 pub mod flash;
 pub mod ports;

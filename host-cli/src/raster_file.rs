@@ -11,16 +11,11 @@ use std::ops::Range;
 use protocol::frame::{
     Aa, AaPattern, Bezier, BezierPatch, Circle, Connectivity, Cull, FillRule, Line, LineAlgo,
     Pixel, Point, Polygon, RasterCmd, RasterSetup, Rgb, SeedFill, Shade, Traversal, Triangle,
-    MAX_POLYGON,
+    MAX_FRAME_SIDE, MAX_POLYGON, MAX_SUBPIXEL_BITS,
 };
+use protocol::names::UnknownName;
 use serde::Deserialize;
 
-/// The largest framebuffer side the raster block models (the FITkit SDRAM row is 512
-/// columns; the extended layouts allow more, the wire carries u16).
-pub const MAX_SIDE: u32 = 4096;
-/// Largest sub-pixel precision accepted; the edge-function bound in `sim-target::raster`
-/// is proven for this many fractional bits at [`MAX_SIDE`].
-pub const MAX_SUBPIXEL_BITS: u8 = 8;
 /// Geometry may reach this many pixels beyond the viewport on each side (a guard band);
 /// the device clips it. Further out is a mistake in the file, reported as one.
 pub const GUARD_BAND: f64 = 4096.0;
@@ -210,8 +205,8 @@ pub fn parse(text: &str, file: &str) -> Result<RasterJob, RasterFileError> {
 
     let [width, height] = top.size;
     for (key, v) in [("size[0]", width), ("size[1]", height)] {
-        if v == 0 || v > MAX_SIDE {
-            return Err(setting(key, format!("{v} is outside 1..={MAX_SIDE}")));
+        if v == 0 || v > MAX_FRAME_SIDE {
+            return Err(setting(key, format!("{v} is outside 1..={MAX_FRAME_SIDE}")));
         }
     }
     let subpixel_bits = top.subpixel_bits.unwrap_or(8);
@@ -269,7 +264,12 @@ pub fn parse(text: &str, file: &str) -> Result<RasterJob, RasterFileError> {
     };
     let traversal = match top.traversal.as_deref() {
         None => Traversal::default(),
-        Some(name) => parse_traversal(name).map_err(|m| setting("traversal", m))?,
+        Some(name) => name.parse().map_err(|e: UnknownName<Traversal>| {
+            setting(
+                "traversal",
+                format!("unknown traversal {name:?} ({})", e.expected()),
+            )
+        })?,
     };
     let setup = RasterSetup {
         width: width as u16,
@@ -308,22 +308,6 @@ pub fn parse(text: &str, file: &str) -> Result<RasterJob, RasterFileError> {
         cmds.push(cmd);
     }
     Ok(RasterJob { setup, cmds })
-}
-
-/// Parses a traversal name as the CLI and the file spell it.
-pub fn parse_traversal(name: &str) -> Result<Traversal, String> {
-    Ok(match name {
-        "bbox" => Traversal::BoundingBox,
-        "scanline" => Traversal::Scanline,
-        "zigzag" => Traversal::Zigzag,
-        "tiles" => Traversal::Tiles,
-        "simd8" => Traversal::Simd8,
-        other => {
-            return Err(format!(
-                "unknown traversal {other:?} (bbox, scanline, zigzag, tiles, simd8)"
-            ))
-        }
-    })
 }
 
 /// Parses `#rrggbb`.

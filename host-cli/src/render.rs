@@ -4,10 +4,15 @@
 //! the registers that differ from the target's current image are sent, exactly as
 //! ViRAY's MicroBlaze driver updates its AXI registers between frames.
 
+use std::fmt;
+use std::path::PathBuf;
+use std::str::FromStr;
+
 use protocol::frame::{
     Block, DeviceFrame, HostFrame, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame,
     Stats,
 };
+use protocol::names::{Named, UnknownName};
 use protocol::scene::diff;
 use sim_target::scene_regs::Regs;
 
@@ -22,6 +27,43 @@ pub enum Packing {
     Kcu116,
 }
 
+impl Named for Packing {
+    const WHAT: &'static str = "packing";
+    const VALUES: &'static [Self] = &[Packing::Rgb888, Packing::Kcu116];
+    const IGNORE_CASE: bool = false;
+
+    fn spellings(self) -> &'static [&'static str] {
+        match self {
+            Packing::Rgb888 => &["rgb888"],
+            Packing::Kcu116 => &["kcu116"],
+        }
+    }
+}
+
+impl fmt::Display for Packing {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Packing {
+    type Err = UnknownName<Packing>;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Packing::from_name(s)
+    }
+}
+
+impl clap::ValueEnum for Packing {
+    fn value_variants<'a>() -> &'a [Self] {
+        Packing::VALUES
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        Some(protocol::names::possible_value(*self))
+    }
+}
+
 /// What to fetch besides the colour buffer.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Aovs {
@@ -29,6 +71,122 @@ pub struct Aovs {
     pub depth: bool,
     /// World-space normal per pixel.
     pub normal: bool,
+}
+
+/// An AOV the target can send besides the colour buffer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Aov {
+    /// Distance to the first hit, one channel.
+    Depth,
+    /// World-space normal, three channels.
+    Normal,
+}
+
+impl fmt::Display for Aov {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Aov::Depth => "depth",
+            Aov::Normal => "normal",
+        })
+    }
+}
+
+/// `--aov depth=d.pfm,normal=n.pfm`: which AOVs to read back, and the PFM file each one
+/// goes to, in the order given.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct AovFiles(pub Vec<(Aov, PathBuf)>);
+
+/// What is wrong with an `--aov` list; the item is quoted as given.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum AovSpecError {
+    /// An item without `=`.
+    #[error("{0:?}: expected NAME=FILE.pfm")]
+    NoFile(String),
+    /// A name that is no AOV.
+    #[error("{0:?}: expected depth or normal")]
+    UnknownAov(String),
+}
+
+/// Why an AOV file was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum AovWriteError {
+    /// The frame lacks an AOV that was asked for.
+    #[error("the target sent no {0} AOV")]
+    Missing(Aov),
+    /// The file cannot be created.
+    #[error("cannot create {}", .path.display())]
+    Create {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Writing it failed.
+    #[error("cannot write {}", .path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+impl FromStr for AovFiles {
+    type Err = AovSpecError;
+
+    fn from_str(spec: &str) -> Result<Self, Self::Err> {
+        spec.split(',')
+            .map(|item| {
+                let (kind, path) = item
+                    .split_once('=')
+                    .ok_or_else(|| AovSpecError::NoFile(item.to_string()))?;
+                let aov = match kind {
+                    "depth" => Aov::Depth,
+                    "normal" => Aov::Normal,
+                    other => return Err(AovSpecError::UnknownAov(other.to_string())),
+                };
+                Ok((aov, PathBuf::from(path)))
+            })
+            .collect::<Result<_, _>>()
+            .map(AovFiles)
+    }
+}
+
+impl AovFiles {
+    /// The AOVs to ask the target for.
+    pub fn aovs(&self) -> Aovs {
+        Aovs {
+            depth: self.0.iter().any(|(a, _)| *a == Aov::Depth),
+            normal: self.0.iter().any(|(a, _)| *a == Aov::Normal),
+        }
+    }
+
+    /// Writes each AOV of `out` to its file as PFM, in the order given.
+    pub fn write(&self, out: &RenderOutput) -> Result<(), AovWriteError> {
+        for (aov, path) in &self.0 {
+            let (data, channels) = match aov {
+                Aov::Depth => (out.depth.as_deref(), 1),
+                Aov::Normal => (out.normal.as_deref(), 3),
+            };
+            let data = data.ok_or(AovWriteError::Missing(*aov))?;
+            let file = std::fs::File::create(path).map_err(|source| AovWriteError::Create {
+                path: path.clone(),
+                source,
+            })?;
+            sim_target::rt::write_pfm(
+                std::io::BufWriter::new(file),
+                out.image.width(),
+                out.image.height(),
+                channels,
+                data,
+            )
+            .map_err(|source| AovWriteError::Write {
+                path: path.clone(),
+                source,
+            })?;
+        }
+        Ok(())
+    }
 }
 
 /// A rendered frame as read back.
@@ -209,5 +367,37 @@ impl Renderer {
             },
             words,
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn aov_lists_parse_in_order_and_name_the_bad_item() {
+        let files: AovFiles = "normal=n.pfm,depth=d.pfm".parse().unwrap();
+        assert_eq!(
+            files.0,
+            [
+                (Aov::Normal, PathBuf::from("n.pfm")),
+                (Aov::Depth, PathBuf::from("d.pfm"))
+            ]
+        );
+        let aovs = files.aovs();
+        assert!(aovs.depth && aovs.normal);
+        let e = "depth=d.pfm,d.pfm".parse::<AovFiles>().unwrap_err();
+        assert_eq!(e.to_string(), "\"d.pfm\": expected NAME=FILE.pfm");
+        let e = "albedo=a.pfm".parse::<AovFiles>().unwrap_err();
+        assert_eq!(e.to_string(), "\"albedo\": expected depth or normal");
+    }
+
+    #[test]
+    fn packings_are_spelled_as_the_flag_takes_them() {
+        for p in Packing::VALUES {
+            assert_eq!(p.to_string().parse::<Packing>(), Ok(*p));
+        }
+        let e = "rgb565".parse::<Packing>().unwrap_err();
+        assert_eq!(e.to_string(), "unknown packing (expected rgb888, kcu116)");
     }
 }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{example, fails, ok, tmp};
+use common::{example, fails, ok, refused, tmp};
 
 /// A scratch file with this text; returns its path.
 fn temp(name: &str, text: &str) -> String {
@@ -29,8 +29,13 @@ fn bad_inputs_are_reported_with_place_and_status_1() {
     let err = fails(&["raster", &cmds]);
     assert!(err.contains("bad2.toml:2: cmd[0] (triangle)"), "{err}");
 
-    let err = fails(&["render", "x.toml", "--numeric", "q9.9"]);
-    assert!(err.contains("cannot read") || err.contains("q9.9"), "{err}");
+    // A value no flag takes is refused by the parser, which lists the ones it does.
+    let err = refused(&["render", "x.toml", "--numeric", "q9.9"]);
+    assert!(err.contains("'q9.9'"), "{err}");
+    assert!(
+        err.contains("[possible values: f64, f32, f16, q16.16, q8.24, q24.8, q32.32]"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -45,4 +50,32 @@ fn raster_writes_the_gallery_png() {
     ]);
     let png = image::open(&out).expect("a PNG was written").to_rgb8();
     assert_eq!(png.dimensions(), (320, 240));
+}
+
+/// `--numeric`, `--traversal` and `--packing` take the library's own spellings: the
+/// parser lists them on a mistake, and a format keeps its old case- and `_`-tolerance.
+#[test]
+fn enum_flags_take_the_library_spellings() {
+    let err = refused(&["raster", "x.toml", "--traversal", "hilbert"]);
+    assert!(
+        err.contains("[possible values: bbox, scanline, zigzag, tiles, simd8]"),
+        "{err}"
+    );
+    let err = refused(&["render", "x.toml", "--packing", "rgb565"]);
+    assert!(err.contains("[possible values: rgb888, kcu116]"), "{err}");
+    let out = tmp("q16.png");
+    ok(&[
+        "render",
+        &example("reference.toml"),
+        "--size",
+        "16x9",
+        "--numeric",
+        "Q16_16",
+        "--packing",
+        "kcu116",
+        "-o",
+        &out,
+    ]);
+    let png = image::open(&out).expect("a PNG was written").to_rgb8();
+    assert_eq!(png.dimensions(), (16, 9));
 }

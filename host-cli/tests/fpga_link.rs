@@ -4,10 +4,10 @@
 
 mod common;
 
-use host_cli::builtin::{sim_target, sim_target_via_fpga_link};
 use host_cli::raster_file;
 use host_cli::render::{Aovs, Packing, Renderer};
 use host_cli::session::{Session, Transport};
+use sim_board::in_process::{sim_target, sim_target_via_fpga_link};
 
 fn example(path: &str) -> String {
     let full = common::example(path);

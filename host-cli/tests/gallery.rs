@@ -24,7 +24,7 @@ fn draw(
     let text = std::fs::read_to_string(file).expect("example readable");
     let mut job = raster_file::parse(&text, &name).expect("example parses");
     job.setup.traversal = traversal;
-    let mut session = Session::new(host_cli::builtin::sim_target_with(layout));
+    let mut session = Session::new(sim_board::in_process::sim_target_with(layout));
     session.handshake().expect("handshake");
     host_cli::raster::run(&mut session, &job, &name)
         .expect("example draws")

@@ -7,7 +7,6 @@ mod common;
 use std::convert::Infallible;
 
 use firmware::FpgaBus;
-use host_cli::builtin::BuiltIn;
 use host_cli::raster_file;
 use host_cli::session::{Session, SessionError};
 use protocol::bus::{unpack, BusLayout, WIDE};
@@ -15,6 +14,7 @@ use protocol::frame::{
     Caps, DeviceCounters, ErrorCode, FrameDone, NumericSet, RasterCmd, RasterSetup, ReadRequest,
     StartFrame,
 };
+use sim_board::in_process::BuiltIn;
 
 /// An FPGA that records packets and drains its FIFO `drain` records per `wait()`.
 struct Recorder {
@@ -205,7 +205,7 @@ fn capability_refusal_before_anything_is_sent() {
 fn built_in_target_matches_the_raster_block_exactly() {
     let text = common::every_primitive(192, 128, "");
     let job = raster_file::parse(&text, "g.toml").expect("valid");
-    let mut session = Session::new(host_cli::builtin::sim_target());
+    let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");
     let out = host_cli::raster::run(&mut session, &job, "g.toml").expect("runs");
 
@@ -238,7 +238,7 @@ fn built_in_render_matches_direct_and_sends_only_changes() {
     use sim_target::scene_regs::{from_regs, to_regs};
     let mut scene = small_reference();
     let regs = to_regs(&scene).expect("fits");
-    let mut session = Session::new(host_cli::builtin::sim_target());
+    let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");
     let mut renderer = Renderer::new();
     let aovs = Aovs {
@@ -287,7 +287,7 @@ fn a_frame_without_aovs_refuses_their_read_back() {
     use protocol::frame::{PixelFormat, Plane, ReadRequest, Rect};
     let regs = sim_target::scene_regs::to_regs(&small_reference()).expect("fits");
     let numeric = protocol::frame::Numeric::F32;
-    let mut session = Session::new(host_cli::builtin::sim_target());
+    let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");
     let mut renderer = Renderer::new();
     let (plain, _) = renderer
@@ -343,7 +343,7 @@ fn a_frame_without_aovs_refuses_their_read_back() {
 fn controller_refuses_a_seed_outside_the_frame() {
     use protocol::frame::{Connectivity, HostFrame, Pixel, Rgb, SeedFill};
     let job = raster_file::parse("size = [16, 16]", "s.toml").expect("valid");
-    let mut session = Session::new(host_cli::builtin::sim_target());
+    let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");
     session
         .send(

@@ -184,7 +184,7 @@ fn max_distance_beyond_f16_range_gives_no_infinite_hit() {
 
 /// `fpgfx stress --cases 1000000 --seed 1` reported 22 f64 "acne" pixels, all from this
 /// case: a cube of half-size 1.15·10⁻³ seen from 2.4·10⁻³ away, so its near face lies
-/// closer than CORE_BIAS = 10⁻³ and is clipped (valid hits start at CORE_BIAS, SPEC-RT);
+/// closer than CORE_BIAS = 10⁻³ and is clipped (valid hits start at CORE_BIAS, docs/requirements.md §4.3);
 /// the primary rays hit the far faces from inside, where the near face rightly shadows
 /// them. The detector now leaves pixels that show the inside of a closed object out of
 /// the acne check: no acne, and fewer than the 64 pixels checked before (all 64 hit

@@ -3,7 +3,7 @@
 //!
 //! Flashing a board needs no debug probe: with BOOT0 high the chip starts its ROM
 //! bootloader, which takes commands over USART1 at 8E1. `fpgfx flash` (the host) and the
-//! emulator in `sim-target` (the board) both build and check these byte strings, so the
+//! emulator in `sim-board` (the board) both build and check these byte strings, so the
 //! encoding lives here, once. Everything is `no_std` and allocation-free: encoders write
 //! into fixed arrays or caller buffers.
 //!
@@ -68,7 +68,8 @@ pub enum Command {
     Get = 0x00,
     /// Bootloader version and two (legacy, zero on the F4) option bytes.
     GetVersion = 0x01,
-    /// Product ID.
+    /// The product ID ([`F405_PID`] on the reference board), to check the chip before
+    /// writing to it.
     GetId = 0x02,
     /// Up to 256 bytes from any readable address.
     ReadMemory = 0x11,
@@ -154,6 +155,7 @@ pub const F405_COMMANDS: [Command; 11] = [
 
 /// What can be wrong with something to encode.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum EncodeError {
     /// Blocks carry 1..=256 bytes (the length travels as N-1 in one byte).
     #[error("a block carries 1..=256 bytes, not {0}")]
@@ -245,11 +247,11 @@ pub enum EraseRequest<'a> {
 
 /// Special "count" values of Extended Erase.
 pub mod erase_code {
-    /// Mass erase.
+    /// [`super::EraseRequest::Mass`]: the whole flash.
     pub const MASS: u16 = 0xFFFF;
-    /// Bank 1 erase.
+    /// [`super::EraseRequest::Bank1`]; dual-bank parts only.
     pub const BANK1: u16 = 0xFFFE;
-    /// Bank 2 erase.
+    /// [`super::EraseRequest::Bank2`]; dual-bank parts only.
     pub const BANK2: u16 = 0xFFFD;
     /// Codes 0xFFF0..=0xFFFC are reserved by AN3155; the chip refuses them.
     pub const RESERVED_FIRST: u16 = 0xFFF0;
@@ -258,7 +260,7 @@ pub mod erase_code {
 /// How the two bytes after the Extended Erase command read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EraseHeader {
-    /// A special code: one checksum byte follows.
+    /// Mass erase; one checksum byte follows.
     Mass,
     /// Bank 1 erase; one checksum byte follows.
     Bank1,
@@ -331,7 +333,7 @@ pub fn encode_extended_erase(
 pub struct Sector {
     /// Index as Extended Erase takes it.
     pub index: u16,
-    /// First address.
+    /// Address of the sector's first byte in the memory map.
     pub start: u32,
     /// Size in bytes.
     pub size: u32,

@@ -117,7 +117,8 @@ pub struct BusLayout {
     pub color_bits: u8,
     /// Width of a per-vertex depth; 0 means the layout has no z.
     pub z_bits: u8,
-    /// `FEAT_*` bits.
+    /// [`FEAT_PER_VERTEX_COLOR`] and the other `FEAT_*` bits: which optional fields the
+    /// layout's packets have.
     pub features: u16,
     /// [`Kind::bit`] of every command the layout can carry.
     pub commands: u16,
@@ -332,13 +333,15 @@ impl Kind {
 /// the field and the value, so that the host can tell the user which vertex of which
 /// command does not fit the board.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BusError {
     /// A value does not fit its field.
     #[error("{layout}: field `{field}` = {value} is outside {min}..={max}")]
     OutOfRange {
-        /// Layout name.
+        /// [`BusLayout::name`] of the refusing layout, so the message says which board.
         layout: &'static str,
-        /// Field name.
+        /// The field as [`fields`] names it (`p0.x`, `radius`), so that the user can tell
+        /// which vertex or value.
         field: &'static str,
         /// The offending value.
         value: i64,
@@ -350,9 +353,10 @@ pub enum BusError {
     /// A coordinate has more fraction bits than the layout carries.
     #[error("{layout}: field `{field}` = {value} has fraction bits below the layout's {layout_bits} sub-pixel bits")]
     SubpixelPrecision {
-        /// Layout name.
+        /// [`BusLayout::name`] of the refusing layout, so the message says which board.
         layout: &'static str,
-        /// Field name.
+        /// The field as [`fields`] names it (`p0.x`, `radius`), so that the user can tell
+        /// which vertex or value.
         field: &'static str,
         /// The value in the caller's sub-pixel units.
         value: i64,
@@ -364,9 +368,10 @@ pub enum BusError {
         "{layout}: field `{field}` = #{value:06x} is not an RGB332 colour (use quantize_rgb332)"
     )]
     ColorNotRepresentable {
-        /// Layout name.
+        /// [`BusLayout::name`] of the refusing layout, so the message says which board.
         layout: &'static str,
-        /// Field name.
+        /// The field as [`fields`] names it (`p0.x`, `radius`), so that the user can tell
+        /// which vertex or value.
         field: &'static str,
         /// The colour as 0xRRGGBB.
         value: u32,
@@ -374,15 +379,15 @@ pub enum BusError {
     /// The layout has no such command.
     #[error("{layout}: cannot carry {command} commands")]
     UnsupportedCommand {
-        /// Layout name.
+        /// [`BusLayout::name`] of the refusing layout, so the message says which board.
         layout: &'static str,
-        /// Command kind name.
+        /// [`Kind::name`] of the command.
         command: &'static str,
     },
     /// The command uses a feature the layout lacks.
     #[error("{layout}: has no field for `{field}` (value {value})")]
     UnsupportedFeature {
-        /// Layout name.
+        /// [`BusLayout::name`] of the refusing layout, so the message says which board.
         layout: &'static str,
         /// The field that would be needed.
         field: &'static str,
@@ -392,19 +397,20 @@ pub enum BusError {
     /// An opcode or enumeration value that names nothing.
     #[error("{layout}: field `{field}` = {value} is not a valid code")]
     InvalidCode {
-        /// Layout name.
+        /// [`BusLayout::name`] of the refusing layout, so the message says which board.
         layout: &'static str,
-        /// Field name.
+        /// The field as [`fields`] names it (`p0.x`, `radius`), so that the user can tell
+        /// which vertex or value.
         field: &'static str,
-        /// The value.
+        /// The value read from the records.
         value: u64,
     },
     /// A channel (SPI address) the layout does not use.
     #[error("{layout}: no command port at channel {channel:#04x}")]
     UnknownChannel {
-        /// Layout name.
+        /// [`BusLayout::name`] of the refusing layout, so the message says which board.
         layout: &'static str,
-        /// The channel.
+        /// The SPI address given.
         channel: u8,
     },
     /// A record has bits set above the record width.
@@ -412,7 +418,7 @@ pub enum BusError {
     RecordTooWide {
         /// Index of the record.
         index: usize,
-        /// Its value.
+        /// The record as given, with bits set above `record_bits`.
         value: u64,
         /// The layout's record width.
         record_bits: u8,
@@ -444,7 +450,7 @@ pub enum BusError {
     NonZeroPadding {
         /// Number of padding bits.
         bits: usize,
-        /// Their value.
+        /// The padding bits as read.
         value: u64,
     },
     /// A field wider than 64 bits or a record width outside 1…64.
@@ -453,9 +459,9 @@ pub enum BusError {
     /// A [`BusLayout`] whose numbers make no bus (see [`BusLayout::validate`]).
     #[error("layout {layout}: {reason}")]
     BadLayout {
-        /// Layout name.
+        /// [`BusLayout::name`] of the refusing layout, so the message says which board.
         layout: &'static str,
-        /// What is wrong.
+        /// Which rule of [`BusLayout::validate`] the numbers break.
         reason: &'static str,
     },
 }
@@ -619,7 +625,7 @@ pub struct PackOptions {
 /// A packet read back from records.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Decoded {
-    /// The CB bit.
+    /// The CB bit: the packet asked for a clear before its command.
     pub clear: bool,
     /// The command, in the sub-pixel units asked of [`unpack`].
     pub cmd: RasterCmd,
@@ -1189,18 +1195,21 @@ impl<I: Io> Walker<'_, I> {
     }
 }
 
-/// Largest caller sub-pixel precision: keeps every rescaled coordinate inside an i64.
-pub const MAX_SUBPIXEL_BITS: u8 = 24;
+/// Largest [`PackOptions::subpixel_bits`] (and `subpixel_bits` of [`unpack`]): the
+/// precision of the caller's values that the packer rescales to and from a layout's, kept
+/// low enough that every rescaled coordinate fits an i64. It bounds this conversion only;
+/// what a target accepts is [`crate::frame::MAX_SUBPIXEL_BITS`].
+pub const MAX_CALLER_SUBPIXEL_BITS: u8 = 24;
 
 fn check(layout: &BusLayout, subpixel_bits: u8) -> Result<(), BusError> {
     layout.validate()?;
-    if subpixel_bits > MAX_SUBPIXEL_BITS {
+    if subpixel_bits > MAX_CALLER_SUBPIXEL_BITS {
         return Err(BusError::OutOfRange {
             layout: layout.name,
             field: "subpixel_bits",
             value: i64::from(subpixel_bits),
             min: 0,
-            max: i64::from(MAX_SUBPIXEL_BITS),
+            max: i64::from(MAX_CALLER_SUBPIXEL_BITS),
         });
     }
     Ok(())
@@ -1388,11 +1397,11 @@ pub fn unpack(
 /// A rasterized pixel, as the raster block hands it to the framebuffer FIFO.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct Fragment {
-    /// Column.
+    /// Column, 0 at the left edge.
     pub x: u16,
-    /// Row.
+    /// Row, 0 at the top edge.
     pub y: u16,
-    /// Colour.
+    /// Colour written to the framebuffer.
     pub color: Rgb,
 }
 
@@ -1480,9 +1489,9 @@ pub fn fields(layout: &BusLayout, kind: Kind) -> Result<Vec<Field, MAX_FIELDS>, 
 /// How much of its records a packet uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Efficiency {
-    /// Layout name.
+    /// [`BusLayout::name`], the table's row label.
     pub layout: &'static str,
-    /// Command kind.
+    /// The command whose base form was measured.
     pub kind: Kind,
     /// Payload bits (header included).
     pub used_bits: u32,

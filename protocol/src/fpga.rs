@@ -73,7 +73,8 @@ impl LayoutId {
     }
 }
 
-/// Controller → FPGA.
+/// Controller → FPGA: one message per operation of the firmware's `FpgaBus` trait; each
+/// variant says whether it is answered or posted.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
 pub enum FpgaRequest<'a> {
     /// Who are you? Answered with [`FpgaReply::Identity`]. Sent once after the link is
@@ -97,14 +98,14 @@ pub enum FpgaRequest<'a> {
     RasterSetup(RasterSetup),
     /// Write consecutive ray-tracer registers. Posted.
     Regs {
-        /// First register.
+        /// Word offset of the first register in the [`crate::scene`] map.
         offset: u16,
-        /// Values.
+        /// Values for `offset`, `offset + 1`, …; a longer run travels as several writes.
         words: Vec<u32, REG_WRITE_WORDS>,
     },
     /// Write texture memory. Posted.
     Texels {
-        /// First texel.
+        /// Index of the first texel written.
         offset: u32,
         /// Little-endian 32-bit texels, at most [`crate::frame::TEXTURE_CHUNK`] bytes (one host
         /// texture write).
@@ -120,11 +121,11 @@ pub enum FpgaRequest<'a> {
     /// Bytes `offset .. offset + len` of a read-back (`len` ≤ [`READ_CHUNK`]). Answered
     /// with [`FpgaReply::Data`].
     Read {
-        /// What to read.
+        /// The read-back this part belongs to, as the host asked for it.
         req: ReadRequest,
-        /// First byte.
+        /// Byte offset of the part within the whole read-back.
         offset: u32,
-        /// Bytes wanted.
+        /// Bytes in the part, at most [`READ_CHUNK`].
         len: u16,
     },
     /// The FPGA's counters. Answered with [`FpgaReply::Counters`].
@@ -165,7 +166,7 @@ pub struct Fault {
     /// Index of the refused request, counted from 0 after the last [`FpgaRequest::Reset`]
     /// (every request counts, answered or not), so the controller's log can name it.
     pub request: u32,
-    /// Why.
+    /// What was wrong with it, for the controller's log and its reset decision.
     pub code: FaultCode,
 }
 

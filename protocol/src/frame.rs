@@ -14,6 +14,7 @@ use heapless::{String, Vec};
 use postcard_schema::Schema;
 use serde::{Deserialize, Serialize};
 
+use crate::names::{named_impls, Named};
 use crate::{MAX_PAYLOAD, PROTOCOL_VERSION};
 
 /// Raster commands per [`HostFrame::Raster`] batch. Batching keeps the per-frame link
@@ -31,6 +32,17 @@ pub const TEXTURE_CHUNK: usize = 224;
 pub const READ_CHUNK: usize = 224;
 /// Bytes of the human-readable firmware identification in [`Hello`].
 pub const IDENT_LEN: usize = 32;
+/// Largest frame side in pixels, for the raster block and the ray tracer alike: the
+/// raster block's edge functions are proven exact up to it (sim-target's `raster::tri`),
+/// targets report it in [`Caps`], and the host refuses a larger frame before sending it.
+/// The FITkit SDRAM row is 512 columns; the extended layouts allow more; the wire's
+/// `u16` would carry more still.
+pub const MAX_FRAME_SIDE: u32 = 4096;
+/// Largest [`RasterSetup::subpixel_bits`] a target accepts: the raster block's
+/// edge-function bound is proven for this many fractional bits at [`MAX_FRAME_SIDE`].
+/// Not [`crate::bus::MAX_CALLER_SUBPIXEL_BITS`], which only bounds the bus packer's
+/// rescaling.
+pub const MAX_SUBPIXEL_BITS: u8 = 8;
 
 /// The schema hash of this build's message set: FNV-1a over the postcard-schema of
 /// [`HostFrame`] and [`DeviceFrame`] (names, field order and types). Two builds that would
@@ -49,11 +61,11 @@ pub const fn schema_hash() -> u64 {
 /// index; everything before the bus keeps full precision.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
 pub struct Rgb {
-    /// Red channel.
+    /// Red, 0 (none) … 255 (full).
     pub r: u8,
-    /// Green channel.
+    /// Green, 0 … 255.
     pub g: u8,
-    /// Blue channel.
+    /// Blue, 0 … 255.
     pub b: u8,
 }
 
@@ -79,9 +91,9 @@ pub struct Point {
 /// read-back rectangles).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
 pub struct Pixel {
-    /// Column.
+    /// Column, 0 at the left edge.
     pub x: u16,
-    /// Row.
+    /// Row, 0 at the top edge (y grows downwards).
     pub y: u16,
 }
 
@@ -149,6 +161,24 @@ impl Numeric {
     /// This format's bit in a [`NumericSet`].
     pub const fn bit(self) -> u16 {
         1 << self as u16
+    }
+}
+
+impl Named for Numeric {
+    const WHAT: &'static str = "number format";
+    const VALUES: &'static [Self] = &Numeric::ALL;
+    const IGNORE_CASE: bool = true;
+
+    fn spellings(self) -> &'static [&'static str] {
+        match self {
+            Numeric::F64 => &["f64"],
+            Numeric::F32 => &["f32"],
+            Numeric::F16 => &["f16"],
+            Numeric::Q16_16 => &["q16.16", "q16_16"],
+            Numeric::Q8_24 => &["q8.24", "q8_24"],
+            Numeric::Q24_8 => &["q24.8", "q24_8"],
+            Numeric::Q32_32 => &["q32.32", "q32_32"],
+        }
     }
 }
 
@@ -250,6 +280,7 @@ pub struct Hello {
 
 /// Why a handshake was refused: the two sides' values, so the message can name both.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum HandshakeError {
     /// The protocol versions differ.
     #[error("protocol version mismatch: this side speaks v{ours}, the peer speaks v{theirs}")]
@@ -332,7 +363,7 @@ pub enum AaPattern {
 /// Anti-aliasing settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
 pub struct Aa {
-    /// The sample pattern.
+    /// Where in the pixel the samples lie.
     pub pattern: AaPattern,
     /// Samples per pixel (ignored for [`AaPattern::None`]).
     pub samples: u8,
@@ -368,6 +399,35 @@ pub enum Traversal {
     Simd8,
 }
 
+impl Traversal {
+    /// Every strategy, in the order raster files and `--traversal` list them.
+    pub const ALL: [Traversal; 5] = [
+        Traversal::BoundingBox,
+        Traversal::Scanline,
+        Traversal::Zigzag,
+        Traversal::Tiles,
+        Traversal::Simd8,
+    ];
+}
+
+impl Named for Traversal {
+    const WHAT: &'static str = "traversal";
+    const VALUES: &'static [Self] = &Traversal::ALL;
+    const IGNORE_CASE: bool = false;
+
+    fn spellings(self) -> &'static [&'static str] {
+        match self {
+            Traversal::BoundingBox => &["bbox"],
+            Traversal::Scanline => &["scanline"],
+            Traversal::Zigzag => &["zigzag"],
+            Traversal::Tiles => &["tiles"],
+            Traversal::Simd8 => &["simd8"],
+        }
+    }
+}
+
+named_impls!(Numeric, Traversal);
+
 /// Frame-wide raster state. Sent before the first raster command of a frame; a new one
 /// resets the framebuffer size and clears it to `background`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
@@ -378,11 +438,11 @@ pub struct RasterSetup {
     pub height: u16,
     /// Fractional bits of every [`Point`] in the following commands.
     pub subpixel_bits: u8,
-    /// Clear colour.
+    /// Colour the framebuffer is cleared to when this set-up arrives.
     pub background: Rgb,
-    /// Anti-aliasing.
+    /// Anti-aliasing for every primitive of the frame.
     pub aa: Aa,
-    /// Back-face culling.
+    /// Which triangles to discard by their winding on screen.
     pub cull: Cull,
     /// Triangle traversal strategy.
     pub traversal: Traversal,
@@ -423,7 +483,7 @@ pub enum Wrap {
     Clamp,
 }
 
-/// Texture filtering.
+/// How the raster block samples a texture between texels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
 pub enum Filter {
     /// Nearest texel.
@@ -440,7 +500,7 @@ pub enum Filter {
 pub struct Triangle {
     /// Vertices in sub-pixel units.
     pub v: [Point; 3],
-    /// Colour.
+    /// Flat or per-vertex (Gouraud) colour.
     pub shade: Shade,
     /// Per-vertex depth as unsigned 24-bit normalised values (0 = near, 2^24 − 1 = far);
     /// when present the z test "less" applies against a z-buffer cleared to far.
@@ -448,7 +508,7 @@ pub struct Triangle {
     /// Per-vertex clip-space w in Q16.16 for perspective-correct interpolation; absent
     /// means affine (screen-space linear) interpolation.
     pub w: Option<[u32; 3]>,
-    /// Texture mapping.
+    /// Texture coordinates and sampler; `None` draws the shade alone.
     pub tex: Option<TexRef>,
 }
 
@@ -477,7 +537,7 @@ pub struct Line {
     pub width: u32,
     /// Anti-aliased (coverage) rather than aliased.
     pub aa: bool,
-    /// Thin-line algorithm.
+    /// How a thin, aliased line is stepped; wide and anti-aliased lines ignore it.
     pub algo: LineAlgo,
 }
 
@@ -488,7 +548,7 @@ pub struct Circle {
     pub center: Point,
     /// Radius in sub-pixel units.
     pub radius: u32,
-    /// Colour.
+    /// Outline or fill colour.
     pub color: Rgb,
     /// Filled by spans rather than outlined.
     pub fill: bool,
@@ -506,15 +566,16 @@ pub enum Connectivity {
 /// Fill the region of equal colour connected to a seed pixel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
 pub struct SeedFill {
-    /// The start pixel.
+    /// Where the fill starts; its colour is the one the region is made of.
     pub seed: Pixel,
-    /// New colour.
+    /// Colour the region is painted.
     pub color: Rgb,
     /// Which neighbours count as connected.
     pub connectivity: Connectivity,
 }
 
-/// Polygon fill rule.
+/// Which points a self-intersecting polygon covers; the two rules agree on simple
+/// polygons.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
 pub enum FillRule {
     /// Inside where a ray crosses an odd number of edges.
@@ -528,9 +589,9 @@ pub enum FillRule {
 pub struct Polygon {
     /// Vertices in sub-pixel units; the last connects back to the first.
     pub points: Vec<Point, MAX_POLYGON>,
-    /// Fill rule.
+    /// How self-intersections are filled.
     pub rule: FillRule,
-    /// Colour.
+    /// Fill colour.
     pub color: Rgb,
 }
 
@@ -539,7 +600,7 @@ pub struct Polygon {
 pub struct Bezier {
     /// Control points in sub-pixel units.
     pub points: Vec<Point, 4>,
-    /// Colour.
+    /// Colour of the lines the curve is flattened into.
     pub color: Rgb,
     /// Largest allowed distance between the curve and its polyline, in sub-pixel units.
     pub tolerance: u32,
@@ -552,7 +613,7 @@ pub struct BezierPatch {
     pub points: [Point; 16],
     /// Subdivisions per side.
     pub steps: u8,
-    /// Colour.
+    /// Flat colour of every triangle of the tessellation.
     pub color: Rgb,
 }
 
@@ -562,19 +623,20 @@ pub struct BezierPatch {
 pub enum RasterCmd {
     /// Clear the framebuffer (and the z-buffer) to a colour.
     Clear(Rgb),
-    /// A line.
+    /// A line segment, thin or wide.
     Line(Line),
-    /// A triangle.
+    /// A filled triangle: flat, Gouraud or textured, optionally depth-tested.
     Triangle(Triangle),
-    /// A circle.
+    /// A circle outline or disc by the midpoint algorithm.
     Circle(Circle),
-    /// A seed fill.
+    /// A flood fill from a seed pixel; it reads the framebuffer, so it sees what the
+    /// commands before it drew.
     Fill(SeedFill),
     /// A scanline-filled polygon.
     Polygon(Polygon),
-    /// A Bézier curve.
+    /// A curve the device flattens into lines within its tolerance.
     Bezier(Bezier),
-    /// A Bézier surface patch.
+    /// A bicubic surface patch the device tessellates into triangles.
     Patch(BezierPatch),
 }
 
@@ -706,7 +768,7 @@ pub enum Plane {
 /// order and a closing [`ReadDone`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
 pub struct ReadRequest {
-    /// Buffer.
+    /// Which buffer to read.
     pub plane: Plane,
     /// Pixels, row-major.
     pub rect: Rect,
@@ -720,17 +782,18 @@ pub struct ReadRequest {
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
 pub enum HostFrame {
-    /// Handshake.
+    /// Must come first: the controller refuses every other request with
+    /// [`ErrorCode::Handshake`] until a hello's version and schema hash agree with its own.
     Hello(Hello),
     /// Frame-wide raster state.
     RasterSetup(RasterSetup),
     /// A batch of raster commands, executed in order.
     Raster(Vec<RasterCmd, RASTER_BATCH>),
-    /// Texel data.
+    /// Texel data for the shared texture memory.
     Texture(TextureWrite),
     /// Ray-tracer register writes.
     Regs(RegWrite),
-    /// Start a frame.
+    /// Start a frame; answered by [`DeviceFrame::Done`] when it finishes.
     Start(StartFrame),
     /// Stop auto-restart after the current frame.
     Stop,
@@ -803,7 +866,8 @@ pub struct Stats {
     pub device: DeviceCounters,
 }
 
-/// A frame finished.
+/// A frame finished: one per frame, auto-restarted ones included, carrying what the
+/// host's statistics need.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
 pub struct FrameDone {
     /// The id from [`StartFrame`].
@@ -845,7 +909,8 @@ pub enum ErrorCode {
     /// The request is not valid now (a raster command before [`RasterSetup`], a read of a
     /// buffer that does not exist, …).
     BadState,
-    /// The handshake failed.
+    /// The hello's version or schema hash differs, or a request came before a successful
+    /// hello.
     Handshake,
     /// The FPGA reported a fault.
     Device,
@@ -855,7 +920,7 @@ pub enum ErrorCode {
 /// register offset, or the byte offset, depending on the request.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
 pub struct ErrorReport {
-    /// What went wrong.
+    /// The kind of failure, for the host to tell the user; `index` says where.
     pub code: ErrorCode,
     /// Link sequence number of the request that failed.
     pub seq: u16,
@@ -866,24 +931,26 @@ pub struct ErrorReport {
 /// Messages from the controller to the host.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
 pub enum DeviceFrame {
-    /// Handshake answer.
+    /// Answer to [`HostFrame::Hello`], sent even on a mismatch so that the host can name
+    /// both sides' versions.
     Hello(Hello),
-    /// A frame finished.
+    /// A started frame finished.
     Done(FrameDone),
     /// Answer to [`HostFrame::Sync`].
     Synced(u32),
-    /// Read-back data.
+    /// Part of the read-back answering [`HostFrame::Read`], in offset order.
     Chunk(ReadChunk),
-    /// Read-back end.
+    /// Closes a read-back with its length and CRC, for the host to check.
     ReadDone(ReadDone),
     /// Answer to [`HostFrame::GetStats`].
     Stats(Stats),
-    /// A request failed.
+    /// A request was refused or failed; the report names it by sequence number.
     Error(ErrorReport),
 }
 
 /// Errors encoding or decoding a message.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum CodecError {
     /// The bytes are not a valid message of this schema.
     #[error("malformed message: {0}")]
@@ -917,6 +984,7 @@ pub fn decode<'de, T: Deserialize<'de>>(bytes: &'de [u8]) -> Result<T, CodecErro
 
 /// Why a raster command cannot be batched.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BatchError {
     /// Even alone, the command does not fit in one frame.
     #[error("raster command does not fit in one {MAX_PAYLOAD}-byte frame")]

@@ -1,7 +1,11 @@
 //! The only place an fpgfx wire format is defined.
 //!
-//! Three boundaries cross this crate, and each has its own module so that a reader who
-//! holds a captured byte string knows where to look:
+//! Each wire format has its own module, so that a reader who holds a captured byte string
+//! knows where to look. These modules are the crate's surface: everything a caller needs
+//! is one level down (`protocol::frame::HostFrame`, `protocol::scene::SceneRegs`), and the
+//! root holds only the limits the formats share. Only the register map's word offsets sit
+//! one level further, grouped per block (`scene::obj::SHAPE`), because blocks share field
+//! names.
 //!
 //! * [`frame`] — the messages between the host (`fpgfx`) and the controller firmware,
 //!   serialised with postcard. Both ends compare a [`frame::schema_hash`] in the
@@ -17,6 +21,8 @@
 //!   `fpgfx flash` speaks to the board and `fpgfx-sim --bootloader` emulates.
 //! * [`fpga`] — the same bus operations as messages, for an FPGA reached over a serial
 //!   line (the board's second UART when the FPGA is the `fpgfx-sim` emulator).
+//! * [`names`] — how the enums above are spelled in files and on the command line
+//!   (with the `clap` feature, as the flags' possible values).
 //!
 //! The crate is `#![no_std]` without `alloc`: everything here must fit a Cortex-M4 with
 //! 128 KiB of RAM, so buffers are `heapless` and bounded by the named constants below.
@@ -28,6 +34,7 @@ pub mod bus;
 pub mod fpga;
 pub mod frame;
 pub mod link;
+pub mod names;
 pub mod scene;
 
 /// Version of the host <-> controller protocol. Bump it whenever a change is not purely

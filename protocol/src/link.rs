@@ -106,6 +106,7 @@ static CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
 
 /// Why the link refused an operation or a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum LinkError {
     /// A payload longer than [`crate::MAX_PAYLOAD`] cannot fit a receiver's slot.
     #[error("payload of {len} bytes exceeds the maximum of {max}", max = MAX_PAYLOAD)]

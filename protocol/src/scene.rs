@@ -56,7 +56,8 @@ use crate::frame::{RegWrite, REG_WRITE_WORDS};
 
 /// First word of the image: "FPRT".
 pub const MAGIC: u32 = 0x4650_5254;
-/// Register-map version in word 1.
+/// Register-map version in word 1: bumped on any layout change, so that a device refuses
+/// an image laid out for another version instead of misreading it.
 pub const VERSION: u16 = 1;
 
 /// Flag: trace shadow rays (SHADOW_ENABLE).
@@ -68,156 +69,166 @@ pub const FLAG_SELF_SHADOW: u32 = 1 << 2;
 /// Flag: sample textures (TEXTURE_ENABLE).
 pub const FLAG_TEXTURES: u32 = 1 << 3;
 
-/// Word offsets of the header.
+/// Word offsets of the header. Each field's meaning and range is on the typed field it
+/// carries ([`crate::scene::RenderRegs`] and the counts); these say where it sits.
 pub mod hdr {
-    /// [`super::MAGIC`].
+    /// Holds [`super::MAGIC`]: an image without it is refused, not rendered.
     pub const MAGIC: usize = 0;
-    /// Version and capacities.
+    /// [`super::VERSION`] | OBJ << 16 | LIGHTS << 24, so an image built for other
+    /// capacities is refused ([`super::SceneRegs::VERSION_WORD`]).
     pub const VERSION: usize = 1;
-    /// Objects in use.
+    /// Objects in use (≤ OBJ); the device ignores the blocks after them.
     pub const OBJECT_COUNT: usize = 2;
-    /// Lights in use, the ambient one included.
+    /// Lights in use, the ambient one included (≤ LIGHTS).
     pub const LIGHT_COUNT: usize = 3;
-    /// Frame width.
+    /// [`super::RenderRegs::width`].
     pub const WIDTH: usize = 4;
-    /// Frame height.
+    /// [`super::RenderRegs::height`].
     pub const HEIGHT: usize = 5;
-    /// RAYTRACING_DEPTH.
+    /// [`super::RenderRegs::depth`].
     pub const DEPTH: usize = 6;
-    /// CORE_BIAS, Q16.16.
+    /// [`super::RenderRegs::bias`], Q16.16.
     pub const BIAS: usize = 7;
-    /// MAX_DISTANCE, f32 bits.
+    /// [`super::RenderRegs::max_distance`], f32 bits (the only non-Q16.16 real).
     pub const MAX_DISTANCE: usize = 8;
-    /// Background colour, 3 × Q16.16.
+    /// [`super::RenderRegs::background`], 3 × Q16.16.
     pub const BACKGROUND: usize = 9;
-    /// Samples per pixel.
+    /// [`super::RenderRegs::spp`].
     pub const SPP: usize = 12;
-    /// `FLAG_*` bits.
+    /// [`super::RenderRegs::flags`].
     pub const FLAGS: usize = 13;
-    /// Seed of the sample jitter.
+    /// [`super::RenderRegs::seed`].
     pub const SEED: usize = 14;
-    /// Words in the header.
+    /// Words in the header, word 15 (reserved, 0) included.
     pub const WORDS: usize = 16;
 }
 
-/// Word offsets of the camera, from [`cam::OFFSET`].
+/// Word offsets inside the camera block, from [`crate::scene::cam::OFFSET`]; the meaning
+/// of each is on the [`crate::scene::CameraRegs`] field it carries (all Q16.16).
 pub mod cam {
-    /// First camera word.
+    /// Word offset of the camera block: right after the header.
     pub const OFFSET: usize = super::hdr::WORDS;
-    /// Eye position.
+    /// [`super::CameraRegs::position`], × 3.
     pub const POSITION: usize = 0;
-    /// Point looked at.
+    /// [`super::CameraRegs::look_at`], × 3.
     pub const LOOK_AT: usize = 3;
-    /// Up vector.
+    /// [`super::CameraRegs::up`], × 3.
     pub const UP: usize = 6;
-    /// Vertical field of view in degrees.
+    /// [`super::CameraRegs::fov_y`].
     pub const FOV_Y: usize = 9;
-    /// Basis u (right).
+    /// [`super::CameraRegs::u`], × 3.
     pub const U: usize = 10;
-    /// Basis v (up).
+    /// [`super::CameraRegs::v`], × 3.
     pub const V: usize = 13;
-    /// Basis w (backwards).
+    /// [`super::CameraRegs::w`], × 3.
     pub const W: usize = 16;
-    /// Image plane distance along −w.
+    /// [`super::CameraRegs::near_plane`].
     pub const NEAR_PLANE: usize = 19;
     /// Words in the camera block.
     pub const WORDS: usize = 20;
 }
 
-/// Word offsets inside a light block.
+/// Word offsets inside a light block; light i starts at
+/// [`crate::scene::SceneRegs::light_offset`]`(i)`. The meaning of each is on the
+/// [`crate::scene::LightRegs`] field it carries (reals are Q16.16).
 pub mod light {
-    /// First word of light 0.
+    /// Word offset of light 0's block: right after the camera block.
     pub const OFFSET: usize = super::cam::OFFSET + super::cam::WORDS;
-    /// [`super::LightKind`] code.
+    /// [`super::LightRegs::kind`] as a [`super::LightKind`] code.
     pub const KIND: usize = 0;
-    /// Position.
+    /// [`super::LightRegs::position`], × 3.
     pub const POSITION: usize = 1;
-    /// Colour / intensity.
+    /// [`super::LightRegs::color`], × 3.
     pub const COLOR: usize = 4;
-    /// Spot direction.
+    /// [`super::LightRegs::direction`], × 3.
     pub const DIRECTION: usize = 7;
-    /// cos(α/2).
+    /// [`super::LightRegs::cos_outer`].
     pub const COS_OUTER: usize = 10;
-    /// cos(β/2).
+    /// [`super::LightRegs::cos_inner`].
     pub const COS_INNER: usize = 11;
     /// Words per light.
     pub const WORDS: usize = 12;
 }
 
-/// Word offsets inside an object block.
+/// Word offsets inside an object block; object j starts at
+/// [`crate::scene::SceneRegs::object_offset`]`(j)`. The meaning of each is on the
+/// [`crate::scene::ObjectRegs`], [`crate::scene::MaterialRegs`] or
+/// [`crate::scene::TextureRegs`] field it carries (reals are Q16.16, codes u32).
 pub mod obj {
-    /// [`super::Shape`] code.
+    /// [`super::ObjectRegs::shape`] as a [`super::Shape`] code.
     pub const SHAPE: usize = 0;
-    /// Translation.
+    /// [`super::ObjectRegs::translate`], × 3.
     pub const TRANSLATE: usize = 1;
-    /// Per-axis scale.
+    /// [`super::ObjectRegs::scale`], × 3.
     pub const SCALE: usize = 4;
-    /// Rotation about x, y, z in degrees.
+    /// [`super::ObjectRegs::rotate`], × 3.
     pub const ROTATE: usize = 7;
-    /// Ambient k.
+    /// k of [`super::MaterialRegs::ambient`].
     pub const AMBIENT_K: usize = 10;
-    /// Ambient colour.
+    /// Colour of [`super::MaterialRegs::ambient`], × 3.
     pub const AMBIENT_COLOR: usize = 11;
-    /// Diffuse k.
+    /// k of [`super::MaterialRegs::diffuse`].
     pub const DIFFUSE_K: usize = 14;
-    /// Diffuse colour.
+    /// Colour of [`super::MaterialRegs::diffuse`], × 3.
     pub const DIFFUSE_COLOR: usize = 15;
-    /// [`super::DiffuseModel`] code.
+    /// [`super::MaterialRegs::diffuse_model`] as a [`super::DiffuseModel`] code.
     pub const DIFFUSE_MODEL: usize = 18;
-    /// Oren–Nayar σ².
+    /// [`super::MaterialRegs::sigma2`].
     pub const SIGMA2: usize = 19;
-    /// Specular k.
+    /// k of [`super::MaterialRegs::specular`].
     pub const SPECULAR_K: usize = 20;
-    /// Specular colour.
+    /// Colour of [`super::MaterialRegs::specular`], × 3.
     pub const SPECULAR_COLOR: usize = 21;
-    /// [`super::SpecularModel`] code.
+    /// [`super::MaterialRegs::specular_model`] as a [`super::SpecularModel`] code.
     pub const SPECULAR_MODEL: usize = 24;
-    /// Specular exponent, u32 ≤ 1023.
+    /// [`super::MaterialRegs::exponent`], a plain u32.
     pub const EXPONENT: usize = 25;
-    /// [`super::ReflectionMode`] code.
+    /// [`super::MaterialRegs::reflection`] as a [`super::ReflectionMode`] code.
     pub const REFLECTION_MODE: usize = 26;
-    /// Refractive index η.
+    /// [`super::MaterialRegs::eta`].
     pub const ETA: usize = 27;
-    /// Extinction coefficient κ.
+    /// [`super::MaterialRegs::kappa`].
     pub const KAPPA: usize = 28;
-    /// [`super::TextureKind`] code.
+    /// [`super::TextureRegs::kind`] as a [`super::TextureKind`] code.
     pub const TEX_KIND: usize = 29;
-    /// [`super::Mapping`] code.
+    /// [`super::TextureRegs::mapping`] as a [`super::Mapping`] code.
     pub const TEX_MAPPING: usize = 30;
-    /// Texture scale (u, v).
+    /// [`super::TextureRegs::scale`], × 2.
     pub const TEX_SCALE: usize = 31;
-    /// Texture offset (u, v).
+    /// [`super::TextureRegs::offset`], × 2.
     pub const TEX_OFFSET: usize = 33;
-    /// Second colour of grey textures.
+    /// [`super::TextureRegs::color2`], × 3.
     pub const TEX_COLOR2: usize = 35;
-    /// [`super::TexFilter`] code.
+    /// [`super::TextureRegs::filter`] as a [`super::TexFilter`] code.
     pub const TEX_FILTER: usize = 38;
-    /// Seed of procedural noise, or the square size in texels of a checkerboard.
+    /// [`super::TextureRegs::seed`].
     pub const TEX_SEED: usize = 39;
-    /// First texel in texture memory.
+    /// [`super::TextureRegs::base`].
     pub const TEX_BASE: usize = 40;
-    /// `width_log2 | height_log2 << 8`.
+    /// `width_log2 | height_log2 << 8` of [`super::TextureRegs`]: one word for both, as
+    /// neither exceeds 8.
     pub const TEX_SIZE: usize = 41;
-    /// Torrance–Sparrow's own η (its F term); a material may pair it with a different
-    /// reflection η, so it cannot share [`ETA`].
+    /// [`super::MaterialRegs::spec_eta`]: its own word, because a material may pair it
+    /// with a different reflection η, so it cannot share [`ETA`].
     pub const SPEC_ETA: usize = 42;
-    /// Torrance–Sparrow's extinction κ.
+    /// [`super::MaterialRegs::spec_kappa`].
     pub const SPEC_KAPPA: usize = 43;
-    /// Reflectance r of [`super::ReflectionMode::Constant`] (the scene file gives r
-    /// separately from k_s).
+    /// [`super::MaterialRegs::reflectance`]: its own word, because the scene file gives r
+    /// separately from k_s.
     pub const REFLECTANCE: usize = 44;
     /// Words per object.
     pub const WORDS: usize = 45;
 }
 
-/// Where a value sits, for error messages.
+/// Which block a refused value belongs to: a scene has several lights and objects with
+/// the same field names, so a message must say which one it means.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum At {
-    /// Header or camera.
+    /// The header or the camera: their field names are unique, so messages add nothing.
     Global,
-    /// Light block i.
+    /// Light i; 0 is the ambient light, 1… the scene file's lights in order.
     Light(usize),
-    /// Object block i.
+    /// Object i, numbered as the scene file lists them.
     Object(usize),
 }
 
@@ -233,49 +244,54 @@ impl core::fmt::Display for At {
 
 /// Why a scene value cannot be put into (or read from) the registers.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// Not finite or outside the Q16.16 range.
     #[error("{at}`{field}` = {value} does not fit Q16.16 (finite, -32768 <= v < 32768)")]
     Q16 {
-        /// Where.
+        /// The block, which prefixes the message.
         at: At,
-        /// Field name.
+        /// The field as the scene file names it (`bias`, `material.diffuse.k`), so that
+        /// the user can find the line to fix.
         field: &'static str,
-        /// The value.
+        /// The value as given, before conversion.
         value: f64,
     },
     /// Not a finite binary32 value.
     #[error("{at}`{field}` = {value} is not a finite f32")]
     F32 {
-        /// Where.
+        /// The block, which prefixes the message.
         at: At,
-        /// Field name.
+        /// The field as the scene file names it (`bias`, `material.diffuse.k`), so that
+        /// the user can find the line to fix.
         field: &'static str,
-        /// The value.
+        /// The value as given, before conversion.
         value: f64,
     },
     /// An integer outside its range.
     #[error("{at}`{field}` = {value} is outside {min}..={max}")]
     Int {
-        /// Where.
+        /// The block, which prefixes the message.
         at: At,
-        /// Field name.
+        /// The field as the scene file names it (`bias`, `material.diffuse.k`), so that
+        /// the user can find the line to fix.
         field: &'static str,
-        /// The value.
+        /// The value as given.
         value: u64,
-        /// Smallest allowed.
+        /// Lower bound, inclusive.
         min: u64,
-        /// Largest allowed.
+        /// Upper bound, inclusive.
         max: u64,
     },
     /// A code word that names no enumeration value.
     #[error("{at}`{field}` = {value} is not a valid code")]
     Code {
-        /// Where.
+        /// The block, which prefixes the message.
         at: At,
-        /// Field name.
+        /// The field as the scene file names it (`bias`, `material.diffuse.k`), so that
+        /// the user can find the line to fix.
         field: &'static str,
-        /// The value.
+        /// The word read, which no value of the field's enumeration has as its code.
         value: u32,
     },
     /// A light or object index beyond the map's capacity.
@@ -283,41 +299,42 @@ pub enum SceneError {
     Index {
         /// "light" or "object".
         what: &'static str,
-        /// The index.
+        /// The index asked for.
         index: usize,
-        /// The capacity.
+        /// Blocks of that kind in the map (LIGHTS or OBJ): valid indices are below it.
         capacity: usize,
     },
     /// A register write that runs past the map.
     #[error("write of {len} words at offset {offset} runs past the {size}-word register map")]
     Bounds {
-        /// First word.
+        /// Word offset the write starts at.
         offset: usize,
-        /// Words.
+        /// Words in the write.
         len: usize,
-        /// Words in the map.
+        /// [`SceneRegs::WORDS`] of the map written to.
         size: usize,
     },
     /// A word slice of the wrong length.
     #[error("expected {expected} words, got {got}")]
     Length {
-        /// Words in the map.
+        /// [`SceneRegs::WORDS`] of the map built or copied.
         expected: usize,
-        /// Words given.
+        /// Length of the slice passed in.
         got: usize,
     },
     /// Word 0 is not [`MAGIC`].
     #[error("magic word is {found:#010x}, expected {MAGIC:#010x}")]
     Magic {
-        /// The word found.
+        /// Word 0 as received: anything else means the words are not a scene image, or
+        /// are shifted.
         found: u32,
     },
     /// Word 1 does not match this map's version and capacities.
     #[error("version word is {found:#010x}, expected {expected:#010x} (version | OBJ << 16 | LIGHTS << 24)")]
     Version {
-        /// The word found.
+        /// Word 1 as received.
         found: u32,
-        /// This map's word.
+        /// [`SceneRegs::VERSION_WORD`] of the capacities the receiver was built for.
         expected: u32,
     },
 }
@@ -367,7 +384,8 @@ pub fn q16_from_f64(field: &'static str, value: f64) -> Result<i32, SceneError> 
     i32::try_from(r).map_err(|_| err)
 }
 
-/// The value of a Q16.16 word.
+/// The real a Q16.16 word holds; exact, as every Q16.16 value is an f64, so it undoes
+/// [`q16_from_f64`] up to that function's rounding.
 pub fn q16_to_f64(q: i32) -> f64 {
     f64::from(q) / 65536.0
 }
@@ -393,13 +411,16 @@ macro_rules! code_enum {
             $($(#[$vm])* $v = $c),*
         }
         impl $name {
-            /// Every value, in code order.
+            /// Every value, in code order, for iterating over the codes (tests, fuzzers,
+            /// `from_code`).
             pub const ALL: &'static [$name] = &[$($name::$v),*];
-            /// The register code.
+            /// The word this value is written as: part of the register map, so a change
+            /// of codes is a change of [`VERSION`].
             pub const fn code(self) -> u32 {
                 self as u32
             }
-            /// The value of a register code.
+            /// The value a register word names, or `None` for a word no value has as its
+            /// code (a reader reports it as [`SceneError::Code`]).
             pub fn from_code(c: u32) -> Option<Self> {
                 Self::ALL.iter().copied().find(|v| v.code() == c)
             }
@@ -408,14 +429,15 @@ macro_rules! code_enum {
 }
 
 code_enum!(
-    /// Light type; light 0 is always ambient.
+    /// What a light block describes, and so which of its words are read; light 0 is
+    /// always ambient and no other light may be.
     LightKind {
         /// Uniform ambient light L_a (only the colour is used).
         #[default]
         Ambient = 0,
-        /// Point light with quadratic falloff.
+        /// Point light with quadratic falloff (the direction and cone words are unused).
         Point = 1,
-        /// Point light with a spot cone.
+        /// Point light restricted to a cone (docs/requirements.md §4.4).
         Spot = 2,
     }
 );
@@ -432,9 +454,9 @@ code_enum!(
         Disk = 2,
         /// Square |x|, |z| ≤ 1 in y = 0.
         Square = 3,
-        /// Open cylinder.
+        /// x² + z² = 1 for y ∈ [−1, 1], open: no caps.
         Cylinder = 4,
-        /// Open cone.
+        /// Radius 1 at y = 0 narrowing to the apex at y = 1, without a base.
         Cone = 5,
         /// Cube [−1, 1]³.
         Cube = 6,
@@ -442,36 +464,40 @@ code_enum!(
 );
 
 code_enum!(
-    /// Diffuse model.
+    /// Diffuse BRDF f_d (docs/requirements.md §4.4).
     DiffuseModel {
-        /// 1/π.
+        /// 1/π: ideal matte.
         #[default]
         Lambert = 0,
-        /// Oren–Nayar with σ².
+        /// Oren–Nayar rough matte, roughness from [`MaterialRegs::sigma2`].
         OrenNayar = 1,
     }
 );
 
 code_enum!(
-    /// Specular model.
+    /// Specular BRDF f_s; both share the lobe D = (e + 2)/(2π)·(n·ω_h)^e
+    /// (docs/requirements.md §4.4).
     SpecularModel {
-        /// Normalised Blinn–Phong.
+        /// Normalised Blinn–Phong: D alone.
         #[default]
         BlinnPhong = 0,
-        /// Torrance–Sparrow.
+        /// Torrance–Sparrow: D·G·F / (4 cos θ_o cos θ_i), F from
+        /// [`MaterialRegs::spec_eta`] and [`MaterialRegs::spec_kappa`].
         TorranceSparrow = 1,
     }
 );
 
 code_enum!(
-    /// Reflectance of the mirror bounce.
+    /// How much of the mirror-reflected ray a surface passes on (docs/requirements.md
+    /// §4.5); at [`RenderRegs::depth`] 1 no bounce is traced whatever the mode.
     ReflectionMode {
         /// No reflected ray.
         #[default]
         None = 0,
-        /// r = k_s.
+        /// r = [`MaterialRegs::reflectance`], whatever the angle.
         Constant = 1,
-        /// Fresnel with η − iκ.
+        /// Unpolarised Fresnel reflectance of η − iκ ([`MaterialRegs::eta`],
+        /// [`MaterialRegs::kappa`]); κ > 0 is a conductor.
         Fresnel = 2,
         /// (beyond) Transmissive dielectric: Fresnel reflection plus a refracted ray of
         /// weight 1 − r, index η.
@@ -480,28 +506,32 @@ code_enum!(
 );
 
 code_enum!(
-    /// Texture source.
+    /// What fills a material's texture (docs/requirements.md §4.6). The grey kinds mix
+    /// the diffuse colour with [`TextureRegs::color2`].
     TextureKind {
-        /// Untextured.
+        /// No texture: the material's own colours.
         #[default]
         None = 0,
-        /// (x ⊕ y) & 255 grey.
+        /// Grey (x ⊕ y) & 255.
         Xor = 1,
-        /// Grey checkerboard.
+        /// Grey squares of [`TextureRegs::seed`] texels.
         Checkerboard = 2,
-        /// Red, green, blue texels.
+        /// Consecutive texels red, green, blue.
         RgbDots = 3,
-        /// Marble noise.
+        /// Grey ½(1 + sin(f·x + t·turbulence)) of value noise seeded by
+        /// [`TextureRegs::seed`].
         Marble = 4,
-        /// Wood noise.
+        /// Grey fract(rings·r + t·turbulence), seeded likewise.
         Wood = 5,
-        /// An uploaded image.
+        /// Texels uploaded to texture memory at [`TextureRegs::base`]; the golden model
+        /// generates only the procedural kinds and refuses it.
         Image = 6,
     }
 );
 
 code_enum!(
-    /// Texture mapping from the object-space hit.
+    /// How the object-space hit p ∈ [−1, 1]³ becomes texture coordinates (u, v) ∈ [0, 1)
+    /// before [`TextureRegs::scale`] and [`TextureRegs::offset`] apply.
     Mapping {
         /// u = (x + 1)/2, v = (z + 1)/2.
         #[default]
@@ -514,158 +544,180 @@ code_enum!(
 );
 
 code_enum!(
-    /// Texture filter.
+    /// How a texture is sampled between texel centres (which sit at +0.5).
     TexFilter {
-        /// Nearest texel.
+        /// The nearest texel: hard texel edges when magnified.
         #[default]
         Nearest = 0,
-        /// Bilinear.
+        /// Linear in u and v between the four nearest texels.
         Bilinear = 1,
     }
 );
 
-/// Global settings (`[render]` of the scene file).
+/// The header's frame settings, as [`SceneRegs::set_render`] writes them (`[render]` of
+/// the scene file; docs/requirements.md §4.1).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Render {
-    /// Frame width in pixels.
+pub struct RenderRegs {
+    /// Frame width in pixels, 1 … 65535.
     pub width: u32,
-    /// Frame height in pixels.
+    /// Frame height in pixels, 1 … 65535.
     pub height: u32,
-    /// RAYTRACING_DEPTH.
+    /// RAYTRACING_DEPTH, 1 … 16: 1 traces primary rays only, each further level one
+    /// more reflection bounce (and its shadow rays).
     pub depth: u32,
-    /// CORE_BIAS.
+    /// CORE_BIAS, world units: hits nearer than this are ignored, so that a secondary
+    /// ray does not hit the surface it starts on.
     pub bias: f64,
-    /// MAX_DISTANCE (carried as f32).
+    /// MAX_DISTANCE, world units: hits beyond it count as misses. Stored as f32 bits
+    /// because the seed's 1e6 is beyond Q16.16, so it must be a finite f32.
     pub max_distance: f64,
-    /// Background colour.
+    /// Linear RGB of rays that hit nothing (1.0 = full scale before clamping).
     pub background: [f64; 3],
-    /// Samples per pixel.
+    /// Samples per pixel, 1 … 65536, on a regular grid of ⌈√spp⌉² positions.
     pub spp: u32,
-    /// `FLAG_*` bits.
+    /// [`FLAG_SHADOWS`] and the other `FLAG_*` bits: the seed's compile-time switches,
+    /// chosen per frame.
     pub flags: u32,
-    /// Jitter seed.
+    /// Seed for sample jitter; the golden model samples a fixed grid and ignores it.
     pub seed: u32,
 }
 
 /// The camera in both the scene file's form and ViRAY's (basis + near plane); the host
-/// derives the latter from the former.
+/// derives the latter from the former (docs/requirements.md §4.2), so a block can read
+/// whichever it was built for. The register map does not check that the two agree.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Camera {
-    /// Eye position.
+pub struct CameraRegs {
+    /// Eye position, world units: where every primary ray starts.
     pub position: [f64; 3],
-    /// Point looked at.
+    /// The point at the centre of the image; w = normalize(position − look_at).
     pub look_at: [f64; 3],
-    /// Up vector.
+    /// Up hint: only its part across the view direction counts, and it must not be
+    /// parallel to it (u = normalize(up × w)).
     pub up: [f64; 3],
-    /// Vertical field of view in degrees.
+    /// Vertical field of view in degrees; the horizontal one follows from width / height.
     pub fov_y: f64,
-    /// Basis u.
+    /// Unit vector to the image's right.
     pub u: [f64; 3],
-    /// Basis v.
+    /// Unit vector to the image's top, w × u.
     pub v: [f64; 3],
-    /// Basis w.
+    /// Unit vector pointing backwards, away from look_at: rays leave along −w.
     pub w: [f64; 3],
-    /// Image plane distance.
+    /// Distance of the image plane along −w; the host writes 1.
     pub near_plane: f64,
 }
 
-/// One light.
+/// A light block (docs/requirements.md §4.4). Words a kind does not use are written as
+/// given and ignored by the device.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Light {
-    /// Type.
+pub struct LightRegs {
+    /// Decides which of the other fields the device reads.
     pub kind: LightKind,
-    /// Position.
+    /// Where a point or spot light sits, world units.
     pub position: [f64; 3],
-    /// Colour / radiant intensity per channel.
+    /// L_a for the ambient light; for the others the radiant intensity per channel,
+    /// falling off with 1/d².
     pub color: [f64; 3],
-    /// Spot direction.
+    /// Axis of a spot cone, pointing away from the light; need not be unit length.
     pub direction: [f64; 3],
-    /// cos(α/2).
+    /// cos(α/2): outside the cone of half-angle α/2 a spot gives no light.
     pub cos_outer: f64,
-    /// cos(β/2).
+    /// cos(β/2) ≥ cos_outer: inside this cone a spot is at full strength; between the
+    /// two it ramps linearly in the cosine.
     pub cos_inner: f64,
 }
 
-/// A coefficient and a colour.
+/// One term of the shading sum, k · colour (k_a c_a, k_d c_d or k_s c_s).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Term {
-    /// Coefficient k.
+pub struct TermRegs {
+    /// Weight of the term; 0 switches it off (a reader takes an ambient or specular term
+    /// with k = 0 as absent). k_d + k_s ≤ 1 conserves energy but is not enforced.
     pub k: f64,
-    /// Colour.
+    /// Per-channel colour the light is multiplied by (0 … 1 for a physical surface; not
+    /// enforced).
     pub color: [f64; 3],
 }
 
-/// The complete material of an object.
+/// An object's material, inside its block: ViRAY has no material table, so a material
+/// shared in the scene file is written once per object using it.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Material {
-    /// k_a, c_a.
-    pub ambient: Term,
-    /// k_d, c_d.
-    pub diffuse: Term,
-    /// Diffuse model.
+pub struct MaterialRegs {
+    /// Weighs the ambient light L_a; a texture replaces its colour.
+    pub ambient: TermRegs,
+    /// Weighs the point and spot lights through the diffuse BRDF; a texture replaces
+    /// its colour.
+    pub diffuse: TermRegs,
+    /// The diffuse BRDF.
     pub diffuse_model: DiffuseModel,
-    /// Oren–Nayar σ².
+    /// Oren–Nayar roughness σ² (0 behaves as Lambert); read only with
+    /// [`DiffuseModel::OrenNayar`].
     pub sigma2: f64,
-    /// k_s, c_s.
-    pub specular: Term,
-    /// Specular model.
+    /// Weighs the point and spot lights through the specular BRDF.
+    pub specular: TermRegs,
+    /// The specular BRDF.
     pub specular_model: SpecularModel,
-    /// Exponent e ≤ 1023.
+    /// Exponent e of the specular lobe, 0 … 1023: the seed's power by repeated squaring
+    /// takes ten steps.
     pub exponent: u32,
-    /// Reflection mode.
+    /// Whether and how a reflected ray is traced.
     pub reflection: ReflectionMode,
-    /// η.
+    /// Refractive index η of [`ReflectionMode::Fresnel`], and the index of refraction of
+    /// [`ReflectionMode::Glass`] (against vacuum).
     pub eta: f64,
-    /// κ.
+    /// Extinction coefficient κ of [`ReflectionMode::Fresnel`]; 0 for dielectrics.
     pub kappa: f64,
-    /// Torrance–Sparrow η.
+    /// η of the Fresnel factor inside [`SpecularModel::TorranceSparrow`], separate from
+    /// the reflection's (the scene file's `specular.eta`, default 1.5).
     pub spec_eta: f64,
-    /// Torrance–Sparrow κ.
+    /// κ of that Fresnel factor (`specular.extinction`, default 0).
     pub spec_kappa: f64,
-    /// Constant reflectance r.
+    /// r of [`ReflectionMode::Constant`] (the scene file's `reflection.r`, default k_s).
     pub reflectance: f64,
-    /// Texture.
-    pub texture: Texture,
+    /// Replaces the ambient and diffuse colours; [`TextureKind::None`] leaves them.
+    pub texture: TextureRegs,
 }
 
-/// Texture of a material.
+/// A material's texture (docs/requirements.md §4.6). The texture memory holds 256 × 256
+/// 32-bit texels shared by every texture, so each names its own square of it.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Texture {
-    /// Source.
+pub struct TextureRegs {
+    /// What generates the texels; [`TextureKind::None`] makes the other fields unused.
     pub kind: TextureKind,
-    /// Mapping.
+    /// How the hit point becomes (u, v).
     pub mapping: Mapping,
-    /// (u, v) scale.
+    /// Repeats of the texture across the mapping's range: u′ = fract(u · scale + offset).
     pub scale: [f64; 2],
-    /// (u, v) offset.
+    /// Shift of the texture, in repeats, added after scaling.
     pub offset: [f64; 2],
-    /// Second colour of grey textures.
+    /// Colour of a grey texture's black texels: white ones take the diffuse colour and
+    /// greys blend the two.
     pub color2: [f64; 3],
-    /// Filter.
+    /// How texels are sampled between their centres.
     pub filter: TexFilter,
-    /// Noise seed.
+    /// The noise seed of [`TextureKind::Marble`] and [`TextureKind::Wood`], or the square
+    /// size in texels of [`TextureKind::Checkerboard`]; unused by the other kinds.
     pub seed: u32,
-    /// First texel in texture memory.
+    /// First texel of this texture in texture memory, 0 … 65535.
     pub base: u32,
-    /// log2 of the width in texels (≤ 8).
+    /// log2 of the width in texels, 0 … 8 (256 is the texture memory's side).
     pub width_log2: u8,
-    /// log2 of the height in texels (≤ 8).
+    /// log2 of the height in texels, 0 … 8.
     pub height_log2: u8,
 }
 
-/// One object.
+/// An object block: a canonical shape placed by scale, then rotation, then translation
+/// (docs/requirements.md §4.3).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Object {
-    /// Canonical shape.
+pub struct ObjectRegs {
+    /// The canonical shape, inside [−1, 1]³ before the transform.
     pub shape: Shape,
-    /// Translation.
+    /// Where the shape's origin goes, world units; applied last.
     pub translate: [f64; 3],
-    /// Per-axis scale.
+    /// Per-axis scale, applied first: a sphere of scale (2, 1, 1) is an ellipsoid.
     pub scale: [f64; 3],
-    /// Rotation in degrees about x, y, z.
+    /// Rotation in degrees about x, then y, then z, between scale and translation.
     pub rotate: [f64; 3],
-    /// Material.
-    pub material: Material,
+    /// How the surface shades.
+    pub material: MaterialRegs,
 }
 
 // Block encoders: `w` is the block's words.
@@ -711,6 +763,13 @@ fn code<T>(field: &'static str, value: u32, f: fn(u32) -> Option<T>) -> Result<T
     })
 }
 
+/// Words in the map of a device with room for `objects` objects and `lights` lights
+/// (ambient included): for a controller that learns the capacities at run time from the
+/// target's [`crate::frame::Caps`] and must refuse register writes past the end.
+pub const fn map_words(objects: usize, lights: usize) -> usize {
+    light::OFFSET + lights * light::WORDS + objects * obj::WORDS
+}
+
 /// The register image for `OBJ` objects and `LIGHTS` lights.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SceneRegs<const OBJ: usize = 8, const LIGHTS: usize = 2> {
@@ -727,9 +786,9 @@ impl<const OBJ: usize, const LIGHTS: usize> Default for SceneRegs<OBJ, LIGHTS> {
 }
 
 impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
-    /// Words in the map.
-    pub const WORDS: usize = hdr::WORDS + cam::WORDS + LIGHTS * light::WORDS + OBJ * obj::WORDS;
-    /// First word of the object blocks.
+    /// Words in the map ([`map_words`] of its capacities): 420 for the defaults.
+    pub const WORDS: usize = map_words(OBJ, LIGHTS);
+    /// Word offset of object 0's block, right after the light blocks.
     pub const OBJECTS_OFFSET: usize = light::OFFSET + LIGHTS * light::WORDS;
     /// Word 1: version and capacities, so that a map built for other sizes is refused.
     pub const VERSION_WORD: u32 = VERSION as u32 | (OBJ as u32) << 16 | (LIGHTS as u32) << 24;
@@ -751,17 +810,19 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         }
     }
 
-    /// Word offset of light `i`.
+    /// Word offset of light `i`'s block, for addressing one of its words in a write (not
+    /// checked against LIGHTS).
     pub const fn light_offset(i: usize) -> usize {
         light::OFFSET + i * light::WORDS
     }
 
-    /// Word offset of object `i`.
+    /// Word offset of object `i`'s block (not checked against OBJ).
     pub const fn object_offset(i: usize) -> usize {
         Self::OBJECTS_OFFSET + i * obj::WORDS
     }
 
-    /// The word at `offset`.
+    /// The word at `offset`, or `None` past the map: what a device's register read
+    /// returns.
     pub fn word(&self, offset: usize) -> Option<u32> {
         self.word_ref(offset)
     }
@@ -784,7 +845,7 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
             .and_then(|b| b.get_mut(o % obj::WORDS))
     }
 
-    /// Every word in offset order.
+    /// Every word in offset order: the image as the device's register file holds it.
     pub fn words(&self) -> impl Iterator<Item = u32> + '_ {
         self.header
             .iter()
@@ -866,18 +927,20 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         Ok(())
     }
 
-    /// Objects in use.
+    /// Objects in use (word 2): a reader renders blocks 0 … count − 1 and ignores the
+    /// rest.
     pub fn object_count(&self) -> u32 {
         self.header[hdr::OBJECT_COUNT]
     }
 
-    /// Lights in use.
+    /// Lights in use, the ambient one included (word 3).
     pub fn light_count(&self) -> u32 {
         self.header[hdr::LIGHT_COUNT]
     }
 
-    /// Writes the global settings.
-    pub fn set_render(&mut self, r: &Render) -> Result<(), SceneError> {
+    /// Writes the header's frame settings, checking the ranges [`RenderRegs`] documents;
+    /// on an error nothing is written.
+    pub fn set_render(&mut self, r: &RenderRegs) -> Result<(), SceneError> {
         int("width", u64::from(r.width), 1, u64::from(u16::MAX))?;
         int("height", u64::from(r.height), 1, u64::from(u16::MAX))?;
         int("depth", u64::from(r.depth), 1, 16)?;
@@ -896,10 +959,10 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         Ok(())
     }
 
-    /// Reads the global settings.
-    pub fn render(&self) -> Render {
+    /// Reads the frame settings back. Cannot fail: every word is some valid value.
+    pub fn render(&self) -> RenderRegs {
         let h = &self.header;
-        Render {
+        RenderRegs {
             width: h[hdr::WIDTH],
             height: h[hdr::HEIGHT],
             depth: h[hdr::DEPTH],
@@ -912,8 +975,9 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         }
     }
 
-    /// Writes the camera.
-    pub fn set_camera(&mut self, c: &Camera) -> Result<(), SceneError> {
+    /// Writes the camera block; a value outside Q16.16 is an error naming the field, and
+    /// then nothing is written.
+    pub fn set_camera(&mut self, c: &CameraRegs) -> Result<(), SceneError> {
         let mut w = [0; cam::WORDS];
         put_v(&mut w, cam::POSITION, "camera.position", c.position)?;
         put_v(&mut w, cam::LOOK_AT, "camera.look_at", c.look_at)?;
@@ -927,10 +991,10 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         Ok(())
     }
 
-    /// Reads the camera.
-    pub fn camera(&self) -> Camera {
+    /// Reads the camera block back. Cannot fail: every word is some Q16.16 value.
+    pub fn camera(&self) -> CameraRegs {
         let w = &self.camera;
-        Camera {
+        CameraRegs {
             position: get_v(w, cam::POSITION),
             look_at: get_v(w, cam::LOOK_AT),
             up: get_v(w, cam::UP),
@@ -967,7 +1031,7 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     }
 
     /// Writes light `i`. Light 0 must be ambient and only light 0 may be.
-    pub fn set_light(&mut self, i: usize, l: &Light) -> Result<(), SceneError> {
+    pub fn set_light(&mut self, i: usize, l: &LightRegs) -> Result<(), SceneError> {
         Self::light_index(i)?;
         let at = At::Light(i);
         if (i == 0) != (l.kind == LightKind::Ambient) {
@@ -991,11 +1055,12 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         Ok(())
     }
 
-    /// Reads light `i`.
-    pub fn light(&self, i: usize) -> Result<Light, SceneError> {
+    /// Reads light `i`; fails for an index beyond LIGHTS or a kind word that names no
+    /// [`LightKind`].
+    pub fn light(&self, i: usize) -> Result<LightRegs, SceneError> {
         Self::light_index(i)?;
         let w = &self.lights[i];
-        Ok(Light {
+        Ok(LightRegs {
             kind: code("kind", w[light::KIND], LightKind::from_code)
                 .map_err(|e| e.at(At::Light(i)))?,
             position: get_v(w, light::POSITION),
@@ -1006,21 +1071,24 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         })
     }
 
-    /// Writes object `i`.
-    pub fn set_object(&mut self, i: usize, o: &Object) -> Result<(), SceneError> {
+    /// Writes object `i`, checking every field first: on an error the block is unchanged
+    /// and the error names the object and the field.
+    pub fn set_object(&mut self, i: usize, o: &ObjectRegs) -> Result<(), SceneError> {
         Self::object_index(i)?;
         self.objects[i] = encode_object(o).map_err(|e| e.at(At::Object(i)))?;
         Ok(())
     }
 
-    /// Reads object `i`.
-    pub fn object(&self, i: usize) -> Result<Object, SceneError> {
+    /// Reads object `i`; fails for an index beyond OBJ, a code word that names nothing or
+    /// an integer out of range (an image made by [`SceneRegs::from_words`] is checked only
+    /// here).
+    pub fn object(&self, i: usize) -> Result<ObjectRegs, SceneError> {
         Self::object_index(i)?;
         decode_object(&self.objects[i]).map_err(|e| e.at(At::Object(i)))
     }
 }
 
-fn encode_object(o: &Object) -> Result<[u32; obj::WORDS], SceneError> {
+fn encode_object(o: &ObjectRegs) -> Result<[u32; obj::WORDS], SceneError> {
     let m = &o.material;
     let t = &m.texture;
     int("material.specular.exponent", u64::from(m.exponent), 0, 1023)?;
@@ -1090,7 +1158,7 @@ fn encode_object(o: &Object) -> Result<[u32; obj::WORDS], SceneError> {
     Ok(w)
 }
 
-fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
+fn decode_object(w: &[u32; obj::WORDS]) -> Result<ObjectRegs, SceneError> {
     let size = w[obj::TEX_SIZE];
     int("material.texture.size", u64::from(size), 0, 0x0808)?;
     int("material.texture.width_log2", u64::from(size & 0xff), 0, 8)?;
@@ -1106,17 +1174,17 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
         0,
         (1 << 16) - 1,
     )?;
-    Ok(Object {
+    Ok(ObjectRegs {
         shape: code("shape", w[obj::SHAPE], Shape::from_code)?,
         translate: get_v(w, obj::TRANSLATE),
         scale: get_v(w, obj::SCALE),
         rotate: get_v(w, obj::ROTATE),
-        material: Material {
-            ambient: Term {
+        material: MaterialRegs {
+            ambient: TermRegs {
                 k: get_q(w, obj::AMBIENT_K),
                 color: get_v(w, obj::AMBIENT_COLOR),
             },
-            diffuse: Term {
+            diffuse: TermRegs {
                 k: get_q(w, obj::DIFFUSE_K),
                 color: get_v(w, obj::DIFFUSE_COLOR),
             },
@@ -1126,7 +1194,7 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
                 DiffuseModel::from_code,
             )?,
             sigma2: get_q(w, obj::SIGMA2),
-            specular: Term {
+            specular: TermRegs {
                 k: get_q(w, obj::SPECULAR_K),
                 color: get_v(w, obj::SPECULAR_COLOR),
             },
@@ -1146,7 +1214,7 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<Object, SceneError> {
             spec_eta: get_q(w, obj::SPEC_ETA),
             spec_kappa: get_q(w, obj::SPEC_KAPPA),
             reflectance: get_q(w, obj::REFLECTANCE),
-            texture: Texture {
+            texture: TextureRegs {
                 kind: code(
                     "material.texture.kind",
                     w[obj::TEX_KIND],

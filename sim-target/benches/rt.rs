@@ -194,7 +194,7 @@ fn bench(c: &mut Criterion) {
     // `RT_BENCH_ONCE=q16.16 valgrind --tool=callgrind target/release/deps/rt-… --bench`.
     if let Some(numeric) = std::env::var("RT_BENCH_ONCE")
         .ok()
-        .and_then(|n| rt::parse_numeric(&n))
+        .and_then(|n| n.parse::<Numeric>().ok())
     {
         if let Ok(frame) = rt::render(&scene, &opts(numeric)) {
             eprintln!("{numeric:?}: {} rays", frame.stats.rays());

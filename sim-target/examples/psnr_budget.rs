@@ -9,12 +9,12 @@
 //!
 //! A measuring tool for docs/rt.md, not a shipped command.
 
-#[path = "../tests/common/mod.rs"]
+#[path = "../tests/integration/common.rs"]
 mod common;
 
 use sim_target::rt::{self, scene_file, Frame, Numeric, Reflection, Scene};
 
-/// With AOVs, culled: the render the tests compare (`tests/common`, shared by path).
+/// With AOVs, culled: the render the tests compare (`tests/integration/common.rs`, shared by path).
 fn render(scene: &Scene, numeric: Numeric, w: u32, h: u32) -> Frame {
     common::render_culled(scene, numeric, true, Some((w, h)))
 }
@@ -83,7 +83,7 @@ fn main() {
     let h: u32 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(216);
     let numeric = args
         .get(2)
-        .and_then(|s| rt::parse_numeric(s))
+        .and_then(|s| s.parse().ok())
         .unwrap_or(Numeric::Q16_16);
     let path = args
         .get(3)

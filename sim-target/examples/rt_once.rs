@@ -14,7 +14,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let text = std::fs::read_to_string(path)?;
     let mut scene = scene_file::parse(&text, path)?;
-    let numeric = rt::parse_numeric(format).ok_or_else(|| format!("unknown format {format}"))?;
+    let numeric: rt::Numeric = format.parse()?;
     let mut opts = RenderOptions {
         numeric,
         ..Default::default()

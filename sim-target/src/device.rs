@@ -131,9 +131,9 @@ impl Device {
                 | PixelFormat::Kcu116.bit()
                 | PixelFormat::DepthF32.bit()
                 | PixelFormat::NormalF32.bit(),
-            max_width: crate::raster::tri::MAX_DIM as u16,
-            max_height: crate::raster::tri::MAX_DIM as u16,
-            max_subpixel_bits: crate::raster::tri::MAX_SUBPIXEL_BITS,
+            max_width: protocol::frame::MAX_FRAME_SIDE as u16,
+            max_height: protocol::frame::MAX_FRAME_SIDE as u16,
+            max_subpixel_bits: protocol::frame::MAX_SUBPIXEL_BITS,
             queue_depth: 4,
             fifo_depth: FIFO_RECORDS as u16,
             max_objects: 8,

@@ -1,6 +1,15 @@
-//! The FPGA, emulated: a bit-exact golden model of the raster and ray-trace blocks.
+//! The FPGA, emulated: a bit-exact golden model of the raster and ray-trace blocks, and
+//! the device around them that a controller drives.
+//!
+//! * [`device`]: the FPGA as the controller's bus sees it (FIFO, blocks, read-back);
+//! * [`fpga_link`]: the same device behind the serial FPGA link, sans-I/O;
+//! * [`raster`] and [`rt`]: the two blocks' golden models; [`num`]: the number formats
+//!   the ray tracer runs in; [`scene_regs`]: a scene to and from its register image.
+//!
+//! This crate is the FPGA and nothing else: the rest of an emulated board (the
+//! firmware's controller, the line to the host, the STM32's ROM bootloader) is the
+//! `sim-board` crate, because it runs the firmware and the model must not depend on it.
 
-pub mod bootloader;
 pub mod device;
 pub mod fpga_link;
 pub mod num;

@@ -7,7 +7,10 @@
 //! quantised to Q16.16 exactly as the MicroBlaze would write it. Materials are per object
 //! in the registers (ViRAY has no material table), so shared materials are expanded.
 
-use protocol::scene::{self as regs, SceneError, SceneRegs};
+use protocol::scene::{
+    self as regs, CameraRegs, LightRegs, MaterialRegs, ObjectRegs, RenderRegs, SceneError,
+    SceneRegs, TermRegs, TextureRegs,
+};
 
 use crate::rt::vec::f;
 use crate::rt::{
@@ -37,17 +40,17 @@ fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
     (f::length(a) > 1e-12).then(|| f::normalize(a))
 }
 
-fn term(t: &Option<Term>) -> regs::Term {
-    t.as_ref().map_or(regs::Term::default(), |t| regs::Term {
+fn term(t: &Option<Term>) -> TermRegs {
+    t.as_ref().map_or(TermRegs::default(), |t| TermRegs {
         k: t.k,
         color: t.color,
     })
 }
 
-fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
-    let mut out = regs::Material {
+fn material(m: &Material) -> Result<MaterialRegs, SceneRegsError> {
+    let mut out = MaterialRegs {
         ambient: term(&m.ambient),
-        diffuse: regs::Term {
+        diffuse: TermRegs {
             k: m.diffuse.k,
             color: m.diffuse.color,
         },
@@ -58,7 +61,7 @@ fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
         out.sigma2 = sigma2;
     }
     if let Some(s) = &m.specular {
-        out.specular = regs::Term {
+        out.specular = TermRegs {
             k: s.k,
             color: s.color,
         };
@@ -93,7 +96,7 @@ fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
             TextureKind::Marble { seed } => (regs::TextureKind::Marble, seed),
             TextureKind::Wood { seed } => (regs::TextureKind::Wood, seed),
         };
-        out.texture = regs::Texture {
+        out.texture = TextureRegs {
             kind,
             mapping: t.mapping,
             scale: t.scale,
@@ -113,7 +116,7 @@ fn material(m: &Material) -> Result<regs::Material, SceneRegsError> {
 pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
     let mut r = Regs::new();
     r.set_counts(scene.objects.len(), 1 + scene.lights.len())?;
-    r.set_render(&regs::Render {
+    r.set_render(&RenderRegs {
         width: scene.width,
         height: scene.height,
         depth: scene.depth,
@@ -130,7 +133,7 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
     let w = normalize(f::sub(c.position, c.look_at)).ok_or(SceneRegsError::Camera)?;
     let u = normalize(f::cross(c.up, w)).ok_or(SceneRegsError::Camera)?;
     let v = f::cross(w, u);
-    r.set_camera(&regs::Camera {
+    r.set_camera(&CameraRegs {
         position: c.position,
         look_at: c.look_at,
         up: c.up,
@@ -142,14 +145,14 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
     })?;
     r.set_light(
         0,
-        &regs::Light {
+        &LightRegs {
             kind: regs::LightKind::Ambient,
             color: scene.ambient,
             ..Default::default()
         },
     )?;
     for (i, l) in scene.lights.iter().enumerate() {
-        let mut light = regs::Light {
+        let mut light = LightRegs {
             kind: regs::LightKind::Point,
             position: l.position,
             color: l.color,
@@ -171,7 +174,7 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
         })?;
         r.set_object(
             i,
-            &regs::Object {
+            &ObjectRegs {
                 shape: o.shape,
                 translate: o.translate,
                 scale: o.scale,
@@ -183,7 +186,7 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
     Ok(r)
 }
 
-fn some_term(t: regs::Term) -> Option<Term> {
+fn some_term(t: TermRegs) -> Option<Term> {
     (t.k != 0.0).then_some(Term {
         k: t.k,
         color: t.color,

@@ -107,14 +107,64 @@ fn install_packages() -> Result<()> {
     };
     let mut install = vec!["install", "-y", "--no-install-recommends", "--no-remove"];
     install.extend(missing.iter().map(|p| p.package));
-    if apt(&install).is_err() {
-        apt(&["update"])?;
-        let names: Vec<&str> = missing.iter().map(|p| p.package).collect();
-        apt(&install).with_context(|| {
-            format!("cannot install {names:?} from Debian without removing a package (apt's message is above)")
-        })?;
+    if apt(&install).is_ok() {
+        return Ok(());
     }
-    Ok(())
+    apt(&["update"])?;
+    if apt(&install).is_ok() {
+        return Ok(());
+    }
+    // The image may carry a package from Debian's backports (this machine's qemu-utils
+    // is 10.0 from bookworm-backports), and the release's own qemu-system-arm (7.2)
+    // breaks it: apt would remove it. The same release's backports suite has matching
+    // versions, so install from there instead of removing anything.
+    let names: Vec<&str> = missing.iter().map(|p| p.package).collect();
+    let codename = release_codename()
+        .with_context(|| format!("cannot install {names:?} without removing a package (apt's message is above), and /etc/os-release names no release to take backports from"))?;
+    let suite = format!("{codename}-backports");
+    let source = std::path::Path::new("/etc/apt/sources.list.d/fpgfx-backports.sources");
+    if !source.exists() {
+        eprintln!(
+            "xtask setup: {names:?} would remove an installed package; adding Debian's {suite} suite ({}) to install versions that fit instead",
+            source.display()
+        );
+        let text = format!(
+            "Types: deb\nURIs: http://deb.debian.org/debian\nSuites: {suite}\nComponents: main\nSigned-By: /usr/share/keyrings/debian-archive-keyring.gpg\n"
+        );
+        if root {
+            std::fs::write(source, text)
+                .with_context(|| format!("cannot write {}", source.display()))?;
+        } else {
+            let tmp = std::env::temp_dir().join("fpgfx-backports.sources");
+            std::fs::write(&tmp, text)?;
+            run(
+                "sudo",
+                &["cp", &tmp.to_string_lossy(), &source.to_string_lossy()],
+            )?;
+        }
+        apt(&["update"])?;
+    }
+    let mut from_backports = vec![
+        "install",
+        "-y",
+        "--no-install-recommends",
+        "--no-remove",
+        "-t",
+        &suite,
+    ];
+    from_backports.extend(missing.iter().map(|p| p.package));
+    apt(&from_backports).with_context(|| {
+        format!("cannot install {names:?} from Debian ({codename} or {suite}) without removing a package (apt's message is above)")
+    })
+}
+
+/// The Debian release this machine runs (`VERSION_CODENAME` in /etc/os-release).
+fn release_codename() -> Option<String> {
+    let text = std::fs::read_to_string("/etc/os-release").ok()?;
+    text.lines()
+        .find_map(|l| l.strip_prefix("VERSION_CODENAME="))
+        .map(|v| v.trim_matches('"').to_string())
+        .filter(|v| !v.is_empty())
 }
 
 fn setup() -> Result<()> {

@@ -17,8 +17,7 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_rt::{entry, exception};
 use cortex_m_semihosting::debug;
 use defmt_semihosting as _;
-use firmware::fpga_link::Clock;
-use firmware::{Controller, ControllerError, FpgaLink, FpgaLinkError};
+use firmware::{Clock, Controller, ControllerError, FpgaLink, FpgaLinkError};
 use heapless::Deque;
 
 /// Core clock feeding SysTick. QEMU's STM32F405 SoC fixes SYSCLK at 168 MHz; on silicon

@@ -31,6 +31,8 @@ mod report;
 mod rt;
 mod runner;
 
+use protocol::names::{Named, UnknownName};
+
 pub use report::{CaseResult, Counts, Failure, FormatCounts, Report, MAX_FAILURES};
 pub use rt::range_demand;
 pub use runner::{category_of, run, run_case};
@@ -49,13 +51,19 @@ pub enum Category {
 impl Category {
     /// All categories, in table order.
     pub const ALL: [Category; 3] = [Category::Raster, Category::Rt, Category::Parse];
+}
 
-    /// Name as the CLI spells it.
-    pub fn name(self) -> &'static str {
+/// The one spelling of each category (`--only`, the table, a failure's reproduce line).
+impl Named for Category {
+    const WHAT: &'static str = "category";
+    const VALUES: &'static [Self] = &Category::ALL;
+    const IGNORE_CASE: bool = false;
+
+    fn spellings(self) -> &'static [&'static str] {
         match self {
-            Category::Raster => "raster",
-            Category::Rt => "rt",
-            Category::Parse => "parse",
+            Category::Raster => &["raster"],
+            Category::Rt => &["rt"],
+            Category::Parse => &["parse"],
         }
     }
 }
@@ -66,28 +74,22 @@ impl std::fmt::Display for Category {
     }
 }
 
-/// A category name that is not one of [`Category::ALL`]'s.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown category {0:?}: expected {list}", list = Category::ALL.map(Category::name).join(", "))]
-pub struct UnknownCategory(pub String);
-
 impl std::str::FromStr for Category {
-    type Err = UnknownCategory;
-    fn from_str(s: &str) -> Result<Self, UnknownCategory> {
-        Self::ALL
-            .into_iter()
-            .find(|c| c.name() == s)
-            .ok_or_else(|| UnknownCategory(s.to_string()))
+    type Err = UnknownName<Category>;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Category::from_name(s)
     }
 }
 
-/// `--only` parses straight into a category, with [`Category::name`] as the one spelling.
+/// `--only` parses straight into a category.
 impl clap::ValueEnum for Category {
     fn value_variants<'a>() -> &'a [Self] {
-        &Self::ALL
+        Category::VALUES
     }
+
     fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
-        Some(clap::builder::PossibleValue::new(self.name()))
+        Some(protocol::names::possible_value(*self))
     }
 }
 

@@ -1,8 +1,7 @@
 //! What a run counted, and the table `fpgfx stress` prints.
 
 use protocol::frame::Numeric;
-
-use sim_target::num::numeric_name;
+use protocol::names::Named;
 
 use super::Category;
 
@@ -235,7 +234,7 @@ impl Report {
                 let _ = writeln!(
                     s,
                     "  {:<11}{:>8}{:>12}{:>10}{:>9}{:>8}{:>9}{:>8}{:>10}{:>11}",
-                    numeric_name(*n),
+                    n.name(),
                     f.renders,
                     f.saturations,
                     f.overflow_nans,

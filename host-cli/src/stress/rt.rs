@@ -4,10 +4,11 @@
 //! scenes where no lit pixel can be in shadow (acne).
 
 use protocol::frame::Numeric;
+use protocol::names::Named;
 use rand::rngs::SmallRng;
 use rand::Rng;
 use sim_target::num::instrumented::{self, Probe};
-use sim_target::num::{numeric_name, Q16_16, Q24_8, Q32_32, Q8_24};
+use sim_target::num::{Q16_16, Q24_8, Q32_32, Q8_24};
 use sim_target::rt::vec::f;
 use sim_target::rt::{
     self, Camera, DiffuseModel, Filter as TexFilter, Frame, Light, Mapping, Material, Object,
@@ -208,7 +209,7 @@ pub(super) fn rt_case(rng: &mut SmallRng) -> CaseResult {
             r.counts.cull_mismatches = 1;
             r.failure = Some(format!(
                 "{kind:?} scene in {}: culling changed the render; scene {scene:?}",
-                numeric_name(numeric)
+                numeric.name()
             ));
             return r;
         }
@@ -261,10 +262,7 @@ pub(super) fn rt_case(rng: &mut SmallRng) -> CaseResult {
         ) {
             let (acne, checked) = count_acne(&scene, &reference, &frame);
             if acne > 0 && list_acne_verbose() {
-                eprintln!(
-                    "acne in {kind:?} scene, {}: {scene:?}",
-                    numeric_name(numeric)
-                );
+                eprintln!("acne in {kind:?} scene, {}: {scene:?}", numeric.name());
             }
             if fits {
                 r.counts.acne = acne;
@@ -287,7 +285,7 @@ pub(super) fn rt_case(rng: &mut SmallRng) -> CaseResult {
     if r.counts.nonfinite + r.counts.wraps > 0 {
         r.failure = Some(format!(
             "{kind:?} scene in {}: {} NaN/inf, {} wraps; scene {scene:?}",
-            numeric_name(numeric),
+            numeric.name(),
             r.counts.nonfinite,
             r.counts.wraps
         ));

@@ -7,9 +7,10 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use protocol::frame::Numeric;
+use protocol::names::Named;
 use rand::rngs::SmallRng;
 use rand::SeedableRng;
-use sim_target::num::{instrumented, numeric_name};
+use sim_target::num::instrumented;
 
 use super::damage::parse_case;
 use super::raster::raster_case;
@@ -90,14 +91,14 @@ fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Catego
         if r.counts.acne > 0 {
             eprintln!(
                 "acne: case {index} {} {}/{} pixels",
-                numeric_name(Numeric::ALL[fmt]),
+                Numeric::ALL[fmt].name(),
                 r.counts.acne,
                 r.counts.acne_checked
             );
         } else {
             eprintln!(
                 "acne: case {index} {} {} pixels, scene beyond the format's range",
-                numeric_name(Numeric::ALL[fmt]),
+                Numeric::ALL[fmt].name(),
                 r.counts.acne_out_of_range
             );
         }

@@ -9,8 +9,9 @@
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::JoinHandle;
+use std::time::SystemTime;
 
 /// The workspace root (where `examples/` and the firmware crate live).
 pub fn workspace() -> PathBuf {
@@ -89,7 +90,103 @@ pub struct Sim {
 /// A `Command` for the emulator binary, for the tests that do not want [`start_sim`]'s
 /// handshake (e.g. `--fpga-link`, which prints no port).
 pub fn sim_command() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_fpgfx-sim"))
+    Command::new(sim_binary())
+}
+
+/// The `fpgfx-sim` binary. It is sim-board's, and cargo names only a crate's own binaries
+/// to its tests (`CARGO_BIN_EXE_*`), so it is looked for next to `fpgfx`, in the same
+/// target profile directory. `cargo test --workspace` has built it there; `cargo test -p
+/// host-cli` has not, so when it is missing, or older than its sources (a stale one would
+/// test old code without a word), it is built there, once per test binary.
+pub fn sim_binary() -> PathBuf {
+    static SIM: OnceLock<PathBuf> = OnceLock::new();
+    SIM.get_or_init(|| {
+        let fpgfx = Path::new(env!("CARGO_BIN_EXE_fpgfx"));
+        let profile_dir = fpgfx
+            .parent()
+            .expect("fpgfx lives in a target profile directory");
+        let sim = profile_dir.join(format!("fpgfx-sim{}", std::env::consts::EXE_SUFFIX));
+        if !newer_than_sources(&sim) {
+            build_sim(profile_dir);
+        }
+        assert!(
+            sim.is_file(),
+            "fpgfx-sim is not at {} (it must sit next to fpgfx)",
+            sim.display()
+        );
+        sim
+    })
+    .clone()
+}
+
+/// Whether `binary` exists and was built after every file of sim-board and the workspace
+/// crates it is built from last changed (cargo judges freshness by modification times too).
+fn newer_than_sources(binary: &Path) -> bool {
+    fn newest(path: &Path) -> SystemTime {
+        let Ok(meta) = path.metadata() else {
+            return SystemTime::UNIX_EPOCH;
+        };
+        let own = meta.modified().unwrap_or(SystemTime::UNIX_EPOCH);
+        if !meta.is_dir() {
+            return own;
+        }
+        std::fs::read_dir(path)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|entry| newest(&entry.path()))
+            .fold(own, SystemTime::max)
+    }
+    let Ok(built) = binary.metadata().and_then(|m| m.modified()) else {
+        return false;
+    };
+    let root = workspace();
+    ["sim-board", "firmware", "sim-target", "protocol"]
+        .iter()
+        .all(|krate| newest(&root.join(krate)) <= built)
+}
+
+/// `$CARGO build -p sim-board --bin fpgfx-sim` into `profile_dir` (`<target-dir>/debug` is
+/// the dev profile's; other profiles' directories carry their names).
+fn build_sim(profile_dir: &Path) {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| {
+        panic!(
+            "fpgfx-sim is missing from {} or older than its sources, and CARGO is not set \
+             to build it: run the tests through cargo, or `cargo build -p sim-board --bin \
+             fpgfx-sim` first",
+            profile_dir.display()
+        )
+    });
+    let name = profile_dir
+        .file_name()
+        .and_then(|n| n.to_str())
+        .expect("the profile directory has a name");
+    let profile = if name == "debug" { "dev" } else { name };
+    let target_dir = profile_dir
+        .parent()
+        .expect("the profile directory sits in a target directory");
+    let args = [
+        "build",
+        "-p",
+        "sim-board",
+        "--bin",
+        "fpgfx-sim",
+        "--profile",
+        profile,
+        "--target-dir",
+    ];
+    let status = Command::new(&cargo)
+        .args(args)
+        .arg(target_dir)
+        .current_dir(workspace())
+        .status()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", Path::new(&cargo).display()));
+    assert!(
+        status.success(),
+        "`cargo {} {}` failed ({status}): the tests need fpgfx-sim",
+        args.join(" "),
+        target_dir.display()
+    );
 }
 
 fn spawn_sim(args: &[&str]) -> Sim {
@@ -219,6 +316,20 @@ pub fn ok(args: &[&str]) -> Run {
 /// `fpgfx ARGS…` must fail with status 1; returns its stderr.
 pub fn fails(args: &[&str]) -> String {
     assert_fails(fpgfx(args), args)
+}
+
+/// `fpgfx ARGS…` must be refused by the argument parser (clap: status 2, before anything
+/// runs); returns its stderr.
+pub fn refused(args: &[&str]) -> String {
+    let run = fpgfx(args);
+    assert_eq!(
+        run.code,
+        Some(2),
+        "fpgfx {args:?} should be refused with status 2:\nstdout: {}\nstderr: {}",
+        run.stdout,
+        run.stderr
+    );
+    run.stderr
 }
 
 /// A raster job with every primitive (Gouraud triangle, line, filled circle, 8-connected

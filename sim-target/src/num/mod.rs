@@ -141,7 +141,6 @@ pub use formats::*;
 
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
-use protocol::frame::Numeric;
 
 /// A real-number format the ray-trace kernel computes in.
 ///
@@ -244,20 +243,6 @@ pub trait Scalar:
     /// arccos of a correctly rounded core, modelled through f64 (see [`Scalar::atan_core`]).
     fn acos_core(self) -> Self;
 }
-/// How tables, benches and the CLI spell a [`Numeric`] format: its [`Scalar::NAME`], so
-/// that the spelling has one home.
-pub fn numeric_name(n: Numeric) -> &'static str {
-    match n {
-        Numeric::F64 => f64::NAME,
-        Numeric::F32 => f32::NAME,
-        Numeric::F16 => half::f16::NAME,
-        Numeric::Q16_16 => Q16_16::NAME,
-        Numeric::Q8_24 => Q8_24::NAME,
-        Numeric::Q24_8 => Q24_8::NAME,
-        Numeric::Q32_32 => Q32_32::NAME,
-    }
-}
-
 /// `f64::floor` without the libm call that baseline x86-64 (no SSE4.1 `roundsd`) makes.
 /// Below 2⁵² in magnitude, x ± 2⁵² (sign of x) lies in a binade of spacing 1, so the
 /// addition rounds x to the nearest integer r and the subtraction is exact; one step down

@@ -20,13 +20,16 @@ pub mod tri;
 pub use fb::Framebuffer;
 pub use hw::Stats;
 
-use protocol::frame::{AaPattern, Point, RasterCmd, RasterSetup, Rgb, Shade, Traversal, Triangle};
+use protocol::frame::{
+    AaPattern, Point, RasterCmd, RasterSetup, Rgb, Shade, Traversal, Triangle, MAX_FRAME_SIDE,
+    MAX_SUBPIXEL_BITS,
+};
 use tri::{TravCounters, TriSetup};
 
 /// Why a command or set-up was refused. Nothing from outside may panic the model.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum RasterError {
-    /// Framebuffer size zero or above [`tri::MAX_DIM`].
+    /// Framebuffer size zero or above [`MAX_FRAME_SIDE`].
     #[error("framebuffer {width}x{height} outside 1..={max} per side")]
     Size {
         /// Requested width.
@@ -37,7 +40,7 @@ pub enum RasterError {
         max: u32,
     },
     /// More fractional bits than the edge-function widths were sized for.
-    #[error("subpixel_bits {0} above the maximum {max}", max = tri::MAX_SUBPIXEL_BITS)]
+    #[error("subpixel_bits {0} above the maximum {MAX_SUBPIXEL_BITS}")]
     SubpixelBits(u8),
     /// A coordinate beyond the guard band.
     #[error("{field} = {value} outside ±{limit} sub-pixel units", limit = tri::COORD_LIMIT)]
@@ -116,14 +119,14 @@ fn check_point(p: &Point, field: &'static str) -> Result<(), RasterError> {
 impl Raster {
     /// A block with a framebuffer of `width × height` cleared to the set-up's background.
     pub fn new(width: u32, height: u32, setup: &RasterSetup) -> Result<Self, RasterError> {
-        if width == 0 || height == 0 || width > tri::MAX_DIM || height > tri::MAX_DIM {
+        if width == 0 || height == 0 || width > MAX_FRAME_SIDE || height > MAX_FRAME_SIDE {
             return Err(RasterError::Size {
                 width,
                 height,
-                max: tri::MAX_DIM,
+                max: MAX_FRAME_SIDE,
             });
         }
-        if setup.subpixel_bits > tri::MAX_SUBPIXEL_BITS {
+        if setup.subpixel_bits > MAX_SUBPIXEL_BITS {
             return Err(RasterError::SubpixelBits(setup.subpixel_bits));
         }
         Ok(Self {
@@ -207,7 +210,7 @@ impl Raster {
                 check_point(&c.center, "circle.center")?;
                 // The filled circle keeps one half-width per row: bound the radius to four
                 // viewports so that this table stays small.
-                if c.radius > tri::COORD_LIMIT as u32 || (c.radius >> bits) > 4 * tri::MAX_DIM {
+                if c.radius > tri::COORD_LIMIT as u32 || (c.radius >> bits) > 4 * MAX_FRAME_SIDE {
                     return Err(RasterError::Coordinate {
                         field: "circle.radius",
                         value: c.radius as i64,

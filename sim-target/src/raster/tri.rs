@@ -6,16 +6,17 @@
 //! block works in *doubled* units so that pixel centres `(2i + 1)·2^b` are integers for
 //! every `b`, hence `|X| ≤ 2^24`, edge deltas `|A|, |B| ≤ 2^25`, the per-pixel steps
 //! `a = 2^(b+1)·A` are below 2^34, the constant term below 2^51 and any value of the edge
-//! function at a pixel of a viewport up to [`MAX_DIM`] = 4096 below 2^52. All of it fits
+//! function at a pixel of a viewport up to [`MAX_FRAME_SIDE`] = 4096 below 2^52. All of it fits
 //! `i64` with 11 bits to spare, so the hot loops never widen; the exact reference in the
 //! tests uses `i128` and `tests/raster_tri.rs` checks vertices at the limits.
+//!
+//! [`MAX_FRAME_SIDE`]: protocol::frame::MAX_FRAME_SIDE
 
 use protocol::frame::{Cull, Point, Traversal};
 
-/// Largest accepted `subpixel_bits`.
-pub const MAX_SUBPIXEL_BITS: u8 = 8;
-/// Largest framebuffer side in pixels.
-pub const MAX_DIM: u32 = 4096;
+/// The bound below is proven for this precision: the protocol's limit, re-exported where
+/// the proof is.
+pub use protocol::frame::MAX_SUBPIXEL_BITS;
 /// Largest magnitude of a vertex coordinate in sub-pixel units.
 pub const COORD_LIMIT: i32 = 1 << 23;
 /// Zigzag block side in pixels.

@@ -1462,19 +1462,3 @@ fn finish(
         plan,
     }
 }
-
-/// Parse a format name as the CLI spells it (`f64`, `f32`, `f16`, `q16.16`, `q8.24`,
-/// `q24.8`, `q32.32`; case-insensitive, `_` accepted for `.`).
-pub fn parse_numeric(name: &str) -> Option<Numeric> {
-    let n = name.to_ascii_lowercase().replace('_', ".");
-    Some(match n.as_str() {
-        "f64" => Numeric::F64,
-        "f32" => Numeric::F32,
-        "f16" => Numeric::F16,
-        "q16.16" => Numeric::Q16_16,
-        "q8.24" => Numeric::Q8_24,
-        "q24.8" => Numeric::Q24_8,
-        "q32.32" => Numeric::Q32_32,
-        _ => return None,
-    })
-}

@@ -2,8 +2,8 @@
 //! without changing it: [`Probe`] (`fpgfx stress`) checks every result against the exact
 //! one and counts saturations, NaN and wrap-arounds; [`Counted`] (`fpgfx bench`) counts
 //! the operations a frame executes, for the hardware cost model. Both hand the kernel bit
-//! for bit the values of the bare format (`tests/instrumented.rs` checks every method in
-//! every format), so only the counts are new.
+//! for bit the values of the bare format (`tests/integration/instrumented.rs` checks every
+//! method in every format), so only the counts are new.
 //!
 //! # Why a wrapper cannot miss a method
 //!

@@ -1,0 +1,107 @@
+//! One file per `fpgfx` command: its arguments (`Args`) and its `run`, which calls the
+//! library and prints. What every command shares is here: the target options, opening
+//! the target, and the pieces of output two commands print alike.
+
+pub mod animate;
+pub mod bench;
+pub mod flash;
+pub mod ports;
+pub mod raster;
+pub mod render;
+pub mod stress;
+
+use anyhow::Result;
+use host_cli::connect::{self, Config, Settings};
+use host_cli::session::{Phase, Session, Transport};
+
+/// Options every command shares; each falls back to `fpgfx.toml` (see `fpgfx ports
+/// --help`), then to its default.
+#[derive(clap::Args)]
+pub struct TargetArgs {
+    /// Target: a serial port (a board, `fpgfx-sim --pty`, QEMU), `tcp:HOST:PORT`
+    /// (`fpgfx-sim --tcp`) or `builtin`. Default: the one known USB-serial adapter if
+    /// exactly one is plugged in, else the built-in target.
+    #[arg(long, global = true, env = "FPGFX_PORT")]
+    pub port: Option<String>,
+    /// Line rate of a serial --port [default: 115200].
+    #[arg(long, global = true)]
+    pub baud: Option<u32>,
+    /// Seconds to wait for the target to answer the handshake [default: 10].
+    #[arg(long, global = true)]
+    pub timeout: Option<f64>,
+}
+
+impl TargetArgs {
+    /// The flags merged with the config file and the defaults.
+    pub fn settings(&self) -> Result<Settings, connect::ConfigError> {
+        connect::resolve(Config {
+            port: self.port.clone(),
+            baud: self.baud,
+            timeout: self.timeout,
+        })
+    }
+
+    /// Opens the target the options, the environment and the config file name.
+    pub fn connect(&self) -> Result<Session<Box<dyn Transport>>> {
+        use host_cli::connect::{choose, open, Target};
+        let Settings {
+            port,
+            baud,
+            timeout,
+        } = self.settings()?;
+        anyhow::ensure!(
+            timeout.is_finite() && timeout > 0.0,
+            "--timeout {timeout}: must be a positive number of seconds"
+        );
+        // Listing ports only matters when none was named.
+        let ports = if port.is_none() {
+            host_cli::ports::list().unwrap_or_default()
+        } else {
+            Vec::new()
+        };
+        let (target, why) = choose(port.as_deref(), baud, &ports);
+        if target != Target::BuiltIn && port.is_none() {
+            eprintln!("using {why}");
+        }
+        let mut session = Session::new(open(&target)?);
+        session.timeout = std::time::Duration::from_secs_f64(timeout);
+        Ok(session)
+    }
+}
+
+/// `--size WxH`, each side in 1..=[`MAX_FRAME_SIDE`](protocol::frame::MAX_FRAME_SIDE).
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    use protocol::frame::MAX_FRAME_SIDE as MAX;
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?} is not WxH"))?;
+    let w: u32 = w
+        .parse()
+        .map_err(|_| format!("width {w:?} is not a number"))?;
+    let h: u32 = h
+        .parse()
+        .map_err(|_| format!("height {h:?} is not a number"))?;
+    if w == 0 || h == 0 || w > MAX || h > MAX {
+        return Err(format!("{w}x{h} is outside 1..={MAX} per side"));
+    }
+    Ok((w, h))
+}
+
+/// One direction of a run's traffic for `--stats`: payload, time, rate and, on a serial
+/// port, how much of the line it used.
+pub fn phase_line(what: &str, phase: Phase, line_rate: Option<u32>) -> String {
+    let mut line = format!(
+        "{what:<13} {} B payload in {:.1} ms = {:.1} KB/s",
+        phase.payload_bytes,
+        phase.time.as_secs_f64() * 1e3,
+        phase.rate() / 1e3
+    );
+    if let Some(baud) = line_rate {
+        // 8N1: ten bit times per byte on the wire.
+        line.push_str(&format!(
+            " = {:.1} % of {baud} baud",
+            phase.rate() / (f64::from(baud) / 10.0) * 100.0
+        ));
+    }
+    line
+}

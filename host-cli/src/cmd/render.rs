@@ -1,0 +1,118 @@
+//! `fpgfx render`: a scene file through the target's ray tracer to a PNG (and PFM AOVs).
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use host_cli::render::{AovFiles, Packing, Renderer};
+use protocol::frame::Numeric;
+
+use super::{parse_size, phase_line, TargetArgs};
+
+/// Arguments of `fpgfx render`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene file.
+    scene: PathBuf,
+    /// Output PNG.
+    #[arg(short, long, default_value = "frame.png")]
+    output: PathBuf,
+    /// Frame size WxH (overrides the scene; the field of view is kept).
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u32, u32)>,
+    /// Number format.
+    #[arg(long, default_value_t = Numeric::F32, ignore_case = true)]
+    numeric: Numeric,
+    /// Samples per pixel (overrides the scene).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// AOVs to write, e.g. depth=d.pfm,normal=n.pfm.
+    #[arg(long)]
+    aov: Option<String>,
+    /// Read-back packing (kcu116: ViRAY's 16-bit mode, reconstructed).
+    #[arg(long, default_value_t = Packing::Rgb888)]
+    packing: Packing,
+    /// Print rays, time, board-time estimate and link counters.
+    #[arg(long)]
+    stats: bool,
+}
+
+/// Renders the scene on the target, writes the PNG and the AOVs and, with `--stats`,
+/// prints the counters.
+pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
+    let mut session = target.connect()?;
+    let name = a.scene.display().to_string();
+    let text = std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read {name}"))?;
+    let mut scene = sim_target::rt::scene_file::parse(&text, &name)?;
+    if let Some((w, h)) = a.size {
+        scene.width = w;
+        scene.height = h;
+    }
+    if let Some(spp) = a.spp {
+        anyhow::ensure!((1..=256).contains(&spp), "--spp {spp} is outside 1..=256");
+        scene.spp = spp;
+    }
+    let numeric = a.numeric;
+    let aov_files = match &a.aov {
+        Some(spec) => spec
+            .parse::<AovFiles>()
+            .map_err(|e| anyhow::anyhow!("--aov {e}"))?,
+        None => AovFiles::default(),
+    };
+    let regs = sim_target::scene_regs::to_regs(&scene).with_context(|| name.clone())?;
+    session.handshake().context("handshake with the target")?;
+    // The target renders a frame without answering in between: allow for a full-HD
+    // frame in the slowest format.
+    session.timeout = std::time::Duration::from_secs(3600);
+    let started = std::time::Instant::now();
+    let (out, words) =
+        Renderer::new().frame(&mut session, &regs, numeric, a.packing, aov_files.aovs())?;
+    let elapsed = started.elapsed();
+    out.image
+        .save(&a.output)
+        .with_context(|| format!("cannot write {}", a.output.display()))?;
+    aov_files.write(&out)?;
+    if a.stats {
+        println!(
+            "frame         {}x{} {numeric:?}",
+            out.image.width(),
+            out.image.height()
+        );
+        println!("registers     {words} words sent");
+        // docs/requirements.md §4.10 counts DEPTH × (1 + lights) rays per sample whether they are traced or
+        // not (the seed's Mrays/s); the target reports the rays it actually traced. The
+        // rates are over the render alone: the read-back is the link's speed, not the
+        // block's.
+        let nominal = sim_target::rt::nominal_rays(&scene, scene.width, scene.height, scene.spp);
+        let secs = out.render.as_secs_f64().max(1e-9);
+        println!(
+            "rays          {nominal} nominal (the seed's count), {} traced",
+            out.rays
+        );
+        println!(
+            "render        {:.1} ms start to done: {:.2} Mrays/s nominal, {:.2} traced",
+            secs * 1e3,
+            nominal as f64 / secs / 1e6,
+            out.rays as f64 / secs / 1e6
+        );
+        println!(
+            "board time    {:.1} ms ({} cycles at {:.0} MHz, II = {})",
+            out.cycles as f64 / sim_target::rt::BOARD_CLOCK_HZ * 1e3,
+            out.cycles,
+            sim_target::rt::BOARD_CLOCK_HZ / 1e6,
+            sim_target::rt::BOARD_II
+        );
+        let l = out.stats.link;
+        println!(
+            "link (target) sent {} resent {} delivered {} crc errors {} duplicates {}",
+            l.sent, l.resent, l.delivered, l.crc_errors, l.duplicates
+        );
+        println!("{}", phase_line("registers →", out.send, target.baud));
+        println!("{}", phase_line("read-back ←", out.read_back, target.baud));
+        println!(
+            "host time     {:.1} ms (registers, render and read-back)",
+            elapsed.as_secs_f64() * 1e3
+        );
+    }
+    eprintln!("wrote {}", a.output.display());
+    Ok(())
+}

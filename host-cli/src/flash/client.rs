@@ -1,0 +1,357 @@
+//! An AN3155 conversation with the STM32 ROM bootloader over any [`Transport`]: one
+//! method per bootloader command, each failure naming the command, the step and the
+//! bytes the chip sent.
+
+use std::io;
+use std::time::{Duration, Instant};
+
+use protocol::bootloader::{self as bl, Command, ACK, NACK, SYNC};
+
+use super::FlashError;
+use crate::session::Transport;
+
+/// Up to 16 bytes as hex for a message, "nothing" when there are none.
+fn hex(bytes: &[u8]) -> String {
+    if bytes.is_empty() {
+        return "nothing".into();
+    }
+    let shown: Vec<String> = bytes.iter().take(16).map(|b| format!("{b:02x}")).collect();
+    let more = if bytes.len() > 16 { " …" } else { "" };
+    format!("[{}{more}]", shown.join(" "))
+}
+
+/// What the chip said about itself.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ChipInfo {
+    /// Bootloader version from Get (0x31 = v3.1).
+    pub version: u8,
+    /// Command codes from Get.
+    pub commands: Vec<u8>,
+    /// Product ID from Get ID.
+    pub pid: u16,
+}
+
+/// Timeouts, generous enough for a real F405 (a 128 KiB sector erase takes up to ~2 s,
+/// mass erase up to ~16 s at 3.3 V, x32 parallelism).
+#[derive(Debug, Clone, Copy)]
+pub struct Timeouts {
+    /// Wait for the answer to each 0x7F.
+    pub sync: Duration,
+    /// Wait for an ordinary ACK or reply.
+    pub ack: Duration,
+    /// Extra wait per erased sector.
+    pub per_sector: Duration,
+}
+
+impl Default for Timeouts {
+    fn default() -> Self {
+        Self {
+            sync: Duration::from_millis(300),
+            ack: Duration::from_secs(1),
+            per_sector: Duration::from_secs(4),
+        }
+    }
+}
+
+/// An AN3155 conversation over any [`Transport`].
+pub struct Client<T> {
+    /// The line; the sequence's tests look at the emulator behind it.
+    pub(super) port: T,
+    /// How long to wait for what.
+    pub timeouts: Timeouts,
+    /// Line rate, only for messages.
+    pub baud: u32,
+}
+
+impl<T: Transport> Client<T> {
+    /// Wraps an open port.
+    pub fn new(port: T, baud: u32) -> Self {
+        Self {
+            port,
+            timeouts: Timeouts::default(),
+            baud,
+        }
+    }
+
+    /// Reads exactly `n` bytes or fails with what arrived.
+    fn read_exact(&mut self, n: usize, timeout: Duration) -> Result<Vec<u8>, (Vec<u8>, bool)> {
+        let deadline = Instant::now() + timeout;
+        let mut got = Vec::with_capacity(n);
+        let mut buf = [0u8; 300];
+        while got.len() < n {
+            let now = Instant::now();
+            if now >= deadline {
+                return Err((got, true));
+            }
+            let want = (n - got.len()).min(buf.len());
+            match self.port.read(&mut buf[..want], deadline - now) {
+                Ok(k) => got.extend_from_slice(&buf[..k]),
+                Err(_) => return Err((got, false)),
+            }
+        }
+        Ok(got)
+    }
+
+    /// Empties the receive buffer; returns (the first 64 of) what was in it.
+    fn drain(&mut self) -> io::Result<Vec<u8>> {
+        let mut buf = [0u8; 256];
+        let mut seen = Vec::new();
+        loop {
+            let n = self.port.read(&mut buf, Duration::from_millis(5))?;
+            if n == 0 {
+                return Ok(seen);
+            }
+            let room = 64usize.saturating_sub(seen.len());
+            seen.extend_from_slice(&buf[..n.min(room)]);
+        }
+    }
+
+    fn read_or_fail(
+        &mut self,
+        n: usize,
+        timeout: Duration,
+        command: Command,
+        stage: &str,
+    ) -> Result<Vec<u8>, FlashError> {
+        self.read_exact(n, timeout)
+            .map_err(|(got, _)| FlashError::Timeout {
+                command: command.name(),
+                stage: stage.to_string(),
+                timeout,
+                got: hex(&got),
+            })
+    }
+
+    fn expect_ack(
+        &mut self,
+        command: Command,
+        stage: &str,
+        timeout: Duration,
+    ) -> Result<(), FlashError> {
+        let b = self.read_or_fail(1, timeout, command, stage)?;
+        match b[0] {
+            ACK => Ok(()),
+            NACK => Err(FlashError::Nack {
+                command: command.name(),
+                stage: stage.to_string(),
+            }),
+            _ => {
+                // Show a little of what follows too: it often identifies the talker
+                // (an application's log line, an echo).
+                let mut got = b;
+                if let Ok(more) = self.read_exact(15, Duration::from_millis(20)) {
+                    got.extend(more);
+                }
+                Err(FlashError::Unexpected {
+                    command: command.name(),
+                    expected: "ACK (0x79) or NACK (0x1f)",
+                    stage: stage.to_string(),
+                    got: hex(&got),
+                })
+            }
+        }
+    }
+
+    fn send_command(&mut self, command: Command) -> Result<(), FlashError> {
+        self.port.write_all(&bl::command_frame(command))?;
+        self.expect_ack(command, "to the command", self.timeouts.ack)
+    }
+
+    /// Autobaud: 0x7F until the chip answers. A fresh chip ACKs; one that is already
+    /// synced takes 0x7F as a command byte and NACKs the second 0x7F (not its
+    /// complement) — both mean it is listening and now idle.
+    ///
+    /// A chip whose previous host died mid-command sits inside a half-received frame
+    /// and swallows single bytes, so after two silent tries one burst of 258 × 0x7F
+    /// (longer than any frame: N-1, 256 data bytes, checksum) ends that frame with a
+    /// NACK; the bytes after it pair up into further NACKs, and at most two more single
+    /// 0x7F then get a NACK from an idle chip.
+    pub fn sync(&mut self, attempts: u32) -> Result<(), FlashError> {
+        let mut got = Vec::new();
+        let mut burst = false;
+        for i in 0..attempts {
+            if i == 2 {
+                self.port.write_all(&[SYNC; 258])?;
+                burst = true;
+                // Let the burst and its answers cross the line (2 × 258 byte times).
+                let line =
+                    Duration::from_secs_f64(2.0 * 258.0 * 11.0 / f64::from(self.baud.max(1)));
+                std::thread::sleep(line.min(Duration::from_secs(1)) + Duration::from_millis(20));
+                let answers = self.drain()?;
+                if answers.iter().any(|&b| b != ACK && b != NACK) {
+                    got.extend(answers);
+                }
+            }
+            got.extend(self.drain()?);
+            self.port.write_all(&[SYNC])?;
+            match self.read_exact(1, self.timeouts.sync) {
+                Ok(b) if b[0] == ACK || b[0] == NACK => return Ok(()),
+                Ok(b) => got.extend(b),
+                Err((b, _)) => got.extend(b),
+            }
+        }
+        Err(FlashError::NoSync {
+            attempts,
+            baud: self.baud,
+            burst: if burst {
+                " (and one burst of 258 to end a half-received command)"
+            } else {
+                ""
+            },
+            got: hex(&got),
+        })
+    }
+
+    /// Get, Get Version and Get ID.
+    pub fn identify(&mut self) -> Result<ChipInfo, FlashError> {
+        let ack = self.timeouts.ack;
+        self.send_command(Command::Get)?;
+        let n = self.read_or_fail(1, ack, Command::Get, "(length)")?[0];
+        let body = self.read_or_fail(usize::from(n) + 1, ack, Command::Get, "(command list)")?;
+        self.expect_ack(Command::Get, "after the command list", ack)?;
+        let (version, commands) = (body[0], body[1..].to_vec());
+
+        self.send_command(Command::GetVersion)?;
+        self.read_or_fail(3, ack, Command::GetVersion, "(version)")?;
+        self.expect_ack(Command::GetVersion, "after the version", ack)?;
+
+        self.send_command(Command::GetId)?;
+        let n = self.read_or_fail(1, ack, Command::GetId, "(length)")?[0];
+        let id = self.read_or_fail(usize::from(n) + 1, ack, Command::GetId, "(product ID)")?;
+        self.expect_ack(Command::GetId, "after the product ID", ack)?;
+        let pid = match id.as_slice() {
+            [hi, lo, ..] => u16::from_be_bytes([*hi, *lo]),
+            [lo] => u16::from(*lo),
+            [] => 0,
+        };
+        Ok(ChipInfo {
+            version,
+            commands,
+            pid,
+        })
+    }
+
+    /// Extended Erase of the given sectors.
+    pub fn erase(&mut self, sectors: &[u16]) -> Result<(), FlashError> {
+        if sectors.is_empty() {
+            return Ok(());
+        }
+        let mut frame = vec![0u8; 3 + 2 * sectors.len()];
+        let n = bl::encode_extended_erase(bl::EraseRequest::Pages(sectors), &mut frame)
+            .map_err(|e| io::Error::other(e.to_string()))?;
+        self.send_command(Command::ExtendedErase)?;
+        self.port.write_all(&frame[..n])?;
+        let timeout = self.timeouts.ack + self.timeouts.per_sector * sectors.len() as u32;
+        self.expect_ack(
+            Command::ExtendedErase,
+            &format!("to erasing sectors {sectors:?}"),
+            timeout,
+        )
+    }
+
+    /// One Write Memory.
+    pub fn write_block(&mut self, address: u32, data: &[u8]) -> Result<(), FlashError> {
+        let mut frame = [0u8; bl::MAX_BLOCK + 2];
+        let n =
+            bl::encode_data_block(data, &mut frame).map_err(|e| io::Error::other(e.to_string()))?;
+        self.send_command(Command::WriteMemory)?;
+        self.port.write_all(&bl::address_frame(address))?;
+        let ack = self.timeouts.ack;
+        self.expect_ack(
+            Command::WriteMemory,
+            &format!("to address {address:#010x}"),
+            ack,
+        )?;
+        self.port.write_all(&frame[..n])?;
+        self.expect_ack(
+            Command::WriteMemory,
+            &format!("to the {} bytes for {address:#010x}", data.len()),
+            ack,
+        )
+    }
+
+    /// One Read Memory of 1..=256 bytes.
+    pub fn read_block(&mut self, address: u32, len: usize) -> Result<Vec<u8>, FlashError> {
+        let length = bl::read_length_frame(len).map_err(|e| io::Error::other(e.to_string()))?;
+        self.send_command(Command::ReadMemory)?;
+        self.port.write_all(&bl::address_frame(address))?;
+        let ack = self.timeouts.ack;
+        let stage = format!("to address {address:#010x}");
+        self.expect_ack(Command::ReadMemory, &stage, ack)?;
+        self.port.write_all(&length)?;
+        self.expect_ack(Command::ReadMemory, &format!("to length {len}"), ack)?;
+        self.read_or_fail(
+            len,
+            ack,
+            Command::ReadMemory,
+            &format!("(data of {address:#010x})"),
+        )
+    }
+
+    /// Go.
+    pub fn go(&mut self, address: u32) -> Result<(), FlashError> {
+        self.send_command(Command::Go)?;
+        self.port.write_all(&bl::address_frame(address))?;
+        self.expect_ack(
+            Command::Go,
+            &format!("to address {address:#010x}"),
+            self.timeouts.ack,
+        )
+    }
+
+    /// Brings a chip that may be half-way through a command (a lost byte, a lost
+    /// answer) back to its idle command loop: that is what [`Client::sync`] does.
+    pub fn recover(&mut self) -> Result<(), FlashError> {
+        self.sync(4)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flash::test_wire::{client, wire};
+
+    #[test]
+    fn silence_is_no_sync() {
+        struct Deaf;
+        impl Transport for Deaf {
+            fn write_all(&mut self, _: &[u8]) -> io::Result<()> {
+                Ok(())
+            }
+            fn read(&mut self, _: &mut [u8], _: Duration) -> io::Result<usize> {
+                Ok(0)
+            }
+        }
+        let mut c = Client::new(Deaf, 115_200);
+        c.timeouts.sync = Duration::from_millis(1);
+        let e = c.sync(3).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "no answer from the bootloader: sent 0x7F 3 times (and one burst of 258 to end a \
+             half-received command) at 115200 baud 8E1, got nothing \
+             (is BOOT0 high and the board reset? is this the right port?)"
+        );
+    }
+
+    /// A host died after sending a Write Memory's address and part of its data: the
+    /// chip swallows single 0x7F bytes, and sync must still get it back to idle.
+    #[test]
+    fn sync_recovers_a_chip_stuck_in_a_half_received_frame() {
+        for sent in [0usize, 1, 7, 100, 257] {
+            let mut w = wire();
+            let mut out = Vec::new();
+            w.chip.feed(&[SYNC], &mut out);
+            w.chip
+                .feed(&bl::command_frame(Command::WriteMemory), &mut out);
+            w.chip.feed(&bl::address_frame(bl::FLASH_BASE), &mut out);
+            w.chip.feed(&vec![0xFF; sent], &mut out);
+            let mut c = client(w);
+            c.sync(4)
+                .unwrap_or_else(|e| panic!("after {sent} data bytes: {e}"));
+            let info = c
+                .identify()
+                .unwrap_or_else(|e| panic!("after {sent} data bytes: {e}"));
+            assert_eq!(info.pid, 0x413);
+        }
+    }
+}

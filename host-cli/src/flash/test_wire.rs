@@ -1,0 +1,73 @@
+//! The chip the flash tests talk to: the bootloader emulator as an in-process transport.
+
+use std::collections::VecDeque;
+use std::io;
+use std::time::Duration;
+
+use sim_board::bootloader::Bootloader;
+
+use super::Client;
+use crate::session::Transport;
+
+/// The emulator as an in-process transport, optionally dropping one answer.
+pub struct Wire {
+    /// The emulated chip.
+    pub chip: Bootloader,
+    /// Its answers not yet read.
+    pub rx: VecDeque<u8>,
+    /// Swallow the answer to the Nth write from the host (1-based), to test retries.
+    pub lose_answer_to_write: Option<usize>,
+    /// Writes so far.
+    pub writes: usize,
+}
+
+impl Transport for Wire {
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.writes += 1;
+        let mut out = Vec::new();
+        self.chip.feed(bytes, &mut out);
+        if self.lose_answer_to_write != Some(self.writes) {
+            self.rx.extend(out);
+        }
+        Ok(())
+    }
+
+    fn read(&mut self, buf: &mut [u8], _timeout: Duration) -> io::Result<usize> {
+        let n = buf.len().min(self.rx.len());
+        for b in buf.iter_mut().take(n) {
+            *b = self.rx.pop_front().unwrap_or(0);
+        }
+        Ok(n)
+    }
+}
+
+/// A fresh chip that loses nothing.
+pub fn wire() -> Wire {
+    Wire {
+        chip: Bootloader::new(),
+        rx: VecDeque::new(),
+        lose_answer_to_write: None,
+        writes: 0,
+    }
+}
+
+/// A client with millisecond timeouts: the emulator answers at once.
+pub fn client(w: Wire) -> Client<Wire> {
+    let mut c = Client::new(w, 115_200);
+    c.timeouts.sync = Duration::from_millis(1);
+    c.timeouts.ack = Duration::from_millis(1);
+    c
+}
+
+/// Deterministic bytes that are not 0xFF-heavy (xorshift32).
+pub fn pattern(n: usize, seed: u32) -> Vec<u8> {
+    let mut x = seed.max(1);
+    (0..n)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x as u8
+        })
+        .collect()
+}

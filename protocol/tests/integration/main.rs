@@ -1,0 +1,13 @@
+//! protocol's integration tests, one module per area (golden byte vectors and properties
+//! of the bus words, the FPGA link, the host frames, the link layer and the scene
+//! registers, plus the fuzz-style properties). One binary rather than one per file: each
+//! test binary compiles and links the whole dependency stack again (debug info, generic
+//! code instantiated per binary), so a single one is built and linked once.
+
+mod bus;
+mod fpga;
+mod frame;
+mod fuzz_props;
+mod link;
+mod names;
+mod scene;

@@ -1,0 +1,44 @@
+//! The spellings of the enums files and flags name: each value reads back from every one
+//! of its spellings and from its `Display`, and a misspelling lists the choices.
+
+use protocol::frame::{Numeric, Traversal};
+use protocol::names::Named;
+
+#[test]
+fn numeric_formats_read_as_the_cli_has_always_taken_them() {
+    for n in Numeric::ALL {
+        assert_eq!(n.to_string().parse::<Numeric>(), Ok(n));
+        for s in n.spellings() {
+            assert_eq!(s.parse::<Numeric>(), Ok(n), "{s}");
+            assert_eq!(s.to_ascii_uppercase().parse::<Numeric>(), Ok(n), "{s}");
+        }
+    }
+    let names: Vec<String> = Numeric::ALL.iter().map(|n| n.to_string()).collect();
+    assert_eq!(
+        names,
+        ["f64", "f32", "f16", "q16.16", "q8.24", "q24.8", "q32.32"]
+    );
+    assert_eq!("q32_32".parse::<Numeric>(), Ok(Numeric::Q32_32));
+    assert_eq!("F32".parse::<Numeric>(), Ok(Numeric::F32));
+    let e = "q7".parse::<Numeric>().unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "unknown number format (expected f64, f32, f16, q16.16, q8.24, q24.8, q32.32)"
+    );
+}
+
+#[test]
+fn traversals_read_as_raster_files_spell_them() {
+    let names: Vec<String> = Traversal::ALL.iter().map(|t| t.to_string()).collect();
+    assert_eq!(names, ["bbox", "scanline", "zigzag", "tiles", "simd8"]);
+    for t in Traversal::ALL {
+        assert_eq!(t.to_string().parse::<Traversal>(), Ok(t));
+    }
+    // Case matters here, as it always has in raster files.
+    assert!("Tiles".parse::<Traversal>().is_err());
+    let e = "hilbert".parse::<Traversal>().unwrap_err();
+    assert_eq!(
+        e.expected().to_string(),
+        "bbox, scanline, zigzag, tiles, simd8"
+    );
+}

@@ -1,0 +1,120 @@
+//! `fpgfx-sim`: a whole board on a serial line — the firmware's controller and the FPGA
+//! model behind a pseudo-terminal, so `fpgfx --port` is exercised over a real tty. The
+//! serving is [`sim_board`]'s; this binary parses flags and reports.
+
+use std::io::Write;
+
+use anyhow::Result;
+use clap::Parser;
+use sim_board::bootloader_pty::{self, Chip};
+use sim_board::fpga_port::FpgaPort;
+use sim_board::{board, pty};
+use sim_target::device::DeviceError;
+
+#[derive(Parser)]
+#[command(
+    name = "fpgfx-sim",
+    version,
+    about = "The fpgfx sim board on a pseudo-terminal or TCP, or its FPGA alone"
+)]
+struct Cli {
+    /// Create a pseudo-terminal, print its path on the first line of stdout and serve the
+    /// controller + FPGA model on it until killed.
+    #[arg(long)]
+    pty: bool,
+    /// Serve the STM32F405's ROM bootloader (AN3155) on the pty instead of the board:
+    /// what the chip does with BOOT0 high. See docs/flash.md.
+    #[arg(long, requires = "pty")]
+    bootloader: bool,
+    /// With --bootloader: keep the emulated flash in FILE (1 MiB, created erased if
+    /// missing), updated after every write or erase, so a later run sees it.
+    #[arg(long, value_name = "FILE", requires = "bootloader")]
+    flash_image: Option<std::path::PathBuf>,
+    /// With --bootloader, a test aid: exit (like a board losing power) right after the
+    /// Nth successful Write Memory, to interrupt a flash at a known point.
+    #[arg(long, value_name = "N", requires = "bootloader")]
+    exit_after_writes: Option<u64>,
+    /// Serve the controller + FPGA model on TCP (e.g. 127.0.0.1:7878; port 0 picks one),
+    /// one client at a time; prints the bound address on the first line of stdout.
+    #[arg(long, value_name = "ADDR", conflicts_with = "pty")]
+    tcp: Option<String>,
+    /// Serve only the FPGA (the serial FPGA link, `protocol::fpga`) on this serial port,
+    /// e.g. the pty QEMU gives the board's USART2.
+    #[arg(long, value_name = "PORT", conflicts_with_all = ["pty", "tcp"])]
+    fpga_link: Option<String>,
+    /// Line rate: of --fpga-link's port, and of the emulated UART with --pace.
+    #[arg(long, default_value_t = 921_600)]
+    baud: u32,
+    /// Move bytes no faster than a UART at --baud would (8N1), both ways, so that
+    /// throughput figures through a pty or TCP mean something.
+    #[arg(long)]
+    pace: bool,
+}
+
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("fpgfx-sim: error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    if cli.bootloader {
+        return serve_bootloader(&cli);
+    }
+    if let Some(path) = &cli.fpga_link {
+        let port = FpgaPort::open(path, cli.baud)?;
+        eprintln!("fpgfx-sim: FPGA link on {path}");
+        port.serve(|text| eprintln!("fpgfx-sim: FPGA fault: {text}"))?;
+        // The board went away (QEMU exited): nothing left to serve.
+        eprintln!("fpgfx-sim: FPGA-link peer closed {path}");
+        return Ok(());
+    }
+    let pace = cli.pace.then_some(cli.baud);
+    if let Some(addr) = &cli.tcp {
+        let listener = board::listen(addr)?;
+        announce(&listener.local_addr()?.to_string())?;
+        let never = board::serve_tcp(listener, pace, model_fault)?;
+        match never {}
+    }
+    anyhow::ensure!(
+        cli.pty,
+        "nothing to serve: give --pty, --tcp ADDR or --fpga-link PORT"
+    );
+    let (master, path) = pty::open()?;
+    announce(&path)?;
+    let never = board::serve(master, pace, model_fault)?;
+    match never {}
+}
+
+/// The host was answered with a Device error and the board keeps serving; the operator
+/// hears of it here.
+fn model_fault(e: &DeviceError) {
+    eprintln!("fpgfx-sim: FPGA model fault: {e}");
+}
+
+/// Prints where we listen on stdout's first line (tests and scripts read it).
+fn announce(what: &str) -> Result<()> {
+    let mut stdout = std::io::stdout();
+    writeln!(stdout, "{what}")?;
+    stdout.flush()?;
+    Ok(())
+}
+
+/// `--bootloader`: the emulated ROM bootloader on a pty.
+fn serve_bootloader(cli: &Cli) -> Result<()> {
+    let chip = match &cli.flash_image {
+        Some(path) => Chip::with_image(path)?,
+        None => Chip::new(),
+    };
+    let (master, path) = pty::open()?;
+    announce(&path)?;
+    let writes = bootloader_pty::serve(master, chip, cli.exit_after_writes, |address| {
+        eprintln!("fpgfx-sim: Go {address:#010x}")
+    })?;
+    eprintln!("fpgfx-sim: exiting after {writes} writes (--exit-after-writes)");
+    Ok(())
+}

@@ -1,0 +1,32 @@
+//! The emulated board: the firmware's controller, the FPGA model ([`sim_target`]) and the
+//! line between them, with the host's line in front — what `fpgfx` talks to when there
+//! is no hardware.
+//!
+//! The board comes in the shapes a real one is met in:
+//!
+//! * in this process ([`in_process`]): `fpgfx --port builtin` and the tests, the host
+//!   joined to the controller by an in-memory pipe, the FPGA on the controller's bus or
+//!   behind the serial FPGA link on a second pipe;
+//! * behind a pseudo-terminal or TCP ([`board`], the `fpgfx-sim` binary): the controller
+//!   on a real byte stream ([`host_link`], [`socket`]), optionally slowed to a UART's rate
+//!   ([`paced`]), so `fpgfx --port` is exercised over a tty;
+//! * the FPGA alone on a serial port ([`fpga_port`]), for a controller elsewhere: the
+//!   QEMU board's second UART;
+//! * the STM32's ROM bootloader ([`bootloader`], on a pty through [`bootloader_pty`]),
+//!   what the chip does with BOOT0 high, for `fpgfx flash`.
+//!
+//! It is a crate of its own because it runs the firmware's controller: sim-target is the
+//! FPGA and must not depend on the firmware, and the host tool (host-cli) should hold no
+//! board plumbing, only its side of the line.
+
+#![warn(missing_docs)]
+
+pub mod board;
+pub mod bootloader;
+pub mod bootloader_pty;
+pub mod fpga_port;
+pub mod host_link;
+pub mod in_process;
+pub mod paced;
+pub mod pty;
+pub mod socket;
