@@ -1,6 +1,6 @@
 //! `fpgfx bench`: run time and hardware cost against error, for every number format ×
 //! approximation set of the ray tracer and every sub-pixel precision × AA pattern × sample
-//! count of the rasterizer, with the Pareto front marked (SPEC §5, issue 9).
+//! count of the rasterizer, with the Pareto front marked (docs/requirements.md §5.3).
 //!
 //! Host time cannot rank formats for an FPGA (on a CPU f64 costs what f32 costs, and fixed
 //! point pays for saturation in software), so the front is computed on a documented
@@ -10,11 +10,11 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use protocol::frame::{Aa, AaPattern, RasterSetup};
-use sim_target::num::Scalar;
+use protocol::names::Named;
+use sim_target::num::instrumented::{self, Counted, OpKind};
 use sim_target::raster::Raster;
 use sim_target::rt::{self, scene_file, Math, Numeric, RenderOptions, Scene};
 
@@ -73,8 +73,48 @@ pub struct BenchConfig {
     pub repeats: usize,
     /// Directory that holds `examples/` (for the default lists).
     pub root: PathBuf,
-    /// Draw a progress bar on stderr.
-    pub progress: bool,
+}
+
+/// The two sweeps, as progress events name them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sweep {
+    /// Every number format × approximation set of the ray tracer.
+    Rt,
+    /// Every sub-pixel precision × AA setting of the rasterizer.
+    Raster,
+}
+
+impl Sweep {
+    /// Short name, for a progress bar's label.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sweep::Rt => "rt",
+            Sweep::Raster => "raster",
+        }
+    }
+}
+
+/// How far a run is, told to the caller of [`run_with_progress`] (the library prints
+/// nothing; `fpgfx bench` draws a bar per sweep from these).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Progress {
+    /// A sweep's timed runs begin: `runs` of them (repeats × points × inputs).
+    Started {
+        /// Which sweep.
+        sweep: Sweep,
+        /// How many timed runs follow.
+        runs: u64,
+    },
+    /// One timed run finished.
+    Ran {
+        /// Which sweep.
+        sweep: Sweep,
+    },
+    /// The sweep's timed runs are done (its metrics follow without further events).
+    Finished {
+        /// Which sweep.
+        sweep: Sweep,
+    },
 }
 
 /// The ray-trace approximation sets swept.
@@ -156,116 +196,28 @@ fn read(path: &Path) -> Result<String, BenchError> {
 // ---------------------------------------------------------------------------------------
 // The hardware cost model
 
-/// Operation counters of [`Counted`].
-static OPS: [AtomicU64; 8] = [const { AtomicU64::new(0) }; 8];
-const ADD: usize = 0;
-const MUL: usize = 1;
-const DIV: usize = 2;
-const SQRT: usize = 3;
-const RSQRT: usize = 4;
-const ATAN: usize = 5;
-const ACOS: usize = 6;
-const FLOOR: usize = 7;
-
-#[inline(always)]
-fn count(k: usize) {
-    OPS[k].fetch_add(1, Ordering::Relaxed);
-}
-
-/// f64 that counts its operations: the kernel is generic, so rendering in it counts
-/// exactly the adds, multiplies, divides, cores and table-index floors a frame executes.
-#[derive(Debug, Clone, Copy, Default, PartialEq, PartialOrd)]
-pub struct Counted(pub f64);
-
-impl core::ops::Add for Counted {
-    type Output = Self;
-    fn add(self, o: Self) -> Self {
-        count(ADD);
-        Self(self.0 + o.0)
-    }
-}
-impl core::ops::Sub for Counted {
-    type Output = Self;
-    fn sub(self, o: Self) -> Self {
-        count(ADD);
-        Self(self.0 - o.0)
-    }
-}
-impl core::ops::Mul for Counted {
-    type Output = Self;
-    fn mul(self, o: Self) -> Self {
-        count(MUL);
-        Self(self.0 * o.0)
-    }
-}
-impl core::ops::Div for Counted {
-    type Output = Self;
-    fn div(self, o: Self) -> Self {
-        count(DIV);
-        Self(self.0 / o.0)
-    }
-}
-impl core::ops::Neg for Counted {
-    type Output = Self;
-    fn neg(self) -> Self {
-        Self(-self.0)
-    }
-}
-
-impl Scalar for Counted {
-    const NAME: &'static str = "counted";
-    fn from_f64(x: f64) -> Self {
-        Self(x)
-    }
-    fn to_f64(self) -> f64 {
-        self.0
-    }
-    fn sqrt(self) -> Self {
-        count(SQRT);
-        Self(if self.0 > 0.0 { self.0.sqrt() } else { 0.0 })
-    }
-    fn rsqrt(self) -> Self {
-        count(RSQRT);
-        Self(if self.0 > 0.0 {
-            1.0 / self.0.sqrt()
-        } else {
-            f64::MAX
-        })
-    }
-    fn max_value() -> Self {
-        Self(f64::MAX)
-    }
-    fn floor(self) -> Self {
-        count(FLOOR);
-        Self(self.0.floor())
-    }
-    fn atan_core(self) -> Self {
-        count(ATAN);
-        Self(self.0.atan())
-    }
-    fn acos_core(self) -> Self {
-        count(ACOS);
-        Self(self.0.clamp(-1.0, 1.0).acos())
-    }
-}
-
 /// Operations per sample of one (scene, approximation set), from a counted render.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct OpMix {
-    /// Per kind: add/sub, mul, div, sqrt, rsqrt, atan core, acos core, floor.
+    /// Per kind, in [`OpKind::ALL`] order: add/sub, mul, div, sqrt, rsqrt, atan core, acos
+    /// core, floor.
     pub per_sample: [f64; 8],
 }
 
-/// Counts the operations of one frame. Not reentrant: the counters are global.
+/// Counts the operations of one frame, rendered in [`Counted`] f64 in a count scope of its
+/// own (so a caller's counts are not disturbed). Culling is turned off: the board tests
+/// every object with every ray, and the cost model prices the board's datapath.
 pub fn op_mix(scene: &Scene, opts: &RenderOptions) -> Result<OpMix, rt::RtError> {
-    for c in &OPS {
-        c.store(0, Ordering::Relaxed);
-    }
-    let f = rt::render_instrumented::<Counted>(scene, opts)?;
+    let opts = RenderOptions {
+        cull: false,
+        ..*opts
+    };
+    let (f, counts) = instrumented::count(|| rt::render_instrumented::<Counted<f64>>(scene, &opts));
+    let f = f?;
     let samples = f.width as f64 * f.height as f64 * opts.spp.unwrap_or(scene.spp).max(1) as f64;
     let mut per_sample = [0.0; 8];
-    for (p, c) in per_sample.iter_mut().zip(&OPS) {
-        *p = c.load(Ordering::Relaxed) as f64 / samples;
+    for (p, k) in per_sample.iter_mut().zip(OpKind::ALL) {
+        *p = counts.ops.get(k) as f64 / samples;
     }
     Ok(OpMix { per_sample })
 }
@@ -443,20 +395,6 @@ pub fn pareto_front(pts: &[(f64, f64)]) -> Vec<bool> {
 // ---------------------------------------------------------------------------------------
 // The sweeps
 
-fn bar(progress: bool, len: u64, msg: &'static str) -> indicatif::ProgressBar {
-    if !progress {
-        return indicatif::ProgressBar::hidden();
-    }
-    let b = indicatif::ProgressBar::new(len);
-    if let Ok(style) =
-        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} {elapsed_precise}")
-    {
-        b.set_style(style);
-    }
-    b.set_message(msg);
-    b
-}
-
 struct RtScene {
     name: String,
     scene: Scene,
@@ -465,7 +403,11 @@ struct RtScene {
 }
 
 /// Ray-trace sweep: every format × approximation set on every scene.
-pub fn sweep_rt(cfg: &BenchConfig, inputs: &mut Vec<String>) -> Result<Vec<Point>, BenchError> {
+pub fn sweep_rt(
+    cfg: &BenchConfig,
+    inputs: &mut Vec<String>,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Vec<Point>, BenchError> {
     let paths = if cfg.scenes.is_empty() {
         default_scenes(cfg.quick)
             .into_iter()
@@ -516,11 +458,11 @@ pub fn sweep_rt(cfg: &BenchConfig, inputs: &mut Vec<String>) -> Result<Vec<Point
         }
     }
     let repeats = cfg.repeats.max(1);
-    let pb = bar(
-        cfg.progress,
-        (repeats * configs.len() * scenes.len()) as u64,
-        "rt",
-    );
+    let sweep = Sweep::Rt;
+    progress(Progress::Started {
+        sweep,
+        runs: (repeats * configs.len() * scenes.len()) as u64,
+    });
     let mut times = vec![vec![Vec::new(); scenes.len()]; configs.len()];
     let mut frames: Vec<Vec<Option<rt::Frame>>> = vec![vec![None; scenes.len()]; configs.len()];
     for _ in 0..repeats {
@@ -534,17 +476,17 @@ pub fn sweep_rt(cfg: &BenchConfig, inputs: &mut Vec<String>) -> Result<Vec<Point
                     })?;
                 times[ci][si].push(t.elapsed().as_secs_f64() * 1e3);
                 frames[ci][si] = Some(f);
-                pb.inc(1);
+                progress(Progress::Ran { sweep });
             }
         }
     }
-    pb.finish_and_clear();
+    progress(Progress::Finished { sweep });
     let mut points = Vec::new();
     for (ci, (n, set, _)) in configs.iter().enumerate() {
         let mi = MATH_SETS.iter().position(|(s, _)| s == set).unwrap_or(0);
         let mut p = Point {
             block: "rt",
-            config: format!("{}/{set}", rt_format_name(*n)),
+            config: format!("{}/{set}", n.name()),
             cost: 0.0,
             host_ms: 0.0,
             psnr: 0.0,
@@ -573,19 +515,6 @@ pub fn sweep_rt(cfg: &BenchConfig, inputs: &mut Vec<String>) -> Result<Vec<Point
     }
     mark_front(&mut points);
     Ok(points)
-}
-
-/// The CLI spelling of a format.
-pub fn rt_format_name(n: Numeric) -> &'static str {
-    match n {
-        Numeric::F64 => "f64",
-        Numeric::F32 => "f32",
-        Numeric::F16 => "f16",
-        Numeric::Q16_16 => "q16.16",
-        Numeric::Q8_24 => "q8.24",
-        Numeric::Q24_8 => "q24.8",
-        Numeric::Q32_32 => "q32.32",
-    }
 }
 
 fn mark_front(points: &mut [Point]) {
@@ -654,7 +583,11 @@ fn raster_draw(job: &raster_file::RasterJob, file: &str) -> Result<(Vec<u8>, Vec
 
 /// Raster sweep: sub-pixel bits × AA pattern × samples on every command file, against
 /// 8 bits and a 64-sample regular grid.
-pub fn sweep_raster(cfg: &BenchConfig, inputs: &mut Vec<String>) -> Result<Vec<Point>, BenchError> {
+pub fn sweep_raster(
+    cfg: &BenchConfig,
+    inputs: &mut Vec<String>,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Vec<Point>, BenchError> {
     let files = if cfg.raster_files.is_empty() {
         let dir = cfg.root.join("examples/raster");
         let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -737,11 +670,11 @@ pub fn sweep_raster(cfg: &BenchConfig, inputs: &mut Vec<String>) -> Result<Vec<P
         jobs.push(per_file);
     }
     let repeats = cfg.repeats.max(1);
-    let pb = bar(
-        cfg.progress,
-        (repeats * configs.len() * texts.len()) as u64,
-        "raster",
-    );
+    let sweep = Sweep::Raster;
+    progress(Progress::Started {
+        sweep,
+        runs: (repeats * configs.len() * texts.len()) as u64,
+    });
     let mut times = vec![vec![Vec::new(); texts.len()]; configs.len()];
     let mut outs = vec![vec![(Vec::new(), Vec::new()); texts.len()]; configs.len()];
     for _ in 0..repeats {
@@ -750,11 +683,11 @@ pub fn sweep_raster(cfg: &BenchConfig, inputs: &mut Vec<String>) -> Result<Vec<P
                 let t = Instant::now();
                 outs[ci][fi] = raster_draw(job, &texts[fi].0)?;
                 times[ci][fi].push(t.elapsed().as_secs_f64() * 1e3);
-                pb.inc(1);
+                progress(Progress::Ran { sweep });
             }
         }
     }
-    pb.finish_and_clear();
+    progress(Progress::Finished { sweep });
     let mut points = Vec::new();
     for (ci, (b, p, n)) in configs.iter().enumerate() {
         let mut pt = Point {
@@ -796,9 +729,17 @@ pub fn sweep_raster(cfg: &BenchConfig, inputs: &mut Vec<String>) -> Result<Vec<P
 
 /// Runs both sweeps.
 pub fn run(cfg: &BenchConfig) -> Result<Report, BenchError> {
+    run_with_progress(cfg, &mut |_| {})
+}
+
+/// [`run`], telling `progress` about every timed run.
+pub fn run_with_progress(
+    cfg: &BenchConfig,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Report, BenchError> {
     let mut inputs = Vec::new();
-    let rt = sweep_rt(cfg, &mut inputs)?;
-    let raster = sweep_raster(cfg, &mut inputs)?;
+    let rt = sweep_rt(cfg, &mut inputs, progress)?;
+    let raster = sweep_raster(cfg, &mut inputs, progress)?;
     Ok(Report { rt, raster, inputs })
 }
 

@@ -16,7 +16,6 @@ fn quick_bench_writes_outputs_and_default_is_on_the_front() {
         quick: true,
         repeats: 1,
         root: common::workspace(),
-        progress: false,
     };
     let report = bench::run(&cfg).expect("bench runs");
     bench::write(&report, &out).expect("outputs written");

@@ -12,6 +12,7 @@ use protocol::scene::{
     SceneRegs, TermRegs, TextureRegs,
 };
 
+use crate::rt::vec::f;
 use crate::rt::{
     Camera, DiffuseModel, Light, Material, Object, Reflection, Scene, Specular, SpecularModel,
     Spot, Term, Texture, TextureKind,
@@ -34,21 +35,9 @@ pub enum SceneRegsError {
     ImageTexture(usize),
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
+/// `a`'s direction, or `None` when it is too short to have one (a camera without a basis).
 fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
-    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    (n > 1e-12).then(|| [a[0] / n, a[1] / n, a[2] / n])
+    (f::length(a) > 1e-12).then(|| f::normalize(a))
 }
 
 fn term(t: &Option<Term>) -> TermRegs {
@@ -141,9 +130,9 @@ pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
         seed: 0,
     })?;
     let c = &scene.camera;
-    let w = normalize(sub(c.position, c.look_at)).ok_or(SceneRegsError::Camera)?;
-    let u = normalize(cross(c.up, w)).ok_or(SceneRegsError::Camera)?;
-    let v = cross(w, u);
+    let w = normalize(f::sub(c.position, c.look_at)).ok_or(SceneRegsError::Camera)?;
+    let u = normalize(f::cross(c.up, w)).ok_or(SceneRegsError::Camera)?;
+    let v = f::cross(w, u);
     r.set_camera(&CameraRegs {
         position: c.position,
         look_at: c.look_at,

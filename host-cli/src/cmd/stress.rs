@@ -1,41 +1,34 @@
-//! `fpgfx stress`: adversarial cases through the kernels, and a table of what broke.
+//! `fpgfx stress`: the adversarial runner of [`host_cli::stress`], its table on stdout.
 
 use anyhow::Result;
+use host_cli::stress::{self, Category};
 
 /// Arguments of `fpgfx stress`.
 #[derive(clap::Args)]
 pub struct Args {
     /// Number of cases.
     #[arg(long, default_value_t = 100_000)]
-    cases: u64,
+    pub cases: u64,
     /// Generator seed: a case is a function of (seed, index).
     #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Only one category: raster, rt or parse.
+    pub seed: u64,
+    /// Only one category.
     #[arg(long)]
-    only: Option<String>,
+    pub only: Option<Category>,
     /// Run only case K (as printed by a failure, with the same --seed and --only).
     #[arg(long)]
-    case: Option<u64>,
+    pub case: Option<u64>,
     /// Worker threads (0 = all cores).
     #[arg(long, default_value_t = 0)]
-    threads: usize,
+    pub threads: usize,
 }
 
-/// Runs the cases, prints the table, and fails if any case failed.
+/// Runs the cases and prints the table; fails when the run found failures.
 pub fn run(a: &Args) -> Result<()> {
-    use host_cli::stress;
-    let only = match &a.only {
-        Some(name) => Some(
-            stress::Category::parse(name)
-                .ok_or_else(|| anyhow::anyhow!("--only {name:?}: expected raster, rt or parse"))?,
-        ),
-        None => None,
-    };
     let report = stress::run(&stress::Config {
         cases: a.cases,
         seed: a.seed,
-        only,
+        only: a.only,
         case: a.case,
         threads: a.threads,
     })?;

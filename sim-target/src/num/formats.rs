@@ -285,6 +285,7 @@ macro_rules! fixed_scalar {
             fn zero() -> Self {
                 Self(<$inner>::ZERO)
             }
+            composed!(one, recip, abs, min, max, clamp, is_finite, atan_core, acos_core);
         }
     };
 }

@@ -6,9 +6,135 @@
 //! coordinate would teleport a hit point across the scene while a clipped one only misplaces
 //! it at the format's limit. Division by zero saturates to the signed maximum (or minimum for
 //! a negative dividend), the behaviour of a divider core that flags but does not trap.
+//!
+//! [`Scalar`] has no default method bodies: every format, and every wrapper of
+//! [`instrumented`], spells out each method, so that a method the trait gains is a compile
+//! error wherever it has not been decided (see [`instrumented`] for why that matters). The
+//! formulas a format uses when it has nothing cheaper of its own are in [`composed`]; the
+//! `composed!` macro below writes the forwarding methods for the formats that use them.
+
+/// Writes the named [`Scalar`] methods inside a format's `impl Scalar` as calls of their
+/// [`composed`] forms: the list at each use is the one place that says which methods a
+/// format does not specialise.
+macro_rules! composed {
+    ($($m:ident),* $(,)?) => { $(composed!(@ $m);)* };
+    (@ rsqrt) => {
+        #[inline(always)]
+        fn rsqrt(self) -> Self {
+            $crate::num::composed::rsqrt(self)
+        }
+    };
+    (@ mul_rn) => {
+        #[inline(always)]
+        fn mul_rn(self, o: Self) -> Self {
+            $crate::num::composed::mul_rn(self, o)
+        }
+    };
+    (@ half_rn) => {
+        #[inline(always)]
+        fn half_rn(self) -> Self {
+            $crate::num::composed::half_rn(self)
+        }
+    };
+    (@ dot2) => {
+        #[inline(always)]
+        fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
+            $crate::num::composed::dot2(a, b, c, d)
+        }
+    };
+    (@ dot3) => {
+        #[inline(always)]
+        fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self {
+            $crate::num::composed::dot3(a, b, c, d, e, f)
+        }
+    };
+    (@ floor) => {
+        fn floor(self) -> Self {
+            $crate::num::composed::floor(self)
+        }
+    };
+    (@ floor_i64) => {
+        #[inline(always)]
+        fn floor_i64(self) -> i64 {
+            $crate::num::composed::floor_i64(self)
+        }
+    };
+    (@ int_to_i64) => {
+        #[inline(always)]
+        fn int_to_i64(self) -> i64 {
+            $crate::num::composed::int_to_i64(self)
+        }
+    };
+    (@ zero) => {
+        #[inline(always)]
+        fn zero() -> Self {
+            $crate::num::composed::zero()
+        }
+    };
+    (@ one) => {
+        #[inline(always)]
+        fn one() -> Self {
+            $crate::num::composed::one()
+        }
+    };
+    (@ recip) => {
+        #[inline(always)]
+        fn recip(self) -> Self {
+            $crate::num::composed::recip(self)
+        }
+    };
+    (@ abs) => {
+        #[inline(always)]
+        fn abs(self) -> Self {
+            $crate::num::composed::abs(self)
+        }
+    };
+    (@ min) => {
+        #[inline(always)]
+        fn min(self, other: Self) -> Self {
+            $crate::num::composed::min(self, other)
+        }
+    };
+    (@ max) => {
+        #[inline(always)]
+        fn max(self, other: Self) -> Self {
+            $crate::num::composed::max(self, other)
+        }
+    };
+    (@ clamp) => {
+        #[inline(always)]
+        fn clamp(self, lo: Self, hi: Self) -> Self {
+            $crate::num::composed::clamp(self, lo, hi)
+        }
+    };
+    (@ is_finite) => {
+        fn is_finite(self) -> bool {
+            $crate::num::composed::is_finite(self)
+        }
+    };
+    (@ fract) => {
+        fn fract(self) -> Self {
+            $crate::num::composed::fract(self)
+        }
+    };
+    (@ atan_core) => {
+        #[inline(always)]
+        fn atan_core(self) -> Self {
+            $crate::num::composed::atan_core(self)
+        }
+    };
+    (@ acos_core) => {
+        #[inline(always)]
+        fn acos_core(self) -> Self {
+            $crate::num::composed::acos_core(self)
+        }
+    };
+}
 
 mod approx;
+pub mod composed;
 mod formats;
+pub mod instrumented;
 
 pub use approx::*;
 pub use formats::*;
@@ -21,6 +147,11 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 /// Everything the kernel needs beyond `+ − × ÷` is here so that the kernel never leaves the
 /// format (no silent detour through f64 except where a method documents it as modelling a
 /// hardware core, e.g. `sqrt`).
+///
+/// No method has a default body, on purpose: a wrapper format ([`instrumented`]) that
+/// inherited one would compute that method from its other operations instead of with the
+/// wrapped format's own, which is silently different wherever a format specialises the
+/// method. Formats call the [`composed`] forms explicitly.
 pub trait Scalar:
     Copy
     + Clone
@@ -49,140 +180,69 @@ pub trait Scalar:
     fn sqrt(self) -> Self;
     /// 1/√x of the best quality the format offers (for fixed point a correctly rounded
     /// reciprocal-square-root core, modelled through f64, instead of a divider after the
-    /// square root); x ≤ 0 gives the format's maximum.
-    #[inline(always)]
-    fn rsqrt(self) -> Self {
-        if self > Self::zero() {
-            Self::one() / self.sqrt()
-        } else {
-            Self::max_value()
-        }
-    }
-    /// x·y rounded to nearest. Floats already round every product, so the default is
-    /// `*`; the fixed formats override it because their `*` truncates (floor, `ap_fixed`'s
+    /// square root); x ≤ 0 gives the format's maximum. Floats: [`composed::rsqrt`].
+    fn rsqrt(self) -> Self;
+    /// x·y rounded to nearest. Floats already round every product, so theirs is `*`
+    /// ([`composed::mul_rn`]); the fixed formats' `*` truncates (floor, `ap_fixed`'s
     /// default AP_TRN): a biased error of up to one LSB per product that the vector
     /// operations accumulate (ray directions, hit points). Rounding is one more adder on
     /// the product's first discarded bit (AP_RND).
-    #[inline(always)]
-    fn mul_rn(self, o: Self) -> Self {
-        self * o
-    }
-    /// `self.mul_rn(½)`: the texture mappings' (x + 1)/2. The fixed formats override it
-    /// with (b + 1) ≫ 1 on the word b, the same integer as the rounded product
-    /// (b·2^(f−1) + 2^(f−1)) ≫ f, without the product and the clamp it cannot need.
-    #[inline(always)]
-    fn half_rn(self) -> Self {
-        self.mul_rn(Self::from_f64(0.5))
-    }
+    fn mul_rn(self, o: Self) -> Self;
+    /// `self.mul_rn(½)`: the texture mappings' (x + 1)/2 ([`composed::half_rn`]). The fixed
+    /// formats compute it as (b + 1) ≫ 1 on the word b, the same integer as the rounded
+    /// product (b·2^(f−1) + 2^(f−1)) ≫ f, without the product and the clamp it cannot need.
+    fn half_rn(self) -> Self;
     /// a·b + c·d, with the same contract as [`Scalar::dot3`] (one rounding in fixed point).
-    #[inline(always)]
-    fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self {
-        a * b + c * d
-    }
-    /// a·b + c·d + e·f (a 3-term dot product). The default is the plain expression (what
-    /// floats do); the fixed formats override it with the exact sum of the double-width
-    /// products and one rounding at the end, as a DSP cascade with a wide accumulator
+    fn dot2(a: Self, b: Self, c: Self, d: Self) -> Self;
+    /// a·b + c·d + e·f (a 3-term dot product). Floats evaluate the plain expression
+    /// ([`composed::dot3`]); the fixed formats form the exact sum of the double-width
+    /// products and round once at the end, as a DSP cascade with a wide accumulator
     /// computes it: one rounding error instead of five.
-    #[inline(always)]
-    fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self {
-        a * b + c * d + e * f
-    }
+    fn dot3(a: Self, b: Self, c: Self, d: Self, e: Self, f: Self) -> Self;
     /// Largest finite value: the kernel's "infinity" for formats without one.
     fn max_value() -> Self;
     /// The format's rounding as (relative, absolute): one operation's result near
     /// magnitude m is off by about relative·m + absolute. The planned kernel sizes and
-    /// admits its culling with it (`rt::cull`); `None`, the default, turns culling off, so
-    /// a format that does not declare it (e.g. an instrumented wrapper) is always tested
-    /// exhaustively, like the board.
-    fn rounding() -> Option<(f64, f64)> {
-        None
-    }
-    /// Largest integer not above `self`.
-    fn floor(self) -> Self {
-        Self::from_f64(self.to_f64().floor())
-    }
-    /// ⌊self⌋ as an integer (saturating at the i64 range, NaN → 0): a texel address. The
-    /// default goes through f64 as the kernel always did; the fixed formats override it
-    /// with the arithmetic shift that a hardware address unit uses (the same integer).
-    #[inline(always)]
-    fn floor_i64(self) -> i64 {
-        self.floor().int_to_i64()
-    }
+    /// admits its culling with it (`rt::cull`); `None` turns culling off, so such a format
+    /// is always tested exhaustively, like the board. The wrappers of [`instrumented`]
+    /// declare their format's: a caller that wants the exhaustive operation stream asks
+    /// for it (`RenderOptions::cull`).
+    fn rounding() -> Option<(f64, f64)>;
+    /// Largest integer not above `self`. [`composed::floor`] goes through f64.
+    fn floor(self) -> Self;
+    /// ⌊self⌋ as an integer (saturating at the i64 range, NaN → 0): a texel address.
+    /// Floats go through f64 as the kernel always did ([`composed::floor_i64`]); the fixed
+    /// formats use the arithmetic shift that a hardware address unit uses (the same
+    /// integer).
+    fn floor_i64(self) -> i64;
     /// An integral value (a floor's result) as i64, saturating, NaN → 0: so that a caller
     /// that needs both ⌊x⌋ and its integer floors once (the compiler does not merge two
     /// inlined float floors across their branches).
-    #[inline(always)]
-    fn int_to_i64(self) -> i64 {
-        self.to_f64() as i64
-    }
+    fn int_to_i64(self) -> i64;
     /// Additive identity.
-    #[inline(always)]
-    fn zero() -> Self {
-        Self::default()
-    }
+    fn zero() -> Self;
     /// Multiplicative identity.
-    #[inline(always)]
-    fn one() -> Self {
-        Self::from_f64(1.0)
-    }
+    fn one() -> Self;
     /// 1/x with the format's own divider.
-    #[inline(always)]
-    fn recip(self) -> Self {
-        Self::one() / self
-    }
+    fn recip(self) -> Self;
     /// |x| (saturating for the most negative fixed value).
-    #[inline(always)]
-    fn abs(self) -> Self {
-        if self < Self::zero() {
-            -self
-        } else {
-            self
-        }
-    }
+    fn abs(self) -> Self;
     /// Smaller of two values (`other` if incomparable, so NaN does not stick).
-    #[inline(always)]
-    fn min(self, other: Self) -> Self {
-        if self < other {
-            self
-        } else {
-            other
-        }
-    }
+    fn min(self, other: Self) -> Self;
     /// Larger of two values.
-    #[inline(always)]
-    fn max(self, other: Self) -> Self {
-        if self > other {
-            self
-        } else {
-            other
-        }
-    }
+    fn max(self, other: Self) -> Self;
     /// Clamp into `[lo, hi]`.
-    #[inline(always)]
-    fn clamp(self, lo: Self, hi: Self) -> Self {
-        self.max(lo).min(hi)
-    }
+    fn clamp(self, lo: Self, hi: Self) -> Self;
     /// False for NaN/∞ (always true for fixed point).
-    fn is_finite(self) -> bool {
-        self.to_f64().is_finite()
-    }
+    fn is_finite(self) -> bool;
     /// Fractional part in `[0, 1)`.
-    fn fract(self) -> Self {
-        self - self.floor()
-    }
+    fn fract(self) -> Self;
     /// arctan of a correctly rounded core (CORDIC in hardware), modelled through f64: a
     /// method rather than a free function so that an op-counting format can see it.
-    #[inline(always)]
-    fn atan_core(self) -> Self {
-        Self::from_f64(self.to_f64().atan())
-    }
+    fn atan_core(self) -> Self;
     /// arccos of a correctly rounded core, modelled through f64 (see [`Scalar::atan_core`]).
-    #[inline(always)]
-    fn acos_core(self) -> Self {
-        Self::from_f64(self.to_f64().clamp(-1.0, 1.0).acos())
-    }
+    fn acos_core(self) -> Self;
 }
-
 /// `f64::floor` without the libm call that baseline x86-64 (no SSE4.1 `roundsd`) makes.
 /// Below 2⁵² in magnitude, x ± 2⁵² (sign of x) lies in a binade of spacing 1, so the
 /// addition rounds x to the nearest integer r and the subtraction is exact; one step down
@@ -244,6 +304,11 @@ impl Scalar for f64 {
     fn floor(self) -> Self {
         floor_f64(self)
     }
+    composed!(int_to_i64);
+    composed!(
+        rsqrt, mul_rn, half_rn, dot2, dot3, floor_i64, zero, one, recip, abs, min, max, clamp,
+        is_finite, fract, atan_core, acos_core
+    );
 }
 
 impl Scalar for f32 {
@@ -280,6 +345,10 @@ impl Scalar for f32 {
         // holds every f32 exactly): one conversion less
         self as i64
     }
+    composed!(
+        rsqrt, mul_rn, half_rn, dot2, dot3, floor_i64, zero, one, recip, abs, min, max, clamp,
+        is_finite, fract, atan_core, acos_core
+    );
 }
 
 impl Scalar for half::f16 {
@@ -307,4 +376,9 @@ impl Scalar for half::f16 {
             half::f16::MIN_POSITIVE.to_f64(),
         ))
     }
+    composed!(floor, int_to_i64);
+    composed!(
+        rsqrt, mul_rn, half_rn, dot2, dot3, floor_i64, zero, one, recip, abs, min, max, clamp,
+        is_finite, fract, atan_core, acos_core
+    );
 }

@@ -13,6 +13,7 @@ pub mod fb;
 pub mod fill;
 pub mod hw;
 pub mod line;
+pub mod oracle;
 pub mod tex;
 pub mod tri;
 

@@ -176,7 +176,7 @@ pub fn bounds<S: Scalar>(scene: &Scene, math: &Math) -> Vec<Option<Bound>> {
             let world_cap = range / 2.0 - cmax;
             let radius = r * (1.0 + RADIUS_SLACK);
             let eye_dist = f::sub(eye, centre);
-            let eye_dist = dot(eye_dist, eye_dist).sqrt();
+            let eye_dist = f::dot(eye_dist, eye_dist).sqrt();
             let fixed = rel == 0.0;
             let quadric = matches!(o.shape, Shape::Cylinder | Shape::Cone);
             let bound = match math.quadratic {
@@ -256,7 +256,7 @@ fn reach(scene: &Scene, c: [f64; 3], r: f64, eye_dist: f64) -> f64 {
         .filter_map(world_bound)
         .map(|(cj, rj)| {
             let v = f::sub(cj, c);
-            dot(v, v).sqrt() + rj * (1.0 + RADIUS_SLACK)
+            f::dot(v, v).sqrt() + rj * (1.0 + RADIUS_SLACK)
         })
         .fold(eye_dist.max(r), f64::max)
 }
@@ -448,7 +448,7 @@ impl Model {
             smin,
             smax,
             r: object_radius(o.shape).unwrap_or(f64::INFINITY),
-            tmag: dot(o.translate, o.translate).sqrt(),
+            tmag: f::dot(o.translate, o.translate).sqrt(),
             minv: f::mul(sinv, f::transpose(rot)),
             translate: o.translate,
         }
@@ -740,15 +740,15 @@ impl Model {
     fn primary(&self, eye: [f64; 3]) -> Option<Primary> {
         let rel = self.f.rel + self.f.sqrt_rel + 1e-3;
         let wv = f::sub(eye, self.translate);
-        let w = dot(wv, wv).sqrt();
+        let w = f::dot(wv, wv).sqrt();
         let ov = [
-            dot(self.minv[0], wv),
-            dot(self.minv[1], wv),
-            dot(self.minv[2], wv),
+            f::dot(self.minv[0], wv),
+            f::dot(self.minv[1], wv),
+            f::dot(self.minv[2], wv),
         ];
         let (dlo, dhi) = ((1.0 - rel) / self.smax, (1.0 + rel) / self.smin);
         let ray = |a: f64| Ray {
-            l: dot(ov, ov).sqrt(),
+            l: f::dot(ov, ov).sqrt(),
             dlo,
             dhi,
             a,
@@ -826,7 +826,7 @@ impl Tiles {
                 let b = b.as_ref()?;
                 let p = b.primary.as_ref()?;
                 let to_c = f::sub(b.centre, cam.eye);
-                let dist = dot(to_c, to_c).sqrt();
+                let dist = f::dot(to_c, to_c).sqrt();
                 if dist <= b.radius {
                     return None; // the eye is inside the bound
                 }
@@ -872,10 +872,13 @@ impl Tiles {
                                 || form.is_some_and(|(q, norm, a_min)| {
                                     // |a| over the tile's directions (and the datapath's,
                                     // within the slack) is at least |a(centre)| − 2‖Q‖φ
-                                    let qc =
-                                        [dot(q[0], centre), dot(q[1], centre), dot(q[2], centre)];
-                                    let a_lo =
-                                        dot(centre, qc).abs() - 2.0 * norm * (half + ANGLE_SLACK);
+                                    let qc = [
+                                        f::dot(q[0], centre),
+                                        f::dot(q[1], centre),
+                                        f::dot(q[2], centre),
+                                    ];
+                                    let a_lo = f::dot(centre, qc).abs()
+                                        - 2.0 * norm * (half + ANGLE_SLACK);
                                     a_lo < a_min
                                 })
                         }
@@ -911,14 +914,10 @@ impl Tiles {
     }
 }
 
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 /// Angle between two unit vectors, robust near 0 and π.
 fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
     let c = f::cross(a, b);
-    dot(c, c).sqrt().atan2(dot(a, b))
+    f::dot(c, c).sqrt().atan2(f::dot(a, b))
 }
 
 #[cfg(test)]
@@ -976,7 +975,7 @@ mod tests {
                     ];
                     let d = f::sub(w, c);
                     assert!(
-                        dot(d, d).sqrt() <= r * (1.0 + 1e-12),
+                        f::dot(d, d).sqrt() <= r * (1.0 + 1e-12),
                         "{shape:?} point {p:?} outside its bound"
                     );
                 }

@@ -134,8 +134,13 @@ impl<S: Scalar> M3<S> {
     }
 }
 
-/// f64 helpers used when preparing a scene.
-pub(crate) mod f {
+/// f64 3-vectors and 3×3 matrices as plain arrays: the scene's own numbers, before the
+/// kernel converts them to its format (camera basis, object transforms, culling bounds,
+/// register images) and in the tools that build or check scenes. One module so that every
+/// such computation rounds the same way: golden images depend on these bits (each
+/// function's evaluation order is part of its contract).
+pub mod f {
+    /// The matrix product a·b, each entry summed over k = 0, 1, 2 with `Iterator::sum`.
     pub fn mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
         let mut r = [[0.0; 3]; 3];
         for (i, row) in r.iter_mut().enumerate() {
@@ -145,6 +150,7 @@ pub(crate) mod f {
         }
         r
     }
+    /// The transpose: the inverse of a rotation.
     pub fn transpose(a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
         let mut r = [[0.0; 3]; 3];
         for i in 0..3 {
@@ -165,17 +171,31 @@ pub(crate) mod f {
         let rz = [[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]];
         mul(rz, mul(ry, rx))
     }
+    /// The diagonal matrix of `d`: a scale.
     pub fn diag(d: [f64; 3]) -> [[f64; 3]; 3] {
         [[d[0], 0.0, 0.0], [0.0, d[1], 0.0], [0.0, 0.0, d[2]]]
     }
-    pub fn normalize(v: [f64; 3]) -> [f64; 3] {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        if l > 0.0 {
-            [v[0] / l, v[1] / l, v[2] / l]
-        } else {
-            v
-        }
+    /// a + b, one rounding per component.
+    pub fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
     }
+    /// a − b, one rounding per component (a direction between two points).
+    pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+    }
+    /// a·k, one rounding per component.
+    pub fn scale(a: [f64; 3], k: f64) -> [f64; 3] {
+        [a[0] * k, a[1] * k, a[2] * k]
+    }
+    /// a·b, summed x, y, z from the left.
+    pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    }
+    /// |a| = √(a·a).
+    pub fn length(a: [f64; 3]) -> f64 {
+        dot(a, a).sqrt()
+    }
+    /// a × b (right-handed).
     pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
         [
             a[1] * b[2] - a[2] * b[1],
@@ -183,7 +203,14 @@ pub(crate) mod f {
             a[0] * b[1] - a[1] * b[0],
         ]
     }
-    pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+    /// v/|v|, each component divided by the length; the zero vector is returned as is
+    /// (a degenerate direction stays visibly zero instead of becoming NaN).
+    pub fn normalize(v: [f64; 3]) -> [f64; 3] {
+        let l = length(v);
+        if l > 0.0 {
+            [v[0] / l, v[1] / l, v[2] / l]
+        } else {
+            v
+        }
     }
 }
