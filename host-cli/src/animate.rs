@@ -33,7 +33,7 @@ pub enum AnimateError {
     Read {
         /// The file.
         path: String,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
     },
     /// Syntax error; Rhai's message has line and position.
@@ -81,7 +81,7 @@ pub enum AnimateError {
         frame: u32,
         /// "scene" or "raster job".
         what: &'static str,
-        /// Why.
+        /// What the script engine said, with its line and column.
         message: String,
     },
 }
@@ -94,7 +94,7 @@ pub enum GifError {
     Create {
         /// The file.
         path: PathBuf,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
     },
     /// Encoding or writing a frame failed.
@@ -102,7 +102,7 @@ pub enum GifError {
     Write {
         /// The file.
         path: PathBuf,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: image::ImageError,
     },
 }

@@ -28,7 +28,7 @@ pub enum BenchError {
     Read {
         /// The file.
         path: String,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
     },
     /// A scene file is invalid.
@@ -39,7 +39,7 @@ pub enum BenchError {
     Render {
         /// The scene.
         scene: String,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: rt::RtError,
     },
     /// A raster command file is invalid or the model refused it.
@@ -47,7 +47,7 @@ pub enum BenchError {
     Raster {
         /// The file.
         file: String,
-        /// Why.
+        /// The parser's or the model's refusal, naming the line or command.
         message: String,
     },
     /// An output could not be written.
@@ -55,7 +55,7 @@ pub enum BenchError {
     Write {
         /// The file.
         path: String,
-        /// Why.
+        /// The I/O, CSV or plot encoder's error, as text.
         message: String,
     },
 }

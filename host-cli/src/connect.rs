@@ -32,7 +32,7 @@ pub enum ConfigError {
     Read {
         /// The file.
         path: PathBuf,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: io::Error,
     },
     /// It is not valid TOML or has unknown keys; the parser's message has line and column.
@@ -203,7 +203,7 @@ pub enum ConnectError {
     Tcp {
         /// Address.
         addr: String,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: io::Error,
     },
 }

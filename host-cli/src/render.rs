@@ -118,7 +118,7 @@ pub enum AovWriteError {
     Create {
         /// The file.
         path: PathBuf,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
     },
     /// Writing it failed.
@@ -126,7 +126,7 @@ pub enum AovWriteError {
     Write {
         /// The file.
         path: PathBuf,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
     },
 }

@@ -27,7 +27,7 @@ pub enum FlashError {
          (is BOOT0 high and the board reset? is this the right port?)"
     )]
     NoSync {
-        /// Tries.
+        /// How many 0x7F sync bytes were sent before giving up.
         attempts: u32,
         /// The line rate.
         baud: u32,

@@ -24,7 +24,7 @@ pub enum ImageError {
     Read {
         /// The file.
         path: String,
-        /// Why.
+        /// The underlying error, reported as this one's `source()`.
         source: io::Error,
     },
     /// A malformed Intel HEX record.
