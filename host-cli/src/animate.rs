@@ -81,7 +81,7 @@ pub enum AnimateError {
         frame: u32,
         /// "scene" or "raster job".
         what: &'static str,
-        /// What the script engine said, with its line and column.
+        /// What the conversion said was wrong with the value (TOML or Rhai serde error).
         message: String,
     },
 }
