@@ -3,7 +3,7 @@
 //! and nothing is guessed or silently clamped.
 //!
 //! Geometry is given in pixel units as floats and snapped here, on the host, to the
-//! sub-pixel grid with `floor(x · 2^b + 0.5)` (issue 5's coverage contract): the wire and
+//! sub-pixel grid with `floor(x · 2^b + 0.5)` (the coverage contract of docs/requirements.md §0 and §7.2): the wire and
 //! everything after it is exact integer arithmetic.
 
 use std::ops::Range;
