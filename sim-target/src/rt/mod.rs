@@ -1361,6 +1361,43 @@ pub fn render_with_progress(
     opts: &RenderOptions,
     progress: &(dyn Fn(u32, u32) + Sync),
 ) -> Result<Frame, RtError> {
+    frame_with(scene, opts, progress, |job| match opts.numeric {
+        Numeric::F32 => render_generic::<f32>(job, Build::production()),
+        Numeric::Q16_16 => render_generic::<Q16_16>(job, Build::production()),
+        Numeric::F64 => render_generic::<f64>(job, Build::compact()),
+        Numeric::F16 => render_generic::<half::f16>(job, Build::compact()),
+        Numeric::Q8_24 => render_generic::<Q8_24>(job, Build::compact()),
+        Numeric::Q24_8 => render_generic::<Q24_8>(job, Build::compact()),
+        Numeric::Q32_32 => render_generic::<Q32_32>(job, Build::compact()),
+    })
+}
+
+/// [`render`] in an instrumented [`Scalar`] (`opts.numeric` is ignored): a wrapper
+/// that counts operations (`fpgfx bench`'s hardware cost model) or saturations and NaNs
+/// (`fpgfx stress`), see [`crate::num::instrumented`].
+///
+/// Same image, same operations in the same order as [`render`] in the wrapped format,
+/// but rows run one after another on the calling thread, so thread-local counters see
+/// exactly this frame, and only four kernels are instantiated per wrapper type (see
+/// `Prepared::compact_kernel`), which keeps the crates that name such types quick
+/// to compile.
+pub fn render_instrumented<S: Scalar>(
+    scene: &Scene,
+    opts: &RenderOptions,
+) -> Result<Frame, RtError> {
+    frame_with(scene, opts, &|_, _| {}, |job| {
+        render_generic::<S>(job, Build::instrumented())
+    })
+}
+
+/// What both entry points share: validate the scene, resolve size and spp, plan, time the
+/// render `kernel` does, and assemble the [`Frame`].
+fn frame_with(
+    scene: &Scene,
+    opts: &RenderOptions,
+    progress: &(dyn Fn(u32, u32) + Sync),
+    kernel: impl FnOnce(Job<'_>) -> Rendered,
+) -> Result<Frame, RtError> {
     validate(scene)?;
     let (width, height) = opts.size.unwrap_or((scene.width, scene.height));
     if width == 0 || height == 0 {
@@ -1380,57 +1417,7 @@ pub fn render_with_progress(
         plan: &plan,
         progress,
     };
-    let (rgb8, depth, normal, c) = match opts.numeric {
-        Numeric::F32 => render_generic::<f32>(job, Build::production()),
-        Numeric::Q16_16 => render_generic::<Q16_16>(job, Build::production()),
-        Numeric::F64 => render_generic::<f64>(job, Build::compact()),
-        Numeric::F16 => render_generic::<half::f16>(job, Build::compact()),
-        Numeric::Q8_24 => render_generic::<Q8_24>(job, Build::compact()),
-        Numeric::Q24_8 => render_generic::<Q24_8>(job, Build::compact()),
-        Numeric::Q32_32 => render_generic::<Q32_32>(job, Build::compact()),
-    };
-    Ok(finish(
-        scene,
-        (width, height, spp),
-        start,
-        plan,
-        (rgb8, depth, normal, c),
-    ))
-}
-
-/// [`render`] in an instrumented [`Scalar`] (`opts.numeric` is ignored): a wrapper
-/// that counts operations (`fpgfx bench`'s hardware cost model) or saturations and NaNs
-/// (`fpgfx stress`), see [`crate::num::instrumented`].
-///
-/// Same image, same operations in the same order as [`render`] in the wrapped format,
-/// but rows run one after another on the calling thread, so thread-local counters see
-/// exactly this frame, and only four kernels are instantiated per wrapper type (see
-/// `Prepared::compact_kernel`), which keeps the crates that name such types quick
-/// to compile.
-pub fn render_instrumented<S: Scalar>(
-    scene: &Scene,
-    opts: &RenderOptions,
-) -> Result<Frame, RtError> {
-    validate(scene)?;
-    let (width, height) = opts.size.unwrap_or((scene.width, scene.height));
-    if width == 0 || height == 0 {
-        return Err(RtError::InvalidScene(format!(
-            "frame size {width}x{height}"
-        )));
-    }
-    let spp = opts.spp.unwrap_or(scene.spp).max(1);
-    let plan = plan(scene);
-    let start = Instant::now();
-    let job = Job {
-        scene,
-        opts,
-        width,
-        height,
-        spp,
-        plan: &plan,
-        progress: &|_, _| {},
-    };
-    let r = render_generic::<S>(job, Build::instrumented());
+    let r = kernel(job);
     Ok(finish(scene, (width, height, spp), start, plan, r))
 }
 
