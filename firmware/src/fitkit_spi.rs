@@ -180,7 +180,9 @@ impl<S: SpiDevice, D: DelayNs> FpgaBus for FitkitSpi<S, D> {
         }
         match channel {
             ADDR_LINE | ADDR_TRIANGLE | ADDR_CLEAR => self.send(channel, records),
-            _ => Err(FitkitSpiError::Unsupported("channel other than line, triangle, clear")),
+            _ => Err(FitkitSpiError::Unsupported(
+                "channel other than line, triangle, clear",
+            )),
         }
     }
 
@@ -267,9 +269,7 @@ impl<S: SpiDevice, D: DelayNs> FpgaBus for FitkitSpi<S, D> {
             && r.h > 0
             && u32::from(r.x) + u32::from(r.w) <= u32::from(setup.width)
             && u32::from(r.y) + u32::from(r.h) <= u32::from(setup.height);
-        Ok(fits.then(|| {
-            u32::from(r.w) * u32::from(r.h) * req.format.bytes_per_pixel() as u32
-        }))
+        Ok(fits.then(|| u32::from(r.w) * u32::from(r.h) * req.format.bytes_per_pixel() as u32))
     }
 
     fn read(&mut self, req: &ReadRequest, offset: u32, out: &mut [u8]) -> Result<(), Self::Error> {
@@ -279,7 +279,11 @@ impl<S: SpiDevice, D: DelayNs> FpgaBus for FitkitSpi<S, D> {
         // Make sure every fragment is in memory before reading it.
         self.wait_for("the block to go idle before a read-back", Status::idle)?;
         let bpp = req.format.bytes_per_pixel();
-        let (rx, ry, rw) = (u32::from(req.rect.x), u32::from(req.rect.y), u32::from(req.rect.w));
+        let (rx, ry, rw) = (
+            u32::from(req.rect.x),
+            u32::from(req.rect.y),
+            u32::from(req.rect.w),
+        );
         let mut pixel = offset as usize / bpp;
         let mut skip = offset as usize % bpp;
         let mut done = 0;

@@ -4,8 +4,8 @@
 
 use proptest::prelude::*;
 use protocol::fitkit_spi::{
-    packet, read_header, BlockError, ErrorCode, Setup, SpiFrameError, Status, ADDR_LINE,
-    FLAG_BUSY, FLAG_FIFO_EMPTY, FLAG_SETUP_DONE, STATUS_BYTES,
+    packet, read_header, BlockError, ErrorCode, Setup, SpiFrameError, Status, ADDR_LINE, FLAG_BUSY,
+    FLAG_FIFO_EMPTY, FLAG_SETUP_DONE, STATUS_BYTES,
 };
 use protocol::frame::Cull;
 
@@ -71,14 +71,20 @@ fn setup_record_fields() {
     let bad = Setup { height: 513, ..s };
     assert!(matches!(
         bad.record(),
-        Err(SpiFrameError::SetupRange { field: "height", .. })
+        Err(SpiFrameError::SetupRange {
+            field: "height",
+            ..
+        })
     ));
 }
 
 #[test]
 fn read_header_addresses_a_pixel() {
     assert_eq!(read_header(3, 2).unwrap(), [0x30, 0x00, 0x04, 0x03, 0x00]);
-    assert_eq!(read_header(511, 511).unwrap(), [0x30, 0x03, 0xFF, 0xFF, 0x00]);
+    assert_eq!(
+        read_header(511, 511).unwrap(),
+        [0x30, 0x03, 0xFF, 0xFF, 0x00]
+    );
     assert_eq!(
         read_header(512, 0),
         Err(SpiFrameError::Pixel { x: 512, y: 0 })
