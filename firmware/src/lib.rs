@@ -7,17 +7,20 @@
 //! `fpgfx-sim`, tests) run the same code.
 //!
 //! Everything a caller needs is at the crate root; the modules are private.
-//! [`FpgaLink`] is the [`FpgaBus`] of a board whose FPGA sits behind a second UART.
+//! [`FpgaLink`] is the [`FpgaBus`] of a board whose FPGA sits behind a second UART;
+//! [`FitkitSpi`] is the FITkit raster block's, on any embedded-hal 1.0 SPI device.
 #![no_std]
 #![warn(missing_docs)]
 
 mod controller;
 mod engine;
+mod fitkit_spi;
 mod fpga;
 mod fpga_link;
 mod log;
 
 pub use controller::{Controller, ControllerError, INBOX};
 pub use engine::Engine;
+pub use fitkit_spi::{FitkitSpi, FitkitSpiError};
 pub use fpga::FpgaBus;
 pub use fpga_link::{Clock, FpgaLink, FpgaLinkError};

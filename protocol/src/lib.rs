@@ -15,7 +15,9 @@
 //!   CRC-32, sequence numbers, ACK/NAK, a retransmit window and credit-based flow control,
 //!   as a sans-I/O state machine that runs unchanged on the MCU and on the host.
 //! * [`bus`] — the bit-packed words the controller pushes into the FPGA's input FIFO
-//!   (the FITkit raster block and richer layouts), and [`scene`] — the ray tracer's
+//!   (the FITkit raster block and richer layouts), [`fitkit_spi`] — the SPI transactions
+//!   that carry them to the FITkit block with its set-up, status and read-back, and
+//!   [`scene`] — the ray tracer's
 //!   32-bit AXI4-Lite register image.
 //! * [`bootloader`] — the STM32 ROM bootloader's UART protocol (ST AN3155) that
 //!   `fpgfx flash` speaks to the board and `fpgfx-sim --bootloader` emulates.
@@ -31,6 +33,7 @@
 
 pub mod bootloader;
 pub mod bus;
+pub mod fitkit_spi;
 pub mod fpga;
 pub mod frame;
 pub mod link;

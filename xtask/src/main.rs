@@ -1,7 +1,8 @@
 //! `cargo xtask test` — the README's test command and the only thing `.ci/run` calls.
 //!
 //! It installs what the checks need (the Cortex-M target; from Debian, QEMU for the
-//! firmware's end-to-end test and the third-party `stm32flash` the bootloader test drives)
+//! firmware's end-to-end test, the third-party `stm32flash` the bootloader test drives,
+//! and Verilator, Icarus, Yosys and nextpnr for the RTL)
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
@@ -65,6 +66,26 @@ const PACKAGES: &[Package] = &[
         program: "stm32flash",
         package: "stm32flash",
         why: "the third-party AN3155 client `fpgfx-sim --bootloader` is checked against (host-cli/tests/flash.rs)",
+    },
+    Package {
+        program: "verilator",
+        package: "verilator",
+        why: "lints rtl/ and builds the cycle-accurate model of the FITkit block that rtl-sim and `--port rtl` drive",
+    },
+    Package {
+        program: "iverilog",
+        package: "iverilog",
+        why: "runs rtl/'s self-checking testbenches (a second simulator beside Verilator)",
+    },
+    Package {
+        program: "yosys",
+        package: "yosys",
+        why: "synthesises rtl/ for iCE40 (`cargo xtask synth`; the test command checks it still maps)",
+    },
+    Package {
+        program: "nextpnr-ice40",
+        package: "nextpnr-ice40",
+        why: "places and routes rtl/ on an iCE40 HX8K for the Fmax that `cargo xtask synth` reports",
     },
 ];
 

@@ -1,0 +1,388 @@
+//! The FITkit raster block's SPI transactions (docs/rtl.md): what the MCU clocks out to
+//! reach the input FIFO, the set-up, the status block and the framebuffer.
+//!
+//! Seed 000's MCU talks to the FPGA through the FITkit's SPI address decoder: the first
+//! byte of a transaction (one `CS` low period, mode 0, MSB first) is an address, the rest
+//! is that address's payload. The seed defines only the packets ([`crate::bus`], layout
+//! [`FITKIT`](crate::bus::FITKIT)); the set-up, status and read-back addresses are fpgfx's,
+//! because a testbench and a user need the pixels and the error flags back, and the
+//! FITkit shows them only on VGA.
+//!
+//! Everything here is a pure function of bytes, so the firmware's SPI driver, the
+//! Verilator bridge's tests and the RTL's own testbenches agree on one definition.
+
+use crate::bus::{CHANNEL_COMMAND, CHANNEL_LINE, CHANNEL_TRIANGLE};
+use crate::frame::Cull;
+
+/// Address of the set-up packet: frame size, background and culling, executed in FIFO
+/// order (earlier packets finish first), then the framebuffer is cleared.
+pub const ADDR_SETUP: u8 = 0x00;
+/// Address of line packets ([`crate::bus::CHANNEL_LINE`]).
+pub const ADDR_LINE: u8 = CHANNEL_LINE;
+/// Address of triangle packets ([`crate::bus::CHANNEL_TRIANGLE`]).
+pub const ADDR_TRIANGLE: u8 = CHANNEL_TRIANGLE;
+/// Address of stand-alone clears ([`crate::bus::CHANNEL_COMMAND`]).
+pub const ADDR_CLEAR: u8 = CHANNEL_COMMAND;
+/// Address of the status block ([`Status`]): a read, as long as the master clocks.
+pub const ADDR_STATUS: u8 = 0x20;
+/// Address of the framebuffer read-back ([`read_header`]).
+pub const ADDR_READ: u8 = 0x30;
+/// Address of the block reset: no payload, the same as the `rst` pin.
+pub const ADDR_RESET: u8 = 0x7F;
+
+/// Bits of one input FIFO record (RAMB16_S36_S36).
+pub const RECORD_BITS: u32 = 36;
+/// Records the input FIFO holds.
+pub const FIFO_RECORDS: u16 = 512;
+/// The widest packet, in records: a line or a triangle.
+pub const MAX_PACKET_RECORDS: usize = 2;
+/// Payload bytes of the widest packet (72 record bits).
+pub const MAX_PACKET_BYTES: usize = 9;
+/// Side of the framebuffer the 9-bit coordinates address.
+pub const FRAME_SIDE: u16 = 512;
+/// Bytes of the status block ([`Status::decode`]).
+pub const STATUS_BYTES: usize = 32;
+/// Bytes between the read-back's address and its first pixel, which give the block time
+/// to fetch from external memory.
+pub const READ_TURNAROUND: usize = 1;
+/// Bytes before the first pixel of a read-back transaction: address, 3 address bytes,
+/// turnaround.
+pub const READ_HEADER_BYTES: usize = 4 + READ_TURNAROUND;
+
+/// Why a transaction could not be built or a status block not decoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SpiFrameError {
+    /// A record has bits above the 36 a FIFO record holds.
+    #[error("record {index} = {value:#x} is wider than 36 bits")]
+    RecordTooWide {
+        /// Position in the packet.
+        index: usize,
+        /// The record.
+        value: u64,
+    },
+    /// More records than any packet has, or none.
+    #[error("a packet of {records} records (FITkit packets have 1 or 2)")]
+    PacketLength {
+        /// Records given.
+        records: usize,
+    },
+    /// The output buffer cannot hold the transaction.
+    #[error("transaction needs {needed} bytes, buffer has {capacity}")]
+    BufferTooSmall {
+        /// Bytes the transaction needs.
+        needed: usize,
+        /// Bytes the buffer has.
+        capacity: usize,
+    },
+    /// A set-up value outside what the block's registers hold.
+    #[error("set-up `{field}` = {value} is outside {min}..={max}")]
+    SetupRange {
+        /// `width` or `height`.
+        field: &'static str,
+        /// The offending value.
+        value: u32,
+        /// Smallest allowed.
+        min: u32,
+        /// Largest allowed.
+        max: u32,
+    },
+    /// A pixel address outside the 512 × 512 framebuffer.
+    #[error("pixel ({x}, {y}) is outside the {FRAME_SIDE}×{FRAME_SIDE} framebuffer")]
+    Pixel {
+        /// Column.
+        x: u32,
+        /// Row.
+        y: u32,
+    },
+    /// A status block whose reserved bits or codes are not what the block sends: the
+    /// MISO line is not connected, or another device answered.
+    #[error("status byte {byte} = {value:#04x} is not a valid {field}")]
+    Status {
+        /// Offset in the block.
+        byte: usize,
+        /// What was read there.
+        value: u8,
+        /// What the byte should hold.
+        field: &'static str,
+    },
+}
+
+/// Writes the transaction that pushes one packet: `address`, then the records' 36-bit
+/// strings concatenated MSB first and zero-padded to whole bytes (9 bytes for two records,
+/// 5 for one). Returns the bytes used.
+pub fn packet(address: u8, records: &[u64], out: &mut [u8]) -> Result<usize, SpiFrameError> {
+    if records.is_empty() || records.len() > MAX_PACKET_RECORDS {
+        return Err(SpiFrameError::PacketLength {
+            records: records.len(),
+        });
+    }
+    let bits = records.len() * RECORD_BITS as usize;
+    let needed = 1 + bits.div_ceil(8);
+    if out.len() < needed {
+        return Err(SpiFrameError::BufferTooSmall {
+            needed,
+            capacity: out.len(),
+        });
+    }
+    let out = &mut out[..needed];
+    out.fill(0);
+    out[0] = address;
+    let mut pos = 0usize;
+    for (index, &value) in records.iter().enumerate() {
+        if value >> RECORD_BITS != 0 {
+            return Err(SpiFrameError::RecordTooWide { index, value });
+        }
+        for bit in (0..RECORD_BITS).rev() {
+            if value >> bit & 1 == 1 {
+                out[1 + pos / 8] |= 0x80 >> (pos % 8);
+            }
+            pos += 1;
+        }
+    }
+    Ok(needed)
+}
+
+/// The frame registers the set-up packet writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Setup {
+    /// Frame width in pixels, 1…512; fragments at `x ≥ width` are not written.
+    pub width: u16,
+    /// Frame height in pixels, 1…512.
+    pub height: u16,
+    /// RGB332 colour the frame is cleared to, and that CB clears to.
+    pub background: u8,
+    /// Which triangles the triangle unit discards by winding.
+    pub cull: Cull,
+}
+
+impl Setup {
+    /// The set-up record: `width − 1` (9 bits), `height − 1` (9), background (8), cull
+    /// (2: none 0, clockwise 1, counter-clockwise 2), 8 zero bits.
+    pub fn record(&self) -> Result<u64, SpiFrameError> {
+        let side = |field, v: u16| {
+            if (1..=FRAME_SIDE).contains(&v) {
+                Ok(u64::from(v - 1))
+            } else {
+                Err(SpiFrameError::SetupRange {
+                    field,
+                    value: u32::from(v),
+                    min: 1,
+                    max: u32::from(FRAME_SIDE),
+                })
+            }
+        };
+        let cull = match self.cull {
+            Cull::None => 0u64,
+            Cull::Clockwise => 1,
+            Cull::CounterClockwise => 2,
+        };
+        Ok(side("width", self.width)? << 27
+            | side("height", self.height)? << 18
+            | u64::from(self.background) << 10
+            | cull << 8)
+    }
+}
+
+/// Framebuffer address of a pixel: `y · 512 + x`, as the block's memory port uses it.
+pub fn pixel_address(x: u32, y: u32) -> Result<u32, SpiFrameError> {
+    let side = u32::from(FRAME_SIDE);
+    if x >= side || y >= side {
+        return Err(SpiFrameError::Pixel { x, y });
+    }
+    Ok(y * side + x)
+}
+
+/// The bytes that open a read-back from pixel `(x, y)`: address, the 18-bit pixel address
+/// right-aligned in three bytes, and the turnaround byte. The pixels follow, one RGB332
+/// byte per byte the master clocks, from consecutive addresses (row-major, wrapping to the
+/// next row at x = 512).
+pub fn read_header(x: u32, y: u32) -> Result<[u8; READ_HEADER_BYTES], SpiFrameError> {
+    let a = pixel_address(x, y)?;
+    Ok([ADDR_READ, (a >> 16) as u8, (a >> 8) as u8, a as u8, 0])
+}
+
+/// A sticky error the block latched: the first thing that went wrong since reset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("FITkit raster block: {code} on address {channel:#04x}, packet #{packet}")]
+pub struct BlockError {
+    /// What went wrong.
+    pub code: ErrorCode,
+    /// The SPI address of the transaction that caused it.
+    pub channel: u8,
+    /// Packets committed to the FIFO before it (the failing packet's index).
+    pub packet: u16,
+}
+
+/// The block's error codes (status byte 3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ErrorCode {
+    /// A write's payload was not the packet's byte count.
+    #[error("wrong payload length")]
+    Length,
+    /// The bits after the packet's fields were not zero.
+    #[error("non-zero padding")]
+    Padding,
+    /// The packet did not fit the FIFO's free records.
+    #[error("input FIFO overrun")]
+    Overrun,
+    /// A clear packet with CB = 0.
+    #[error("clear without CB")]
+    ClearWithoutCb,
+    /// An address the decoder does not know.
+    #[error("unknown address")]
+    UnknownAddress,
+    /// The read-back's memory fetch was late for the SPI clock.
+    #[error("read-back underrun")]
+    ReadUnderrun,
+}
+
+impl ErrorCode {
+    /// The code as the status block carries it.
+    pub fn code(self) -> u8 {
+        match self {
+            Self::Length => 1,
+            Self::Padding => 2,
+            Self::Overrun => 3,
+            Self::ClearWithoutCb => 4,
+            Self::UnknownAddress => 5,
+            Self::ReadUnderrun => 6,
+        }
+    }
+
+    /// The code from its status byte; `None` for 0 (no error) and for codes the block
+    /// does not send.
+    pub fn from_code(code: u8) -> Option<Self> {
+        Some(match code {
+            1 => Self::Length,
+            2 => Self::Padding,
+            3 => Self::Overrun,
+            4 => Self::ClearWithoutCb,
+            5 => Self::UnknownAddress,
+            6 => Self::ReadUnderrun,
+            _ => return None,
+        })
+    }
+}
+
+/// Flags byte: a packet is queued or executing, or fragments are not yet written.
+pub const FLAG_BUSY: u8 = 1 << 0;
+/// Flags byte: a sticky error is latched (bytes 3–6 say which).
+pub const FLAG_ERROR: u8 = 1 << 1;
+/// Flags byte: the input FIFO is empty.
+pub const FLAG_FIFO_EMPTY: u8 = 1 << 2;
+/// Flags byte: a set-up has run since reset, so the frame registers are valid.
+pub const FLAG_SETUP_DONE: u8 = 1 << 3;
+
+/// The status block, a snapshot the block takes when the address byte completes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Status {
+    /// Records the input FIFO can take now (0…512).
+    pub free: u16,
+    /// `FLAG_*` bits.
+    pub flags: u8,
+    /// The first error since reset, if any.
+    pub error: Option<BlockError>,
+    /// Packets executed since the set-up.
+    pub packets: u32,
+    /// Fragments written to the framebuffer since the set-up.
+    pub fragments: u32,
+    /// Cycles the line unit was busy.
+    pub line_cycles: u32,
+    /// Cycles the triangle unit was busy.
+    pub triangle_cycles: u32,
+    /// Cycles spent clearing (set-up and clear packets).
+    pub clear_cycles: u32,
+    /// Cycle, counted from the set-up, at which the last packet finished.
+    pub end_cycle: u32,
+    /// Highest input FIFO occupancy seen, in records ÷ 2, saturating at 255.
+    pub fifo_max_pairs: u8,
+}
+
+impl Status {
+    /// Whether every pushed packet has run and its fragments are written.
+    pub fn idle(&self) -> bool {
+        self.flags & FLAG_BUSY == 0
+    }
+
+    /// Decodes the 32 status bytes, refusing values the block never sends (a free count
+    /// above 512, reserved flag bits, unknown error codes), which is what a floating MISO
+    /// or a different device produces.
+    pub fn decode(b: &[u8; STATUS_BYTES]) -> Result<Self, SpiFrameError> {
+        let u32_at = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        let free = u16::from_be_bytes([b[0], b[1]]);
+        if free > FIFO_RECORDS {
+            return Err(SpiFrameError::Status {
+                byte: 0,
+                value: b[0],
+                field: "free-record count (0..=512)",
+            });
+        }
+        let flags = b[2];
+        if flags & !(FLAG_BUSY | FLAG_ERROR | FLAG_FIFO_EMPTY | FLAG_SETUP_DONE) != 0 {
+            return Err(SpiFrameError::Status {
+                byte: 2,
+                value: flags,
+                field: "flags byte",
+            });
+        }
+        let error = match (flags & FLAG_ERROR != 0, b[3]) {
+            (false, 0) => None,
+            (true, code) => Some(BlockError {
+                code: ErrorCode::from_code(code).ok_or(SpiFrameError::Status {
+                    byte: 3,
+                    value: code,
+                    field: "error code",
+                })?,
+                channel: b[4],
+                packet: u16::from_be_bytes([b[5], b[6]]),
+            }),
+            (false, code) => {
+                return Err(SpiFrameError::Status {
+                    byte: 3,
+                    value: code,
+                    field: "error code (the error flag is clear)",
+                })
+            }
+        };
+        Ok(Self {
+            free,
+            flags,
+            error,
+            packets: u32_at(7),
+            fragments: u32_at(11),
+            line_cycles: u32_at(15),
+            triangle_cycles: u32_at(19),
+            clear_cycles: u32_at(23),
+            end_cycle: u32_at(27),
+            fifo_max_pairs: b[31],
+        })
+    }
+
+    /// The bytes the block sends for this status: [`Status::decode`]'s inverse, for
+    /// models and testbenches that must answer as the block does.
+    pub fn encode(&self) -> [u8; STATUS_BYTES] {
+        let mut b = [0u8; STATUS_BYTES];
+        b[0..2].copy_from_slice(&self.free.to_be_bytes());
+        b[2] = self.flags & !FLAG_ERROR;
+        if let Some(e) = self.error {
+            b[2] |= FLAG_ERROR;
+            b[3] = e.code.code();
+            b[4] = e.channel;
+            b[5..7].copy_from_slice(&e.packet.to_be_bytes());
+        }
+        for (i, v) in [
+            (7, self.packets),
+            (11, self.fragments),
+            (15, self.line_cycles),
+            (19, self.triangle_cycles),
+            (23, self.clear_cycles),
+            (27, self.end_cycle),
+        ] {
+            b[i..i + 4].copy_from_slice(&v.to_be_bytes());
+        }
+        b[31] = self.fifo_max_pairs;
+        b
+    }
+}
