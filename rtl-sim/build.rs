@@ -4,6 +4,8 @@
 //! Without verilator, or before `rtl/sim/` has a top, the crate still builds (the rest
 //! of the workspace must not need Verilator): `rtl_sim_verilated` stays unset and
 //! `RTL_SIM_MISSING` names what was missing, which `Rtl::new` turns into its error.
+//! `FPGFX_RTL_DIR` points it at another copy of `rtl/`.
+//!
 //! The generated C++ is compiled optimised whatever the Cargo profile: a debug build of
 //! it would make the differential tests several times slower.
 
@@ -24,8 +26,13 @@ fn main() {
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-changed=csrc/shim.cpp");
     println!("cargo::rerun-if-env-changed=VERILATOR");
+    println!("cargo::rerun-if-env-changed=FPGFX_RTL_DIR");
     let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("set by cargo"));
-    let rtl = manifest.join("../rtl");
+    // A scratch copy of rtl/ instead of the workspace's, e.g. a deliberately broken unit
+    // to see the differential tests fail.
+    let rtl = env::var_os("FPGFX_RTL_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| manifest.join("../rtl"));
     let sources = rtl_sources(&rtl);
     let Some(verilator) = find_verilator() else {
         println!("cargo::rerun-if-env-changed=PATH");

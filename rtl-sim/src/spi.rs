@@ -237,3 +237,37 @@ impl DelayNs for RtlDelay {
         self.rtl.borrow_mut().run(n);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nanoseconds_round_up_to_whole_cycles() {
+        let c = SpiConfig::default();
+        assert_eq!(c.cycles_for_ns(0), 0);
+        assert_eq!(c.cycles_for_ns(1), 1);
+        assert_eq!(c.cycles_for_ns(20), 1);
+        assert_eq!(c.cycles_for_ns(21), 2);
+        assert_eq!(c.cycles_for_ns(10_000), 500);
+        assert_eq!(c.cycles_for_ns(u32::MAX), 214_748_365);
+    }
+
+    #[test]
+    fn configs_below_the_contract_are_refused() {
+        let ok = SpiConfig::default();
+        assert_eq!(ok.check(), Ok(()));
+        let fast = SpiConfig {
+            half_period: MIN_HALF_PERIOD - 1,
+            ..ok
+        };
+        assert_eq!(fast.check(), Err(SpiError::HalfPeriod(MIN_HALF_PERIOD - 1)));
+        let cs = SpiConfig {
+            cs_high: MIN_CS_HIGH - 1,
+            ..ok
+        };
+        assert_eq!(cs.check(), Err(SpiError::CsHigh(MIN_CS_HIGH - 1)));
+        let clk = SpiConfig { clk_hz: 0, ..ok };
+        assert_eq!(clk.check(), Err(SpiError::Clock));
+    }
+}

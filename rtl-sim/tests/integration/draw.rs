@@ -1,0 +1,67 @@
+//! Runs a class of generated commands through both sides: batches of commands on one
+//! frame each, every command's pixels and counters compared.
+
+use protocol::frame::{Cull, RasterCmd, RasterSetup};
+use rand::rngs::SmallRng;
+use rand::Rng;
+
+use crate::cases;
+use crate::harness::{self, Pair};
+use crate::tally::Tally;
+
+/// A class of cases: how its frames and commands are made.
+pub struct Class<'a> {
+    pub name: &'static str,
+    pub seed: u64,
+    /// Frames, each set up afresh on a new block.
+    pub frames: usize,
+    /// Commands per frame.
+    pub per_frame: usize,
+    pub frame: &'a dyn Fn(&mut SmallRng) -> RasterSetup,
+    /// A command for the frame, and its CB bit.
+    pub cmd: &'a dyn Fn(&mut SmallRng, &RasterSetup) -> (RasterCmd, bool),
+}
+
+impl Class<'_> {
+    /// Runs every case, recording counter differences in `tally` (pixels are asserted
+    /// as they come).
+    pub fn run(&self, tally: &mut Tally) {
+        let mut rng = cases::rng(self.seed);
+        for f in 0..self.frames {
+            let setup = (self.frame)(&mut rng);
+            let mut pair = Pair::new(setup);
+            for k in 0..self.per_frame {
+                let (cmd, cb) = (self.cmd)(&mut rng, &setup);
+                let case = format!("{} seed {} frame {f} cmd {k}", self.name, self.seed);
+                let step = pair.step(&case, &cmd, cb);
+                tally.add(self.name, || format!("{case}: {setup:?} {cmd:?} cb={cb}"), &step);
+            }
+        }
+    }
+}
+
+/// Mostly small frames (a set-up clears width × height cycles), a few full ones.
+pub fn small_frame(rng: &mut SmallRng) -> RasterSetup {
+    let (w, h) = if rng.gen_ratio(1, 10) {
+        (512, 512)
+    } else {
+        (rng.gen_range(1..=96), rng.gen_range(1..=96))
+    };
+    let bg = cases::color(rng);
+    harness::setup(w, h, bg, Cull::None)
+}
+
+/// The whole 512 × 512 frame the 9-bit coordinates reach.
+pub fn full_frame(rng: &mut SmallRng) -> RasterSetup {
+    harness::setup(512, 512, cases::color(rng), Cull::None)
+}
+
+/// A QVGA frame (the gallery's), with coordinates reaching past it to 511.
+pub fn qvga_frame(rng: &mut SmallRng) -> RasterSetup {
+    harness::setup(320, 240, cases::color(rng), Cull::None)
+}
+
+/// The largest coordinates inside `s`'s frame.
+pub fn extent(s: &RasterSetup) -> (i32, i32) {
+    (i32::from(s.width) - 1, i32::from(s.height) - 1)
+}

@@ -1,0 +1,117 @@
+//! Flat triangles: random, tiny, slivers, edges through pixel centres, at the viewport
+//! limits, partly outside the frame, and culled by winding.
+
+use protocol::frame::Cull;
+use rand::Rng;
+
+use crate::cases::{self, MAX_COORD};
+use crate::draw::{self, extent, Class};
+use crate::harness;
+use crate::tally::Tally;
+
+#[test]
+fn triangles_match_the_model() {
+    let mut t = Tally::default();
+    Class {
+        name: "triangle random",
+        seed: 0x21,
+        frames: 10,
+        per_frame: 20,
+        frame: &draw::small_frame,
+        cmd: &|rng, s| {
+            let (mx, my) = extent(s);
+            let v = [(); 3].map(|_| cases::point(rng, mx, my));
+            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+        },
+    }
+    .run(&mut t);
+    Class {
+        name: "triangle tiny (<= 2 px)",
+        seed: 0x22,
+        frames: 4,
+        per_frame: 25,
+        frame: &draw::small_frame,
+        cmd: &|rng, s| {
+            let (mx, my) = extent(s);
+            let a = cases::point(rng, mx, my);
+            let v = [a, cases::near(rng, a, 2), cases::near(rng, a, 2)];
+            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+        },
+    }
+    .run(&mut t);
+    Class {
+        name: "triangle sliver",
+        seed: 0x23,
+        frames: 4,
+        per_frame: 25,
+        frame: &draw::small_frame,
+        cmd: &|rng, s| {
+            let (mx, my) = extent(s);
+            let v = cases::sliver(rng, mx, my);
+            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+        },
+    }
+    .run(&mut t);
+    Class {
+        name: "triangle edges through pixel centres",
+        seed: 0x24,
+        frames: 4,
+        per_frame: 25,
+        frame: &|rng| harness::setup(96, 96, cases::color(rng), Cull::None),
+        cmd: &|rng, s| {
+            let v = cases::through_centres(rng, 95);
+            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+        },
+    }
+    .run(&mut t);
+    Class {
+        name: "triangle viewport limits 0 and 511",
+        seed: 0x25,
+        frames: 2,
+        per_frame: 15,
+        frame: &draw::full_frame,
+        cmd: &|rng, s| {
+            let mut c = || match rng.gen_range(0..3) {
+                0 => 0,
+                1 => MAX_COORD,
+                _ => rng.gen_range(0..=MAX_COORD),
+            };
+            let v = [(c(), c()), (c(), c()), (c(), c())];
+            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+        },
+    }
+    .run(&mut t);
+    Class {
+        name: "triangle partly outside 320x240",
+        seed: 0x26,
+        frames: 4,
+        per_frame: 20,
+        frame: &draw::qvga_frame,
+        cmd: &|rng, s| {
+            let v = [
+                cases::point(rng, MAX_COORD, MAX_COORD),
+                cases::point(rng, 319, 239),
+                cases::point(rng, MAX_COORD, MAX_COORD),
+            ];
+            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+        },
+    }
+    .run(&mut t);
+    Class {
+        name: "triangle culled by winding",
+        seed: 0x27,
+        frames: 6,
+        per_frame: 10,
+        frame: &|rng| {
+            let cull = [Cull::Clockwise, Cull::CounterClockwise][rng.gen_range(0..2)];
+            harness::setup(64, 64, cases::color(rng), cull)
+        },
+        cmd: &|rng, s| {
+            let v = [(); 3].map(|_| cases::point(rng, 63, 63));
+            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+        },
+    }
+    .run(&mut t);
+    assert!(t.cases() >= 600, "{} triangle cases", t.cases());
+    t.assert_exact();
+}
