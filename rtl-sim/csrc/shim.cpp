@@ -1,0 +1,130 @@
+// The C ABI over the Verilated `fitkit_sim_top`: one call per clock cycle (inputs in,
+// outputs out) so the Rust side pays one FFI crossing per cycle, and the framebuffer
+// RAM found by its shape in Verilator's public-signal table, so the Rust side does not
+// depend on the RTL's instance names.
+
+#include <cstdint>
+#include <cstring>
+#include <memory>
+
+#include "Vfitkit_sim_top.h"
+#include "verilated.h"
+#include "verilated_syms.h"
+
+namespace {
+constexpr size_t kRamBytes = size_t{1} << 18;
+
+enum : uint32_t {
+    IN_RST = 1u << 0,
+    IN_SCK = 1u << 1,
+    IN_CS_N = 1u << 2,
+    IN_MOSI = 1u << 3,
+    IN_MEM_WAIT = 1u << 4,
+    // The clock is stopped: a tick evaluates the inputs but no edge (a stuck block).
+    IN_CLOCK_GATED = 1u << 5,
+};
+
+enum : uint32_t {
+    OUT_MISO = 1u << 0,
+    OUT_FIFO_FREE = 1u << 1,
+    OUT_BUSY = 1u << 2,
+};
+}  // namespace
+
+struct FitkitRtl {
+    std::unique_ptr<VerilatedContext> ctx;
+    std::unique_ptr<Vfitkit_sim_top> top;
+    uint8_t* ram = nullptr;
+};
+
+static void apply(FitkitRtl* m, uint32_t in) {
+    Vfitkit_sim_top& t = *m->top;
+    t.rst = (in & IN_RST) != 0;
+    t.spi_sck = (in & IN_SCK) != 0;
+    t.spi_cs_n = (in & IN_CS_N) != 0;
+    t.spi_mosi = (in & IN_MOSI) != 0;
+    t.mem_wait = (in & IN_MEM_WAIT) != 0;
+}
+
+static uint32_t outputs(const FitkitRtl* m) {
+    const Vfitkit_sim_top& t = *m->top;
+    return (t.spi_miso ? OUT_MISO : 0) | (t.fifo_free ? OUT_FIFO_FREE : 0) |
+           (t.busy ? OUT_BUSY : 0);
+}
+
+// The one public unpacked array of 2^18 bytes: the sim top's framebuffer RAM.
+static uint8_t* find_ram(VerilatedContext* ctx) {
+    uint8_t* found = nullptr;
+    const VerilatedScopeNameMap* scopes = ctx->scopeNameMap();
+    if (!scopes) return nullptr;
+    for (const auto& s : *scopes) {
+        const VerilatedVarNameMap* vars = s.second->varsp();
+        if (!vars) continue;
+        for (const auto& v : *vars) {
+            const VerilatedVar& var = v.second;
+            if (var.vltype() == VLVT_UINT8 && var.udims() == 1 &&
+                var.totalSize() == kRamBytes) {
+                if (found) return nullptr;  // ambiguous
+                found = static_cast<uint8_t*>(var.datap());
+            }
+        }
+    }
+    return found;
+}
+
+extern "C" {
+
+// A model in reset-released idle state, or null when no RAM is visible (`*no_ram` set)
+// or construction failed.
+FitkitRtl* fitkit_rtl_new(int* no_ram) {
+    *no_ram = 0;
+    auto* m = new (std::nothrow) FitkitRtl;
+    if (!m) return nullptr;
+    m->ctx = std::make_unique<VerilatedContext>();
+    m->top = std::make_unique<Vfitkit_sim_top>(m->ctx.get(), "fitkit_sim_top");
+    m->ram = find_ram(m->ctx.get());
+    if (!m->ram) {
+        *no_ram = 1;
+        delete m;
+        return nullptr;
+    }
+    m->top->clk = 0;
+    apply(m, IN_CS_N);
+    m->top->eval();
+    return m;
+}
+
+void fitkit_rtl_free(FitkitRtl* m) {
+    if (!m) return;
+    m->top->final();
+    delete m;
+}
+
+// Applies `in`, lets combinational logic settle, and returns the outputs.
+uint32_t fitkit_rtl_set(FitkitRtl* m, uint32_t in) {
+    apply(m, in);
+    m->top->eval();
+    return outputs(m);
+}
+
+// One clock cycle with `in` held (rising edge, then falling edge); returns the outputs
+// after it. A gated clock leaves the model untouched.
+uint32_t fitkit_rtl_tick(FitkitRtl* m, uint32_t in) {
+    apply(m, in);
+    if (in & IN_CLOCK_GATED) {
+        m->top->eval();
+        return outputs(m);
+    }
+    m->top->clk = 1;
+    m->top->eval();
+    m->top->clk = 0;
+    m->top->eval();
+    return outputs(m);
+}
+
+const uint8_t* fitkit_rtl_ram(const FitkitRtl* m, size_t* len) {
+    *len = kRamBytes;
+    return m->ram;
+}
+
+}  // extern "C"
