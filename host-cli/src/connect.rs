@@ -204,7 +204,7 @@ pub enum ConnectError {
         message: String,
     },
     /// The RTL target is not in this build (no verilator when it was built).
-    #[error("--port rtl: {0}")]
+    #[error("--port rtl")]
     Rtl(#[from] sim_board::rtl::RtlTargetError),
     /// TCP connection failed.
     #[error("cannot connect to {addr}: {source}")]
