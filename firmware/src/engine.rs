@@ -64,7 +64,14 @@ const SHADOW_WORDS: usize = 512;
 impl<B: FpgaBus> Engine<B> {
     /// An engine for a target with these capabilities whose raster block reads records in
     /// `layout`. `ident` goes into the hello ("fpgfx-firmware 0.1.0 stm32f405").
-    pub(crate) fn new(bus: B, caps: Caps, layout: &'static BusLayout, ident: &'static str) -> Self {
+    pub(crate) fn new(
+        bus: B,
+        mut caps: Caps,
+        layout: &'static BusLayout,
+        ident: &'static str,
+    ) -> Self {
+        // The engine packs the records, so it is the one that knows the layout.
+        caps.raster_layout = protocol::fpga::LayoutId::of(layout);
         Self {
             bus,
             caps,

@@ -123,6 +123,9 @@ pub fn resolve(flags: Config) -> Result<Settings, ConfigError> {
 pub enum Target {
     /// The controller and FPGA model in this process.
     BuiltIn,
+    /// The controller in this process driving the FITkit block's RTL (Verilated) over its
+    /// SPI pins.
+    Rtl,
     /// A serial port (a board's USB-UART, `fpgfx-sim --pty`, QEMU's pty).
     Serial {
         /// Device path.
@@ -135,11 +138,13 @@ pub enum Target {
 }
 
 impl Target {
-    /// Parses a `--port` value: `builtin`, `tcp:HOST:PORT` (or `tcp://HOST:PORT`), or a
-    /// serial device path.
+    /// Parses a `--port` value: `builtin`, `rtl`, `tcp:HOST:PORT` (or `tcp://HOST:PORT`),
+    /// or a serial device path.
     pub fn parse(port: &str, baud: u32) -> Target {
         if port == "builtin" {
             Target::BuiltIn
+        } else if port == "rtl" {
+            Target::Rtl
         } else if let Some(addr) = port
             .strip_prefix("tcp://")
             .or_else(|| port.strip_prefix("tcp:"))
@@ -198,6 +203,9 @@ pub enum ConnectError {
         /// The driver's message.
         message: String,
     },
+    /// The RTL target is not in this build (no verilator when it was built).
+    #[error("--port rtl")]
+    Rtl(#[from] sim_board::rtl::RtlTargetError),
     /// TCP connection failed.
     #[error("cannot connect to {addr}: {source}")]
     Tcp {
@@ -238,6 +246,7 @@ impl ConnectError {
 pub fn open(target: &Target) -> Result<Box<dyn Transport>, ConnectError> {
     match target {
         Target::BuiltIn => Ok(Box::new(sim_board::in_process::sim_target())),
+        Target::Rtl => Ok(Box::new(sim_board::rtl::rtl_target()?)),
         Target::Serial { path, baud } => crate::serial::SerialTransport::open(path, *baud)
             .map(|t| Box::new(t) as Box<dyn Transport>)
             .map_err(|e| ConnectError::serial_open(path, *baud, e)),

@@ -5,6 +5,8 @@ use protocol::frame::{
     StartFrame, Stats,
 };
 
+use protocol::bus::{BusLayout, Kind, PackOptions};
+
 use crate::raster_file::RasterJob;
 use crate::session::{Phase, Session, SessionError, Transport};
 
@@ -35,6 +37,28 @@ fn op_name(cmd: &RasterCmd) -> &'static str {
     }
 }
 
+/// Refuses, before anything is sent, a command the target's bus layout cannot carry (a
+/// circle, a Gouraud triangle or a colour outside RGB332 on the FITkit), naming it: the
+/// controller would refuse it too, but only after the commands before it were drawn.
+fn check_layout(job: &RasterJob, file: &str, layout: &BusLayout) -> Result<(), SessionError> {
+    let opts = PackOptions {
+        subpixel_bits: job.setup.subpixel_bits,
+        clear: false,
+    };
+    for (index, cmd) in job.cmds.iter().enumerate() {
+        protocol::bus::channel(layout, Kind::of(cmd))
+            .and_then(|_| protocol::bus::pack(layout, cmd, opts))
+            .map_err(|e| {
+                SessionError::Unexpected(format!(
+                    "{file}: cmd[{index}] ({}): the target's raster block takes the {} layout: {e}",
+                    op_name(cmd),
+                    layout.name
+                ))
+            })?;
+    }
+    Ok(())
+}
+
 /// Draws `job` on the target behind `session` (already handshaken) and reads the frame
 /// back. A refusal names the command's index in the file.
 pub fn run<T: Transport>(
@@ -55,6 +79,9 @@ pub fn run<T: Transport>(
                 "{file}: size {}×{} exceeds the target's {}×{}",
                 job.setup.width, job.setup.height, caps.max_width, caps.max_height
             )));
+        }
+        if let Some(id) = caps.raster_layout {
+            check_layout(job, file, id.layout())?;
         }
     }
     let started = std::time::Instant::now();

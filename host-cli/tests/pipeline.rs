@@ -123,6 +123,7 @@ fn caps() -> Caps {
         max_objects: 8,
         max_lights: 2,
         texture_words: 65536,
+        raster_layout: None,
     }
 }
 

@@ -44,7 +44,7 @@ pub const FPGA_SCHEMA_HASH: u64 = u64::from_le_bytes(
 
 /// Which [`crate::bus`] layout the FPGA's input FIFO decodes. A number rather than the
 /// layout itself because both ends have the layouts compiled in; the wire only selects one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Schema)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
 pub enum LayoutId {
     /// [`crate::bus::FITKIT`].
     Fitkit,

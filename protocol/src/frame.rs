@@ -261,6 +261,10 @@ pub struct Caps {
     pub max_lights: u8,
     /// Size of the texture memory in 32-bit texels.
     pub texture_words: u32,
+    /// The bus layout the controller packs raster commands in, so the host can refuse a
+    /// command the board cannot draw (a circle on the FITkit) before sending anything,
+    /// naming it. `None` from a host, or a controller with a layout of its own.
+    pub raster_layout: Option<crate::fpga::LayoutId>,
 }
 
 /// The first message in each direction. Each side compares the other's

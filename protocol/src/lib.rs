@@ -42,7 +42,7 @@ pub mod scene;
 
 /// Version of the host <-> controller protocol. Bump it whenever a change is not purely
 /// additive; the handshake reports both sides' values when they differ.
-pub const PROTOCOL_VERSION: u16 = 2;
+pub const PROTOCOL_VERSION: u16 = 3;
 
 /// Largest postcard-encoded message (one [`frame::HostFrame`] or [`frame::DeviceFrame`])
 /// that may travel in one link frame. Sized so that the controller's receive buffer,

@@ -1,19 +1,32 @@
-//! A whole board on a byte stream: the firmware's controller and the FPGA model served on
-//! a pty master or on TCP, until the line itself fails.
+//! A whole board on a byte stream: the firmware's controller and its FPGA (the model, or
+//! the Verilated RTL) served on a pty master or on TCP, until the line itself fails.
 
 use std::convert::Infallible;
+use std::fmt::Display;
 use std::io::{self, Read, Write};
 use std::net::{TcpListener, TcpStream};
 use std::time::{Duration, Instant};
 
-use firmware::{Controller, ControllerError};
-use sim_target::device::{Device, DeviceError};
+use firmware::{Controller, ControllerError, FpgaBus};
+use sim_target::device::Device;
 
 use crate::host_link::{HostLink, Pending};
 use crate::in_process::SimBus;
 use crate::paced::Paced;
 use crate::pty::peer_gone;
+use crate::rtl::RtlTargetError;
 use crate::socket::Socket;
+
+/// Which FPGA the board carries (`fpgfx-sim --fpga`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Fpga {
+    /// The golden model (`sim-target`), WIDE layout: every command the tool has.
+    #[default]
+    Model,
+    /// The FITkit block's RTL, Verilated, behind the controller's SPI driver: FITkit
+    /// layout, raster only.
+    Rtl,
+}
 
 /// Why a board stopped serving (it never stops otherwise).
 #[derive(Debug, thiserror::Error)]
@@ -33,22 +46,27 @@ pub enum BoardError {
     /// The bound listener could not be switched to non-blocking accepts.
     #[error(transparent)]
     Io(#[from] io::Error),
+    /// The RTL board could not be built (no Verilated model in this build).
+    #[error(transparent)]
+    Rtl(#[from] RtlTargetError),
 }
 
-/// Serves the board on `link` (a pty master), slowed to a UART at `pace` baud if given.
+/// Serves the board carrying `fpga` on `link` (a pty master), slowed to a UART at `pace`
+/// baud if given.
 ///
 /// A host that goes away is waited for, as a board waits with its cable unplugged (the
-/// next one resets the link in its handshake). An FPGA model fault is answered to the
-/// host as a Device error, like on a board, and also handed to `on_fault`; serving goes
-/// on. Only a failing line ends it.
+/// next one resets the link in its handshake). An FPGA fault is answered to the host as a
+/// Device error, like on a board, and also handed to `on_fault`; serving goes on. Only a
+/// failing line ends it.
 pub fn serve<S: Read + Write + Pending>(
     link: S,
     pace: Option<u32>,
-    on_fault: impl FnMut(&DeviceError),
+    fpga: Fpga,
+    on_fault: impl FnMut(&dyn Display),
 ) -> Result<Infallible, BoardError> {
     match pace {
-        Some(baud) => run(Paced::new(link, baud), |_| {}, on_fault),
-        None => run(link, |_| {}, on_fault),
+        Some(baud) => run(Paced::new(link, baud), fpga, |_| {}, on_fault),
+        None => run(link, fpga, |_| {}, on_fault),
     }
 }
 
@@ -68,7 +86,8 @@ pub fn listen(addr: &str) -> Result<TcpListener, BoardError> {
 pub fn serve_tcp(
     listener: TcpListener,
     pace: Option<u32>,
-    on_fault: impl FnMut(&DeviceError),
+    fpga: Fpga,
+    on_fault: impl FnMut(&dyn Display),
 ) -> Result<Infallible, BoardError> {
     let accept = move |socket: &mut Socket<TcpStream>| {
         if let Ok((stream, _)) = listener.accept() {
@@ -79,24 +98,50 @@ pub fn serve_tcp(
     match pace {
         Some(baud) => run(
             Paced::new(Socket(None), baud),
+            fpga,
             move |p| accept(p.get_mut()),
             on_fault,
         ),
-        None => run(Socket(None), accept, on_fault),
+        None => run(Socket(None), fpga, accept, on_fault),
     }
 }
 
-/// The controller and the FPGA model on `link`; `between` runs once per turn with the
-/// link (to plug in a new TCP client).
+/// The controller and `fpga` on `link`; `between` runs once per turn with the link (to
+/// plug in a new TCP client).
 fn run<S: Read + Write + Pending>(
     link: S,
-    mut between: impl FnMut(&mut S),
-    mut on_fault: impl FnMut(&DeviceError),
+    fpga: Fpga,
+    between: impl FnMut(&mut S),
+    on_fault: impl FnMut(&dyn Display),
 ) -> Result<Infallible, BoardError> {
-    let layout = &protocol::bus::WIDE;
-    let device = Device::new(layout);
-    let caps = device.caps();
-    let mut controller = Controller::new(HostLink(link), SimBus(device), caps, layout, "fpgfx-sim");
+    match fpga {
+        Fpga::Model => {
+            let layout = &protocol::bus::WIDE;
+            let device = Device::new(layout);
+            let caps = device.caps();
+            let bus = SimBus(device);
+            let c = Controller::new(HostLink(link), bus, caps, layout, "fpgfx-sim");
+            run_on(c, between, on_fault)
+        }
+        Fpga::Rtl => {
+            let rtl = rtl_sim::Rtl::shared().map_err(RtlTargetError::from)?;
+            let bus = crate::rtl::bus_on(&rtl, rtl_sim::SpiConfig::default())?;
+            let caps = crate::rtl::caps();
+            let layout = &protocol::bus::FITKIT;
+            let c = Controller::new(HostLink(link), bus, caps, layout, "fpgfx-sim --fpga rtl");
+            run_on(c, between, on_fault)
+        }
+    }
+}
+
+fn run_on<S: Read + Write + Pending, B: FpgaBus>(
+    mut controller: Controller<HostLink<S>, B>,
+    mut between: impl FnMut(&mut S),
+    mut on_fault: impl FnMut(&dyn Display),
+) -> Result<Infallible, BoardError>
+where
+    B::Error: Display,
+{
     let epoch = Instant::now();
     loop {
         between(&mut controller.host().0);
@@ -110,7 +155,7 @@ fn run<S: Read + Write + Pending>(
             }
             Err(ControllerError::Host(e)) => return Err(BoardError::HostLink(e)),
             // The host was answered with a Device error; like a board, keep serving.
-            Err(ControllerError::Fpga(e)) => on_fault(&e),
+            Err(ControllerError::Fpga(e)) => on_fault(&e as &dyn Display),
         }
         // Sleep only when the line is quiet: a UART (with its FIFO or DMA) keeps
         // receiving while the MCU works, and a sleep per turn would cap the rate.

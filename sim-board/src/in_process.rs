@@ -97,6 +97,12 @@ pub struct BuiltIn<B: FpgaBus> {
 impl<B: FpgaBus> BuiltIn<B> {
     /// A controller with `caps` over `bus`, reading raster records in `layout`.
     pub fn new(bus: B, caps: Caps, layout: &'static BusLayout) -> Self {
+        Self::named(bus, caps, layout, "fpgfx built-in target")
+    }
+
+    /// [`BuiltIn::new`] with the `ident` the controller's hello carries, which the host
+    /// prints in its messages (so a user can tell the model from the RTL).
+    pub fn named(bus: B, caps: Caps, layout: &'static BusLayout, ident: &'static str) -> Self {
         let to_device = Queue::default();
         let from_device = Queue::default();
         let end = PipeEnd {
@@ -104,7 +110,7 @@ impl<B: FpgaBus> BuiltIn<B> {
             tx: from_device.clone(),
         };
         Self {
-            controller: Controller::new(end, bus, caps, layout, "fpgfx built-in target"),
+            controller: Controller::new(end, bus, caps, layout, ident),
             to_device,
             from_device,
             epoch: Instant::now(),

@@ -10,6 +10,8 @@
 //! * behind a pseudo-terminal or TCP ([`board`], the `fpgfx-sim` binary): the controller
 //!   on a real byte stream ([`host_link`], [`socket`]), optionally slowed to a UART's rate
 //!   ([`paced`]), so `fpgfx --port` is exercised over a tty;
+//! * with the FITkit block's RTL, Verilated, for the FPGA ([`rtl`]): the controller's
+//!   SPI driver on the block's pins (`--port rtl`, `fpgfx-sim --fpga rtl`);
 //! * the FPGA alone on a serial port ([`fpga_port`]), for a controller elsewhere: the
 //!   QEMU board's second UART;
 //! * the STM32's ROM bootloader ([`bootloader`], on a pty through [`bootloader_pty`]),
@@ -29,4 +31,5 @@ pub mod host_link;
 pub mod in_process;
 pub mod paced;
 pub mod pty;
+pub mod rtl;
 pub mod socket;

@@ -139,6 +139,7 @@ impl Device {
             max_objects: 8,
             max_lights: 2,
             texture_words: crate::raster::TEXTURE_WORDS as u32,
+            raster_layout: protocol::fpga::LayoutId::of(self.layout),
         }
     }
 

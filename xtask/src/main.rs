@@ -6,9 +6,12 @@
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
+use std::path::Path;
 use std::process::Command;
 
 use anyhow::{bail, Context, Result};
+
+mod synth;
 
 /// The MCU target the protocol crate (and later the firmware) must build for.
 const MCU_TARGET: &str = "thumbv7em-none-eabihf";
@@ -18,11 +21,18 @@ fn main() -> Result<()> {
     match args.first().map(String::as_str) {
         Some("test") => test(),
         Some("setup") => setup(),
+        Some("synth") => synth::synth(&workspace_root()),
         _ => {
-            eprintln!("usage: cargo xtask <test|setup>\n  setup  install the Rust target and packages the tests need\n  test   setup, then fmt, clippy, no_std builds and every test");
+            eprintln!("usage: cargo xtask <test|setup|synth>\n  setup  install the Rust target and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr-ice40 on rtl/: LUT/FF/BRAM/DSP per module and Fmax");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
+}
+
+/// The workspace's root, whatever directory `cargo xtask` was started from.
+fn workspace_root() -> std::path::PathBuf {
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    here.parent().unwrap_or(here).to_path_buf()
 }
 
 /// Runs a command, echoing it, and fails with the command line if it does not succeed.
@@ -179,6 +189,22 @@ fn install_packages() -> Result<()> {
     })
 }
 
+/// The RTL's own checks: Verilator's lint on the synthesisable files (warnings are
+/// errors), the Icarus testbenches, and synthesis to an iCE40 with its figures.
+fn rtl_checks() -> Result<()> {
+    let root = workspace_root();
+    let files: Vec<String> = synth::sources(&root)?
+        .iter()
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect();
+    let mut lint = vec!["--lint-only", "-Wall", "--top-module", synth::TOP];
+    lint.extend(files.iter().map(String::as_str));
+    run("verilator", &lint)?;
+    let script = root.join("rtl").join("run-tests.sh");
+    run("sh", &[&script.to_string_lossy()])?;
+    synth::synth(&root)
+}
+
 /// The Debian release this machine runs (`VERSION_CODENAME` in /etc/os-release).
 fn release_codename() -> Option<String> {
     let text = std::fs::read_to_string("/etc/os-release").ok()?;
@@ -245,6 +271,7 @@ fn test() -> Result<()> {
             "firmware",
         ],
     )?;
+    rtl_checks()?;
     run(&cargo, &["test", "--workspace"])?;
     eprintln!("xtask test: all checks passed");
     Ok(())

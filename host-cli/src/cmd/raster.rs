@@ -54,6 +54,9 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
             clock / 1e6
         );
         println!("FIFO stalls   {}", d.fifo_stalls);
+        if target.settings()?.port.as_deref() == Some("rtl") {
+            model_beside_rtl(&job, &name, &out)?;
+        }
         println!(
             "link (target) sent {} resent {} delivered {} crc errors {} duplicates {}",
             l.sent, l.resent, l.delivered, l.crc_errors, l.duplicates
@@ -64,5 +67,42 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
         }
     }
     eprintln!("wrote {}", a.output.display());
+    Ok(())
+}
+
+/// With `--port rtl --stats`: the golden model's estimate for the same job on the FITkit
+/// layout, beside the RTL's measured cycles, and whether the two frames agree. The model
+/// walks the bounding box, as the RTL's triangle unit does, whatever the file asks for.
+fn model_beside_rtl(
+    job: &raster_file::RasterJob,
+    name: &str,
+    rtl: &host_cli::raster::RasterOutput,
+) -> Result<()> {
+    let mut job = job.clone();
+    job.setup.traversal = Traversal::BoundingBox;
+    let builtin = sim_board::in_process::sim_target_with(&protocol::bus::FITKIT);
+    let mut session = host_cli::session::Session::new(builtin);
+    session.handshake().context("handshake with the golden model")?;
+    let model = host_cli::raster::run(&mut session, &job, name)?;
+    let differ = model
+        .image
+        .pixels()
+        .zip(rtl.image.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    println!(
+        "model cycles  {} (golden model, FITkit layout, bounding-box traversal; RTL {} = {:+})",
+        model.stats.device.cycles,
+        rtl.stats.device.cycles,
+        rtl.stats.device.cycles as i64 - model.stats.device.cycles as i64
+    );
+    println!(
+        "model frame   {}",
+        if differ == 0 {
+            "identical to the RTL's".to_string()
+        } else {
+            format!("{differ} pixels differ from the RTL's")
+        }
+    );
     Ok(())
 }

@@ -28,6 +28,7 @@ fn caps() -> Caps {
         max_objects: 8,
         max_lights: 2,
         texture_words: 65536,
+        raster_layout: Some(protocol::fpga::LayoutId::Fitkit),
     }
 }
 
@@ -49,6 +50,7 @@ const HELLO: &[u8] = &[
     0xc0, 0x02, 0xf0, 0x01, // 320, 240
     0x08, 0x10, 0x80, 0x04, // subpixel 8, queue 16, fifo 512
     0x08, 0x02, 0x80, 0x80, 0x04, // objects, lights, texture words 65536
+    0x01, 0x00, // raster layout Some(Fitkit)
     0x02, 0x66, 0x77, // "fw"
 ];
 
@@ -365,7 +367,7 @@ fn schema_hash_is_pinned() {
     // by version rather than by hash.
     assert_eq!(SCHEMA_HASH, schema_hash());
     println!("schema hash {SCHEMA_HASH:#018x}");
-    assert_eq!(SCHEMA_HASH, 0xaac6baeb60648326);
+    assert_eq!(SCHEMA_HASH, 0x687eb9a2f546a4c6);
 }
 
 #[test]
@@ -725,8 +727,13 @@ fn hello_s() -> impl Strategy<Value = Hello> {
             any::<(u8, u16, u16, u8, u8, u32)>(),
         ),
         "[a-z0-9 .]{0,32}",
+        proptest::option::of(prop_oneof![
+            Just(protocol::fpga::LayoutId::Fitkit),
+            Just(protocol::fpga::LayoutId::Extended),
+            Just(protocol::fpga::LayoutId::Wide),
+        ]),
     )
-        .prop_map(|(v, h, (a, b), ident)| {
+        .prop_map(|(v, h, (a, b), ident, raster_layout)| {
             let c = (a.0, a.1, a.2, a.3, a.4, a.5, b.0, b.1, b.2, b.3, b.4, b.5);
             Hello {
                 protocol_version: v,
@@ -744,6 +751,7 @@ fn hello_s() -> impl Strategy<Value = Hello> {
                     max_objects: c.9,
                     max_lights: c.10,
                     texture_words: c.11,
+                    raster_layout,
                 },
                 ident: String::try_from(ident.as_str()).expect("≤ 32 ASCII bytes"),
             }

@@ -8,8 +8,8 @@ use anyhow::Result;
 use clap::Parser;
 use sim_board::bootloader_pty::{self, Chip};
 use sim_board::fpga_port::FpgaPort;
+use sim_board::board::Fpga;
 use sim_board::{board, pty};
-use sim_target::device::DeviceError;
 
 #[derive(Parser)]
 #[command(
@@ -49,6 +49,10 @@ struct Cli {
     /// throughput figures through a pty or TCP mean something.
     #[arg(long)]
     pace: bool,
+    /// The board's FPGA with --pty or --tcp: the golden model, or the FITkit raster
+    /// block's RTL (Verilated rtl/) behind the controller's SPI driver.
+    #[arg(long, value_enum, default_value_t = Fpga::Model)]
+    fpga: Fpga,
 }
 
 fn main() -> std::process::ExitCode {
@@ -77,7 +81,7 @@ fn run(cli: Cli) -> Result<()> {
     if let Some(addr) = &cli.tcp {
         let listener = board::listen(addr)?;
         announce(&listener.local_addr()?.to_string())?;
-        let never = board::serve_tcp(listener, pace, model_fault)?;
+        let never = board::serve_tcp(listener, pace, cli.fpga, fpga_fault)?;
         match never {}
     }
     anyhow::ensure!(
@@ -86,14 +90,14 @@ fn run(cli: Cli) -> Result<()> {
     );
     let (master, path) = pty::open()?;
     announce(&path)?;
-    let never = board::serve(master, pace, model_fault)?;
+    let never = board::serve(master, pace, cli.fpga, fpga_fault)?;
     match never {}
 }
 
 /// The host was answered with a Device error and the board keeps serving; the operator
 /// hears of it here.
-fn model_fault(e: &DeviceError) {
-    eprintln!("fpgfx-sim: FPGA model fault: {e}");
+fn fpga_fault(e: &dyn std::fmt::Display) {
+    eprintln!("fpgfx-sim: FPGA fault: {e}");
 }
 
 /// Prints where we listen on stdout's first line (tests and scripts read it).
