@@ -20,7 +20,8 @@ fn meshes_write_every_pixel_once() {
         let mut pair = Pair::new(harness::setup(128, 128, bg, Cull::None));
         let (cols, rows, cell) = (rng.gen_range(2..=8), rng.gen_range(2..=8), rng.gen_range(6..=14));
         let (x0, y0) = (rng.gen_range(0..8), rng.gen_range(0..8));
-        let jitter = cell / 3;
+        // Under a fifth of a cell, every triangle keeps its winding: a valid tiling.
+        let jitter = cell / 5;
         let grid: Vec<Vec<(i32, i32)>> = (0..=rows)
             .map(|j| {
                 (0..=cols)
