@@ -191,6 +191,7 @@ module tb_top;
                 @(posedge clk);
                 quiet = busy ? 0 : quiet + 1;
             end
+            @(negedge clk);   // callers change inputs next: not at a sampling edge
         end
     endtask
 
@@ -306,7 +307,7 @@ module tb_top;
     integer k, n;
     reg [7:0] rb [0:63];
     initial begin
-        repeat (5) @(posedge clk);
+        repeat (5) @(negedge clk);
         rst = 1'b0;
         repeat (5) @(posedge clk);
         if ($value$plusargs("tx=%s", txfile)) begin
@@ -400,7 +401,7 @@ module tb_top;
             end
             begin
                 repeat (6000) begin
-                    @(posedge clk);
+                    @(negedge clk);   // not at the edge the design samples it
                     mem_wait = $random;
                 end
                 mem_wait = 1'b0;
@@ -426,7 +427,7 @@ module tb_top;
             end
             begin
                 repeat (3000) begin
-                    @(posedge clk);
+                    @(negedge clk);   // not at the edge the design samples it
                     mem_wait = $random;
                 end
                 mem_wait = 1'b0;
