@@ -326,6 +326,9 @@ module tb_top;
         setup(40, 30, 8'h12, 0);
         wait_idle;
         check_frame("set-up clear");
+        read_status;
+        check(st32(27) == 40 * 30 + 1 && st32(23) == 40 * 30 && st32(7) == 0,
+              "a set-up alone completes at cycle W*H + 1");
         send(8'h01, 9, 72'h8_0405_2CC8_5_4800_0000);
         ref_fill(fbg);
         ref_line(1, 2, 300, 400, 8'hA9);
