@@ -439,6 +439,33 @@ module tb_top;
         wait_idle;
         check_frame("frame under mem_wait");
 
+        // Random packets back to back (several queued at once), random mem_wait.
+        setup(72, 56, 8'h24, 0);
+        fork
+            for (k = 0; k < 60; k = k + 1) begin
+                n = $unsigned($random) % 16;
+                if (n < 7)
+                    line(n == 0, $unsigned($random) % 90, $unsigned($random) % 70,
+                         $unsigned($random) % 90, $unsigned($random) % 70, $random);
+                else if (n < 15)
+                    triangle(n == 7, $unsigned($random) % 90, $unsigned($random) % 70,
+                             $unsigned($random) % 90, $unsigned($random) % 70,
+                             $unsigned($random) % 90, $unsigned($random) % 70, $random);
+                else clear($random);
+            end
+            begin
+                repeat (40000) begin
+                    @(negedge clk);
+                    mem_wait = ($unsigned($random) % 4) == 0;
+                end
+                mem_wait = 1'b0;
+            end
+        join
+        wait_idle;
+        check_frame("random packets under mem_wait");
+        read_status;
+        check(st32(7) == r_pkts && st32(11) == r_frags, "random packets: packets, fragments");
+
         // Errors: each sets the sticky error; status, reset and set-up still work after it.
         soft_reset;
         send(8'h01, 8, 72'h8_0405_2CC8_5_4800_0000);
