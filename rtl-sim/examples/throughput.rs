@@ -32,7 +32,13 @@ fn main() -> Result<()> {
             background: rng.gen(),
             cull: Cull::None,
         };
-        send(&rtl, &mut spi, wire::ADDR_SETUP, &[setup.record()?], &mut spi_time)?;
+        send(
+            &rtl,
+            &mut spi,
+            wire::ADDR_SETUP,
+            &[setup.record()?],
+            &mut spi_time,
+        )?;
         for k in 0..200 {
             let p = |rng: &mut SmallRng| Point {
                 x: rng.gen_range(0..256),
@@ -76,7 +82,10 @@ fn main() -> Result<()> {
     }
     let secs = started.elapsed().as_secs_f64();
     let cycles = rtl.borrow().cycle();
-    println!("{cycles} cycles, {fragments} fragments, {} SPI bits in {secs:.2} s", spi.bits());
+    println!(
+        "{cycles} cycles, {fragments} fragments, {} SPI bits in {secs:.2} s",
+        spi.bits()
+    );
     println!(
         "{:.2} M cycles/s, {:.2} M fragments/s, {:.1} k SPI bits/s ({:.2} s of the run clocking SPI)",
         cycles as f64 / secs / 1e6,

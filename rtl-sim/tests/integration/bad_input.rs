@@ -11,7 +11,11 @@ use crate::harness::{self, Pair};
 /// A block with its set-up (packet 0) and one good line (packet 1) done.
 fn primed() -> Pair {
     let mut pair = Pair::new(harness::setup(16, 16, Rgb::new(0, 0, 0), Cull::None));
-    pair.step("prime", &cases::line((0, 0), (15, 9), Rgb::new(255, 255, 255)), false);
+    pair.step(
+        "prime",
+        &cases::line((0, 0), (15, 9), Rgb::new(255, 255, 255)),
+        false,
+    );
     pair
 }
 
@@ -37,8 +41,8 @@ fn refused(bytes: &[u8], code: ErrorCode, channel: u8) {
 /// A good line packet's bytes, address first.
 fn line_bytes() -> Vec<u8> {
     let cmd = cases::line((3, 3), (12, 5), Rgb::new(255, 0, 0));
-    let records = protocol::bus::pack(&protocol::bus::FITKIT, &cmd, Default::default())
-        .expect("packs");
+    let records =
+        protocol::bus::pack(&protocol::bus::FITKIT, &cmd, Default::default()).expect("packs");
     let mut buf = [0u8; 1 + wire::MAX_PACKET_BYTES];
     let n = wire::packet(wire::ADDR_LINE, &records, &mut buf).expect("frames");
     buf[..n].to_vec()
@@ -81,7 +85,10 @@ fn an_unknown_address_is_refused() {
 fn ignoring_fifo_free_overruns() {
     let mut pair = Pair::new(harness::setup(512, 512, Rgb::new(0, 0, 0), Cull::None));
     // Keep the triangle unit busy so the FIFO only fills.
-    pair.send(&cases::triangle([(0, 0), (511, 0), (0, 511)], Rgb::new(0, 0, 255)), false);
+    pair.send(
+        &cases::triangle([(0, 0), (511, 0), (0, 511)], Rgb::new(0, 0, 255)),
+        false,
+    );
     let line = line_bytes();
     // 256 two-record packets fill 512 records; the next has no room.
     for _ in 0..=256 {
@@ -89,7 +96,11 @@ fn ignoring_fifo_free_overruns() {
     }
     let s = pair.status();
     let e = s.error.expect("overrun latched");
-    assert_eq!((e.code, e.channel), (ErrorCode::Overrun, wire::ADDR_LINE), "{s:?}");
+    assert_eq!(
+        (e.code, e.channel),
+        (ErrorCode::Overrun, wire::ADDR_LINE),
+        "{s:?}"
+    );
     // Packets 0 and 1 are the set-up and the triangle, whose records left the FIFO when
     // the unit started it; 256 lines fit the 512 records, the 257th is the first refused.
     assert_eq!(e.packet, 2 + 256, "{s:?}");

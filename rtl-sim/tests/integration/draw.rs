@@ -7,7 +7,7 @@ use rand::Rng;
 
 use crate::cases;
 use crate::harness::{self, Pair};
-use crate::tally::Tally;
+use crate::tally::{model_gap, Tally};
 
 /// A class of cases: how its frames and commands are made.
 pub struct Class<'a> {
@@ -34,7 +34,8 @@ impl Class<'_> {
                 let (cmd, cb) = (self.cmd)(&mut rng, &setup);
                 let case = format!("{} seed {} frame {f} cmd {k}", self.name, self.seed);
                 let step = pair.step(&case, &cmd, cb);
-                tally.add(self.name, || format!("{case}: {setup:?} {cmd:?} cb={cb}"), &step);
+                let case = || format!("{case}: {setup:?} {cmd:?} cb={cb}");
+                tally.add(self.name, case, &step, model_gap(&cmd, cb));
             }
         }
     }

@@ -27,7 +27,11 @@ fn the_firmware_driver_draws_what_the_model_draws() {
     for k in 0..60 {
         let c = cases::color_except(&mut rng, bg);
         let cmd = if k % 2 == 0 {
-            cases::line(cases::point(&mut rng, 79, 59), cases::point(&mut rng, 79, 59), c)
+            cases::line(
+                cases::point(&mut rng, 79, 59),
+                cases::point(&mut rng, 79, 59),
+                c,
+            )
         } else {
             cases::triangle([(); 3].map(|_| cases::point(&mut rng, 79, 59)), c)
         };

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::harness::{Pair, MODEL_TRAVERSAL};
-use crate::tally::Tally;
+use crate::tally::{model_gap, Tally};
 
 fn job() -> host_cli::raster_file::RasterJob {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/raster/fitkit.toml");
@@ -21,7 +21,8 @@ fn the_fitkit_scene_matches_the_model() {
     let mut t = Tally::default();
     for (k, cmd) in job.cmds.iter().enumerate() {
         let step = pair.step(&format!("fitkit.toml cmd {k}"), cmd, false);
-        t.add("gallery", || format!("fitkit.toml cmd {k}: {cmd:?}"), &step);
+        let case = || format!("fitkit.toml cmd {k}: {cmd:?}");
+        t.add("gallery", case, &step, model_gap(cmd, false));
     }
     t.assert_exact();
     // The read channel gives what the backdoor sees, row by row.
@@ -29,7 +30,11 @@ fn the_fitkit_scene_matches_the_model() {
     let backdoor = pair.rtl.borrow().frame(w, h).expect("inside");
     for y in (0..h).step_by(7) {
         let row = pair.read_pixels(0, y, w as usize);
-        assert_eq!(row, backdoor[(y * w) as usize..((y + 1) * w) as usize], "row {y}");
+        assert_eq!(
+            row,
+            backdoor[(y * w) as usize..((y + 1) * w) as usize],
+            "row {y}"
+        );
     }
     let s = pair.status();
     assert_eq!(s.error, None, "read-back latched {s:?}");

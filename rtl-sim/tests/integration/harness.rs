@@ -127,7 +127,11 @@ impl Pair {
     }
 
     /// The FITkit packet of `cmd` (CB = `cb`): its channel and records.
-    pub fn pack(&self, cmd: &RasterCmd, cb: bool) -> (u8, heapless::Vec<u64, { bus::MAX_RECORDS }>) {
+    pub fn pack(
+        &self,
+        cmd: &RasterCmd,
+        cb: bool,
+    ) -> (u8, heapless::Vec<u64, { bus::MAX_RECORDS }>) {
         let opts = PackOptions {
             subpixel_bits: self.setup.subpixel_bits,
             clear: cb,
@@ -160,7 +164,10 @@ impl Pair {
     pub fn status(&mut self) -> Status {
         let mut b = [0u8; wire::STATUS_BYTES];
         self.spi
-            .transaction(&mut [Operation::Write(&[wire::ADDR_STATUS]), Operation::Read(&mut b)])
+            .transaction(&mut [
+                Operation::Write(&[wire::ADDR_STATUS]),
+                Operation::Read(&mut b),
+            ])
             .expect("SPI read");
         Status::decode(&b).unwrap_or_else(|e| panic!("status {b:02x?}: {e}"))
     }

@@ -19,7 +19,10 @@ fn lines_match_the_model() {
         cmd: &|rng, s| {
             let (mx, my) = extent(s);
             let c = cases::color_except(rng, s.background);
-            (cases::line(cases::point(rng, mx, my), cases::point(rng, mx, my), c), false)
+            (
+                cases::line(cases::point(rng, mx, my), cases::point(rng, mx, my), c),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -33,7 +36,10 @@ fn lines_match_the_model() {
             let (mx, my) = extent(s);
             let a = cases::point(rng, mx, my);
             let b = cases::near(rng, a, 1);
-            (cases::line(a, b, cases::color_except(rng, s.background)), false)
+            (
+                cases::line(a, b, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -50,7 +56,10 @@ fn lines_match_the_model() {
                 _ => rng.gen_range(0..=MAX_COORD),
             };
             let (a, b) = ((c(), c()), (c(), c()));
-            (cases::line(a, b, cases::color_except(rng, s.background)), false)
+            (
+                cases::line(a, b, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -63,7 +72,10 @@ fn lines_match_the_model() {
         cmd: &|rng, s| {
             let a = cases::point(rng, MAX_COORD, MAX_COORD);
             let b = cases::point(rng, 319, 239);
-            (cases::line(a, b, cases::color_except(rng, s.background)), false)
+            (
+                cases::line(a, b, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -84,7 +96,10 @@ fn lines_match_the_model() {
                 _ => (a.0 - n, a.1 + n),
             };
             let b = (b.0.clamp(0, MAX_COORD), b.1.clamp(0, MAX_COORD));
-            (cases::line(a, b, cases::color_except(rng, s.background)), false)
+            (
+                cases::line(a, b, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);

@@ -23,13 +23,19 @@ fn stalls_change_no_pixel() {
         for n in 0..40 {
             let c = cases::color_except(&mut rng, bg);
             let cmd = match rng.gen_range(0..4) {
-                0 => cases::line(cases::point(&mut rng, 63, 47), cases::point(&mut rng, 63, 47), c),
+                0 => cases::line(
+                    cases::point(&mut rng, 63, 47),
+                    cases::point(&mut rng, 63, 47),
+                    c,
+                ),
                 1 => protocol::frame::RasterCmd::Clear(c),
                 _ => cases::triangle([(); 3].map(|_| cases::point(&mut rng, 63, 47)), c),
             };
             // Every third command runs with the memory always ready.
             let on = n % 3 != 2;
-            pair.rtl.borrow_mut().set_mem_wait(if on { wait } else { MemWait::Off });
+            pair.rtl
+                .borrow_mut()
+                .set_mem_wait(if on { wait } else { MemWait::Off });
             let case = format!("mem_wait duty {duty}/256 (on: {on}) cmd {n}");
             let step = pair.step(&case, &cmd, false);
             assert_eq!(step.rtl.fragments, step.model.fragments, "{case}: {cmd:?}");

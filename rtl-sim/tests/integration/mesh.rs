@@ -9,7 +9,7 @@ use rand::Rng;
 
 use crate::cases;
 use crate::harness::{self, Pair};
-use crate::tally::Tally;
+use crate::tally::{model_gap, Tally};
 
 #[test]
 fn meshes_write_every_pixel_once() {
@@ -18,7 +18,11 @@ fn meshes_write_every_pixel_once() {
     for m in 0..8 {
         let bg = cases::color(&mut rng);
         let mut pair = Pair::new(harness::setup(128, 128, bg, Cull::None));
-        let (cols, rows, cell) = (rng.gen_range(2..=8), rng.gen_range(2..=8), rng.gen_range(6..=14));
+        let (cols, rows, cell) = (
+            rng.gen_range(2..=8),
+            rng.gen_range(2..=8),
+            rng.gen_range(6..=14),
+        );
         let (x0, y0) = (rng.gen_range(0..8), rng.gen_range(0..8));
         // Under a fifth of a cell, every triangle keeps its winding: a valid tiling.
         let jitter = cell / 5;
@@ -29,7 +33,10 @@ fn meshes_write_every_pixel_once() {
                         let (x, y) = (x0 + i * cell, y0 + j * cell);
                         let inner = i > 0 && i < cols && j > 0 && j < rows;
                         if inner {
-                            (x + rng.gen_range(-jitter..=jitter), y + rng.gen_range(-jitter..=jitter))
+                            (
+                                x + rng.gen_range(-jitter..=jitter),
+                                y + rng.gen_range(-jitter..=jitter),
+                            )
                         } else {
                             (x, y)
                         }
@@ -40,8 +47,17 @@ fn meshes_write_every_pixel_once() {
         let first = pair.status().fragments;
         for j in 0..rows as usize {
             for i in 0..cols as usize {
-                let (a, b, c, d) = (grid[j][i], grid[j][i + 1], grid[j + 1][i + 1], grid[j + 1][i]);
-                let halves = if rng.gen() { [[a, b, c], [a, c, d]] } else { [[a, b, d], [b, c, d]] };
+                let (a, b, c, d) = (
+                    grid[j][i],
+                    grid[j][i + 1],
+                    grid[j + 1][i + 1],
+                    grid[j + 1][i],
+                );
+                let halves = if rng.gen() {
+                    [[a, b, c], [a, c, d]]
+                } else {
+                    [[a, b, d], [b, c, d]]
+                };
                 for mut v in halves {
                     if rng.gen() {
                         v.swap(1, 2);
@@ -49,7 +65,12 @@ fn meshes_write_every_pixel_once() {
                     let cmd = cases::triangle(v, cases::color_except(&mut rng, bg));
                     let case = format!("mesh {m} cell ({i}, {j})");
                     let step = pair.step(&case, &cmd, false);
-                    t.add("mesh", || format!("{case}: {cmd:?}"), &step);
+                    t.add(
+                        "mesh",
+                        || format!("{case}: {cmd:?}"),
+                        &step,
+                        model_gap(&cmd, false),
+                    );
                 }
             }
         }
@@ -59,7 +80,10 @@ fn meshes_write_every_pixel_once() {
         let changed = frame.iter().filter(|&&p| p != bg).count();
         assert_eq!(changed, area, "mesh {m}: pixels written (a gap if fewer)");
         let written = u64::from(pair.status().fragments - first);
-        assert_eq!(written, area as u64, "mesh {m}: fragments (a pixel written twice if more)");
+        assert_eq!(
+            written, area as u64,
+            "mesh {m}: fragments (a pixel written twice if more)"
+        );
     }
     assert!(t.cases() >= 100, "{} mesh triangles", t.cases());
     t.assert_exact();

@@ -12,8 +12,11 @@ fn a_fresh_block_reports_an_empty_fifo_and_no_set_up() {
     let mut spi = RtlSpi::new(rtl.clone(), SpiConfig::default()).expect("SPI");
     // 40 bytes: the status block, then zeros past byte 31.
     let mut b = [0xA5u8; 40];
-    spi.transaction(&mut [Operation::Write(&[wire::ADDR_STATUS]), Operation::Read(&mut b)])
-        .expect("read");
+    spi.transaction(&mut [
+        Operation::Write(&[wire::ADDR_STATUS]),
+        Operation::Read(&mut b),
+    ])
+    .expect("read");
     assert_eq!(&b[32..], &[0; 8], "past the status block");
     let s = Status::decode(b[..32].try_into().expect("32 bytes")).expect("decodes");
     assert_eq!(s.free, wire::FIFO_RECORDS);
@@ -54,7 +57,10 @@ fn the_contract_floors_are_enforced() {
         half_period: 3,
         ..SpiConfig::default()
     };
-    assert_eq!(RtlSpi::new(rtl.clone(), too_fast).err(), Some(SpiError::HalfPeriod(3)));
+    assert_eq!(
+        RtlSpi::new(rtl.clone(), too_fast).err(),
+        Some(SpiError::HalfPeriod(3))
+    );
     let short_cs = SpiConfig {
         cs_high: 7,
         ..SpiConfig::default()
@@ -64,7 +70,12 @@ fn the_contract_floors_are_enforced() {
 
 #[test]
 fn a_soft_reset_clears_the_set_up() {
-    let mut pair = harness::Pair::new(harness::setup(8, 8, protocol::frame::Rgb::new(0, 0, 0), Default::default()));
+    let mut pair = harness::Pair::new(harness::setup(
+        8,
+        8,
+        protocol::frame::Rgb::new(0, 0, 0),
+        Default::default(),
+    ));
     assert_ne!(pair.status().flags & wire::FLAG_SETUP_DONE, 0);
     pair.write_raw(&[wire::ADDR_RESET]);
     let s = pair.status();

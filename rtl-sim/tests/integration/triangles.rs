@@ -21,7 +21,10 @@ fn triangles_match_the_model() {
         cmd: &|rng, s| {
             let (mx, my) = extent(s);
             let v = [(); 3].map(|_| cases::point(rng, mx, my));
-            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+            (
+                cases::triangle(v, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -35,7 +38,10 @@ fn triangles_match_the_model() {
             let (mx, my) = extent(s);
             let a = cases::point(rng, mx, my);
             let v = [a, cases::near(rng, a, 2), cases::near(rng, a, 2)];
-            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+            (
+                cases::triangle(v, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -48,7 +54,10 @@ fn triangles_match_the_model() {
         cmd: &|rng, s| {
             let (mx, my) = extent(s);
             let v = cases::sliver(rng, mx, my);
-            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+            (
+                cases::triangle(v, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -60,7 +69,10 @@ fn triangles_match_the_model() {
         frame: &|rng| harness::setup(96, 96, cases::color(rng), Cull::None),
         cmd: &|rng, s| {
             let v = cases::through_centres(rng, 95);
-            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+            (
+                cases::triangle(v, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -77,7 +89,10 @@ fn triangles_match_the_model() {
                 _ => rng.gen_range(0..=MAX_COORD),
             };
             let v = [(c(), c()), (c(), c()), (c(), c())];
-            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+            (
+                cases::triangle(v, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -93,7 +108,10 @@ fn triangles_match_the_model() {
                 cases::point(rng, 319, 239),
                 cases::point(rng, MAX_COORD, MAX_COORD),
             ];
-            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+            (
+                cases::triangle(v, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
@@ -108,7 +126,10 @@ fn triangles_match_the_model() {
         },
         cmd: &|rng, s| {
             let v = [(); 3].map(|_| cases::point(rng, 63, 63));
-            (cases::triangle(v, cases::color_except(rng, s.background)), false)
+            (
+                cases::triangle(v, cases::color_except(rng, s.background)),
+                false,
+            )
         },
     }
     .run(&mut t);
