@@ -13,7 +13,7 @@ fn lines_match_the_model() {
     Class {
         name: "line random",
         seed: 0x11,
-        frames: 10,
+        frames: 30,
         per_frame: 15,
         frame: &draw::small_frame,
         cmd: &|rng, s| {
@@ -29,7 +29,7 @@ fn lines_match_the_model() {
     Class {
         name: "line tiny (<= 2 px)",
         seed: 0x12,
-        frames: 4,
+        frames: 10,
         per_frame: 20,
         frame: &draw::small_frame,
         cmd: &|rng, s| {
@@ -46,7 +46,7 @@ fn lines_match_the_model() {
     Class {
         name: "line viewport limits 0 and 511",
         seed: 0x13,
-        frames: 2,
+        frames: 4,
         per_frame: 20,
         frame: &draw::full_frame,
         cmd: &|rng, s| {
@@ -66,7 +66,7 @@ fn lines_match_the_model() {
     Class {
         name: "line partly outside 320x240",
         seed: 0x14,
-        frames: 4,
+        frames: 8,
         per_frame: 20,
         frame: &draw::qvga_frame,
         cmd: &|rng, s| {
@@ -82,7 +82,7 @@ fn lines_match_the_model() {
     Class {
         name: "line axis and diagonal",
         seed: 0x15,
-        frames: 4,
+        frames: 8,
         per_frame: 15,
         frame: &draw::small_frame,
         cmd: &|rng, s| {
@@ -103,6 +103,6 @@ fn lines_match_the_model() {
         },
     }
     .run(&mut t);
-    assert!(t.cases() >= 390, "{} line cases", t.cases());
+    assert!(t.cases() >= 1_000, "{} line cases", t.cases());
     t.assert_exact();
 }

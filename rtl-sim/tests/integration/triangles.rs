@@ -15,7 +15,7 @@ fn triangles_match_the_model() {
     Class {
         name: "triangle random",
         seed: 0x21,
-        frames: 10,
+        frames: 25,
         per_frame: 20,
         frame: &draw::small_frame,
         cmd: &|rng, s| {
@@ -31,7 +31,7 @@ fn triangles_match_the_model() {
     Class {
         name: "triangle tiny (<= 2 px)",
         seed: 0x22,
-        frames: 4,
+        frames: 8,
         per_frame: 25,
         frame: &draw::small_frame,
         cmd: &|rng, s| {
@@ -48,7 +48,7 @@ fn triangles_match_the_model() {
     Class {
         name: "triangle sliver",
         seed: 0x23,
-        frames: 4,
+        frames: 8,
         per_frame: 25,
         frame: &draw::small_frame,
         cmd: &|rng, s| {
@@ -64,7 +64,7 @@ fn triangles_match_the_model() {
     Class {
         name: "triangle edges through pixel centres",
         seed: 0x24,
-        frames: 4,
+        frames: 8,
         per_frame: 25,
         frame: &|rng| harness::setup(96, 96, cases::color(rng), Cull::None),
         cmd: &|rng, s| {
@@ -79,7 +79,7 @@ fn triangles_match_the_model() {
     Class {
         name: "triangle viewport limits 0 and 511",
         seed: 0x25,
-        frames: 2,
+        frames: 4,
         per_frame: 15,
         frame: &draw::full_frame,
         cmd: &|rng, s| {
@@ -99,7 +99,7 @@ fn triangles_match_the_model() {
     Class {
         name: "triangle partly outside 320x240",
         seed: 0x26,
-        frames: 4,
+        frames: 8,
         per_frame: 20,
         frame: &draw::qvga_frame,
         cmd: &|rng, s| {
@@ -118,7 +118,7 @@ fn triangles_match_the_model() {
     Class {
         name: "triangle culled by winding",
         seed: 0x27,
-        frames: 6,
+        frames: 12,
         per_frame: 10,
         frame: &|rng| {
             let cull = [Cull::Clockwise, Cull::CounterClockwise][rng.gen_range(0..2)];
@@ -133,6 +133,6 @@ fn triangles_match_the_model() {
         },
     }
     .run(&mut t);
-    assert!(t.cases() >= 600, "{} triangle cases", t.cases());
+    assert!(t.cases() >= 1_300, "{} triangle cases", t.cases());
     t.assert_exact();
 }
