@@ -34,9 +34,9 @@ fn main() {
         return;
     };
     println!("cargo::rerun-if-changed={}", verilator.display());
-    let has_top = sources.iter().any(|p| {
-        fs::read_to_string(p).is_ok_and(|t| t.contains(&format!("module {TOP}")))
-    });
+    let has_top = sources
+        .iter()
+        .any(|p| fs::read_to_string(p).is_ok_and(|t| t.contains(&format!("module {TOP}"))));
     if !has_top {
         missing("rtl");
         return;
@@ -77,7 +77,11 @@ fn main() {
         .include(&include)
         .include(include.join("vltstd"))
         .file(manifest.join("csrc/shim.cpp"));
-    for runtime in ["verilated.cpp", "verilated_threads.cpp", "verilated_dpi.cpp"] {
+    for runtime in [
+        "verilated.cpp",
+        "verilated_threads.cpp",
+        "verilated_dpi.cpp",
+    ] {
         build.file(include.join(runtime));
     }
     let mut generated: Vec<PathBuf> = fs::read_dir(&mdir)

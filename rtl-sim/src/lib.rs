@@ -44,7 +44,9 @@ pub enum RtlError {
     #[error("verilator not found when rtl-sim was built: run `cargo xtask setup` (installs verilator from Debian), then rebuild")]
     NoVerilator,
     /// The crate was built before `rtl/sim/` had the `fitkit_sim_top` module.
-    #[error("rtl/ had no `fitkit_sim_top` module when rtl-sim was built: the RTL is not there yet")]
+    #[error(
+        "rtl/ had no `fitkit_sim_top` module when rtl-sim was built: the RTL is not there yet"
+    )]
     NoRtl,
     /// The Verilated model has no single public 2^18-byte array to read the framebuffer
     /// from (docs/rtl.md: the sim RAM is `/*verilator public*/`).
@@ -195,7 +197,11 @@ impl Rtl {
     pub fn set_mem_wait(&mut self, mode: MemWait) {
         self.mem_wait = mode;
         if let MemWait::Random { seed, .. } = mode {
-            self.rng = if seed == 0 { 0x9E37_79B9_7F4A_7C15 } else { seed };
+            self.rng = if seed == 0 {
+                0x9E37_79B9_7F4A_7C15
+            } else {
+                seed
+            };
         }
     }
 
