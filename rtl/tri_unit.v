@@ -26,7 +26,7 @@
 // the bounding box of a 512 x 512 frame (|2i + 1 - Xp| <= 1021 there). E is always
 // even, so this unit keeps e = E / 2 = dy(2i + 1 - 2xp) - dx(2j + 1 - 2yp):
 //   dx, dy        10 bits signed (|.| <= 511)
-//   2i + 1 - 2xp  11 bits signed (-1021..1021 hit the box, -1021..1 at its corner)
+//   2i + 1 - 2xp  11 bits signed (-1021..1021 inside the box, -1021..1 at its corner)
 //   steps         2dy per column, -2dx per row: 11 bits signed
 //   e             21 bits signed: |e| <= 2 * 511 * 1021 = 1 043 462 < 2^20
 // and the model's test E - bias >= 0 (bias = 0 on top-left edges, else 1) is e >= 0 on
@@ -41,9 +41,9 @@
 // covered pixels; done is a one-cycle strobe with the last pixel test.
 //
 // Timing: busy = 4 set-up cycles + one pixel test per cycle over the clipped bounding
-// box, i.e. 4 + (min(max x, W) - min x) * (min(max y, H) - min y) (0 when the box is
-// empty, the triangle degenerate or culled), plus the cycles frag_ready is low when an
-// hit pixel waits. This is the model's hw::SETUP_CYCLES + pixel_tests for
+// box, i.e. 4 + (min(max x, W) - min x) * (min(max y, H) - min y) (the product is 0 when the box is
+// empty, the triangle degenerate or culled), plus the cycles frag_ready is low when a
+// covered pixel waits. This is the model's hw::SETUP_CYCLES + pixel_tests for
 // Traversal::BoundingBox.
 //
 // Parameter LANES (1, 2, 4, 8; seed 000's 8-pixel parallel evaluation): each traversal
