@@ -41,9 +41,9 @@
 // covered pixels; done is a one-cycle strobe with the last pixel test.
 //
 // Timing: busy = 4 set-up cycles + one pixel test per cycle over the clipped bounding
-// box, i.e. 4 + (min(max x, W) - min x) * (min(max y, H) - min y) (the product is 0 when the box is
-// empty, the triangle degenerate or culled), plus the cycles frag_ready is low when a
-// covered pixel waits. This is the model's hw::SETUP_CYCLES + pixel_tests for
+// box, i.e. 4 + (min(max x, W) - min x) * (min(max y, H) - min y), the product taken
+// as 0 when the box is empty, the triangle degenerate or culled; plus the cycles
+// frag_ready is low while a covered pixel waits. This is the model's hw::SETUP_CYCLES + pixel_tests for
 // Traversal::BoundingBox.
 //
 // Parameter LANES (1, 2, 4, 8; seed 000's 8-pixel parallel evaluation): each traversal
