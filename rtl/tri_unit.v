@@ -43,8 +43,8 @@
 // Timing: busy = 4 set-up cycles + one pixel test per cycle over the clipped bounding
 // box, i.e. 4 + (min(max x, W) - min x) * (min(max y, H) - min y), the product taken
 // as 0 when the box is empty, the triangle degenerate or culled; plus the cycles
-// frag_ready is low while a covered pixel waits. This is the model's hw::SETUP_CYCLES + pixel_tests for
-// Traversal::BoundingBox.
+// frag_ready is low while a covered pixel waits. This is the model's
+// hw::SETUP_CYCLES + pixel_tests for Traversal::BoundingBox.
 //
 // Parameter LANES (1, 2, 4, 8; seed 000's 8-pixel parallel evaluation): each traversal
 // step tests LANES pixels of a row (i .. i + LANES - 1, those past the box masked off)
