@@ -191,6 +191,7 @@ module tb_top;
                 @(posedge clk);
                 quiet = busy ? 0 : quiet + 1;
             end
+            @(negedge clk);   // callers change inputs next: not at a sampling edge
         end
     endtask
 
@@ -306,7 +307,7 @@ module tb_top;
     integer k, n;
     reg [7:0] rb [0:63];
     initial begin
-        repeat (5) @(posedge clk);
+        repeat (5) @(negedge clk);
         rst = 1'b0;
         repeat (5) @(posedge clk);
         if ($value$plusargs("tx=%s", txfile)) begin
@@ -325,6 +326,9 @@ module tb_top;
         setup(40, 30, 8'h12, 0);
         wait_idle;
         check_frame("set-up clear");
+        read_status;
+        check(st32(27) == 40 * 30 + 1 && st32(23) == 40 * 30 && st32(7) == 0,
+              "a set-up alone completes at cycle W*H + 1");
         send(8'h01, 9, 72'h8_0405_2CC8_5_4800_0000);
         ref_fill(fbg);
         ref_line(1, 2, 300, 400, 8'hA9);
@@ -400,7 +404,7 @@ module tb_top;
             end
             begin
                 repeat (6000) begin
-                    @(posedge clk);
+                    @(negedge clk);   // not at the edge the design samples it
                     mem_wait = $random;
                 end
                 mem_wait = 1'b0;
@@ -426,7 +430,7 @@ module tb_top;
             end
             begin
                 repeat (3000) begin
-                    @(posedge clk);
+                    @(negedge clk);   // not at the edge the design samples it
                     mem_wait = $random;
                 end
                 mem_wait = 1'b0;
@@ -434,6 +438,33 @@ module tb_top;
         join
         wait_idle;
         check_frame("frame under mem_wait");
+
+        // Random packets back to back (several queued at once), random mem_wait.
+        setup(72, 56, 8'h24, 0);
+        fork
+            for (k = 0; k < 60; k = k + 1) begin
+                n = $unsigned($random) % 16;
+                if (n < 7)
+                    line(n == 0, $unsigned($random) % 90, $unsigned($random) % 70,
+                         $unsigned($random) % 90, $unsigned($random) % 70, $random);
+                else if (n < 15)
+                    triangle(n == 7, $unsigned($random) % 90, $unsigned($random) % 70,
+                             $unsigned($random) % 90, $unsigned($random) % 70,
+                             $unsigned($random) % 90, $unsigned($random) % 70, $random);
+                else clear($random);
+            end
+            begin
+                repeat (40000) begin
+                    @(negedge clk);
+                    mem_wait = ($unsigned($random) % 4) == 0;
+                end
+                mem_wait = 1'b0;
+            end
+        join
+        wait_idle;
+        check_frame("random packets under mem_wait");
+        read_status;
+        check(st32(7) == r_pkts && st32(11) == r_frags, "random packets: packets, fragments");
 
         // Errors: each sets the sticky error; status, reset and set-up still work after it.
         soft_reset;
