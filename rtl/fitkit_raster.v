@@ -5,10 +5,15 @@
 // cmd_exec -> {clear_unit, line_unit, tri_unit} -> frag_fifo -> fb_writer -> memory,
 // with readback (channel 0x30) sharing fb_writer's port and status (channel 0x20).
 //
+// Parameter TRI_LANES: the triangle unit tests 1 (default, the seed's timing) or 2, 4, 8
+// pixels of a row per cycle (seed 000's 8-pixel parallel evaluation); the fragments
+// still reach memory one per cycle.
 // Ports: docs/rtl.md "Top level". rst and the SPI reset (channel 0x7F) reset everything
 // but the SPI slave and decoder, which are idle when the reset transaction ends.
 // Timing: per unit in its own header; the cycle formulas are collected in docs/rtl.md.
-module fitkit_raster (
+module fitkit_raster #(
+    parameter TRI_LANES = 1     // tri_unit's pixel tests per cycle: 1 (seed), 2, 4 or 8
+) (
     input  wire        clk,
     input  wire        rst,
     input  wire        spi_sck,
@@ -94,7 +99,7 @@ module fitkit_raster (
         .frag_valid(l_v), .frag_x(l_x), .frag_y(l_y), .frag_col(l_col),
         .frag_ready(~frag_full), .done(line_done)
     );
-    tri_unit u_tri (
+    tri_unit #(.LANES(TRI_LANES)) u_tri (
         .clk(clk), .rst(crst), .start(tri_start), .x0(pk[70:62]), .y0(pk[61:53]),
         .x1(pk[52:44]), .y1(pk[43:35]), .x2(pk[34:26]), .y2(pk[25:17]), .color(pk[16:9]),
         .wm1(wm1), .hm1(hm1), .cull(cull), .busy(t_busy), .frag_valid(t_v), .frag_x(t_x),

@@ -3,42 +3,54 @@
 #
 # Lint: verilator --lint-only -Wall on the synthesizable files with fitkit_raster as top,
 # and again with the simulation top (rtl/sim/). Testbenches: Icarus (iverilog -g2012) when
-# it is installed, else Verilator's --binary --timing build of the same files. Build
-# products go to $RTL_BUILD (default target/rtl, beside cargo's output).
+# it is installed, else Verilator's --binary --timing build of the same files
+# (RTL_SIM=iverilog or RTL_SIM=verilator forces one). Build products go to $RTL_BUILD
+# (default target/rtl, beside cargo's output).
 set -eu
 cd "$(dirname "$0")/.."
 BUILD=${RTL_BUILD:-target/rtl}
 mkdir -p "$BUILD"
+SIM=${RTL_SIM:-auto}
+if [ "$SIM" = auto ]; then
+    if command -v iverilog >/dev/null 2>&1; then SIM=iverilog; else SIM=verilator; fi
+fi
 
 verilator --lint-only -Wall rtl/*.v --top-module fitkit_raster
 verilator --lint-only -Wall rtl/*.v rtl/sim/*.v --top-module fitkit_sim_top
+verilator --lint-only -Wall -GTRI_LANES=8 rtl/*.v --top-module fitkit_raster
 echo "lint: clean"
 
-# testbench name, then the RTL files it needs
+# testbench, build name, LANES parameter of tb_tri (or -), then the RTL files it needs
 run() {
     tb=$1
-    shift
-    if command -v iverilog >/dev/null 2>&1; then
-        iverilog -g2012 -I rtl/tb -s "$tb" -o "$BUILD/$tb.vvp" "rtl/tb/$tb.v" "$@"
+    name=$2
+    lanes=$3
+    shift 3
+    if [ "$SIM" = iverilog ]; then
+        [ "$lanes" = - ] || set -- -P "$tb.LANES=$lanes" "$@"
+        iverilog -g2012 -I rtl/tb -s "$tb" -o "$BUILD/$name.vvp" "rtl/tb/$tb.v" "$@"
         # vvp exits 0 after $fatal; the testbench's summary line decides.
-        vvp -n "$BUILD/$tb.vvp" | tee "$BUILD/$tb.log"
+        vvp -n "$BUILD/$name.vvp" | tee "$BUILD/$name.log"
     else
+        [ "$lanes" = - ] || set -- -GLANES="$lanes" "$@"
         verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style -Irtl/tb \
-            --top-module "$tb" "rtl/tb/$tb.v" "$@" -Mdir "$BUILD/$tb" -o "$tb" \
-            -MAKEFLAGS "OPT_FAST=-O0 OPT_SLOW=-O0 OPT_GLOBAL=-O0" >"$BUILD/$tb.build.log"
-        "$BUILD/$tb/$tb" | tee "$BUILD/$tb.log"
+            --top-module "$tb" "rtl/tb/$tb.v" "$@" -Mdir "$BUILD/$name" -o "$tb" \
+            -MAKEFLAGS "OPT_FAST=-O0 OPT_SLOW=-O0 OPT_GLOBAL=-O0" >"$BUILD/$name.build.log"
+        "$BUILD/$name/$tb" | tee "$BUILD/$name.log"
     fi
-    grep -q ", 0 failed$" "$BUILD/$tb.log"
+    grep -q ", 0 failed$" "$BUILD/$name.log"
 }
 
-run tb_spi rtl/spi_slave.v rtl/spi_decoder.v rtl/fifo36.v
-run tb_fifo rtl/fifo36.v rtl/frag_fifo.v
-run tb_line rtl/line_unit.v
-run tb_tri rtl/tri_unit.v
-run tb_top rtl/*.v rtl/sim/*.v
+run tb_spi tb_spi - rtl/spi_slave.v rtl/spi_decoder.v rtl/fifo36.v
+run tb_fifo tb_fifo - rtl/fifo36.v rtl/frag_fifo.v
+run tb_line tb_line - rtl/line_unit.v
+run tb_tri tb_tri - rtl/tri_unit.v
+echo "tb_tri with LANES = 8:"
+run tb_tri tb_tri8 8 rtl/tri_unit.v
+run tb_top tb_top - rtl/*.v rtl/sim/*.v
 
 # tb_top's file mode on a small transaction list: the RAM dump must hold the whole frame.
-if command -v iverilog >/dev/null 2>&1; then
+if [ "$SIM" = iverilog ]; then
     vvp -n "$BUILD/tb_top.vvp" +tx=rtl/tb/smoke.hex +dump="$BUILD/smoke-frame.hex" >/dev/null
 else
     "$BUILD/tb_top/tb_top" +tx=rtl/tb/smoke.hex +dump="$BUILD/smoke-frame.hex" >/dev/null

@@ -26,7 +26,7 @@
 // the bounding box of a 512 x 512 frame (|2i + 1 - Xp| <= 1021 there). E is always
 // even, so this unit keeps e = E / 2 = dy(2i + 1 - 2xp) - dx(2j + 1 - 2yp):
 //   dx, dy        10 bits signed (|.| <= 511)
-//   2i + 1 - 2xp  11 bits signed (-1021..1021 hit the box, -1021..1 at its corner)
+//   2i + 1 - 2xp  11 bits signed (-1021..1021 inside the box, -1021..1 at its corner)
 //   steps         2dy per column, -2dx per row: 11 bits signed
 //   e             21 bits signed: |e| <= 2 * 511 * 1021 = 1 043 462 < 2^20
 // and the model's test E - bias >= 0 (bias = 0 on top-left edges, else 1) is e >= 0 on
@@ -41,11 +41,20 @@
 // covered pixels; done is a one-cycle strobe with the last pixel test.
 //
 // Timing: busy = 4 set-up cycles + one pixel test per cycle over the clipped bounding
-// box, i.e. 4 + (min(max x, W) - min x) * (min(max y, H) - min y) (0 when the box is
-// empty, the triangle degenerate or culled), plus the cycles frag_ready is low when an
-// hit pixel waits. This is the model's hw::SETUP_CYCLES + pixel_tests for
-// Traversal::BoundingBox.
-module tri_unit (
+// box, i.e. 4 + (min(max x, W) - min x) * (min(max y, H) - min y), the product taken
+// as 0 when the box is empty, the triangle degenerate or culled; plus the cycles
+// frag_ready is low while a covered pixel waits. This is the model's
+// hw::SETUP_CYCLES + pixel_tests for Traversal::BoundingBox.
+//
+// Parameter LANES (1, 2, 4, 8; seed 000's 8-pixel parallel evaluation): each traversal
+// step tests LANES pixels of a row (i .. i + LANES - 1, those past the box masked off)
+// and hands the covered ones to the fragment FIFO one per cycle, lowest first. A step
+// takes max(1, covered pixels in it) cycles, so busy = 4 + the sum over the box's rows
+// and its ceil(box width / LANES) steps per row of max(1, covered) (plus stalls);
+// LANES = 1 is the formula above.
+module tri_unit #(
+    parameter LANES = 1      // pixels tested per cycle: 1, 2, 4 or 8
+) (
     input  wire       clk,
     input  wire       rst,
     input  wire       start,
@@ -148,13 +157,10 @@ module tri_unit (
     end
     wire signed [20:0] area = pa - pb;
 
-    // RUN: the pixel test and the steps.
-    wire in0 = (e0 == 21'sd0) ? tl0 : (e0[20] == cw);
-    wire in1 = (e1 == 21'sd0) ? tl1 : (e1[20] == cw);
-    wire in2 = (e2 == 21'sd0) ? tl2 : (e2[20] == cw);
-    wire hit = in0 & in1 & in2;
-    wire adv = (state == RUN) & (~hit | frag_ready);
-    wire last = (i == bxl) & (j == byl);
+    // RUN: the pixel tests of one step (LANES pixels of a row) and the steps.
+    localparam LG = (LANES >= 8) ? 3 : (LANES >= 4) ? 2 : (LANES >= 2) ? 1 : 0;
+    localparam L  = 1 << LG;
+    localparam [9:0] L10 = L;
     wire signed [20:0] sx0 = {{10{dy0[9]}}, dy0, 1'b0};
     wire signed [20:0] sx1 = {{10{dy1[9]}}, dy1, 1'b0};
     wire signed [20:0] sx2 = {{10{dy2[9]}}, dy2, 1'b0};
@@ -162,9 +168,42 @@ module tri_unit (
     wire signed [20:0] sy1 = -{{10{dx1[9]}}, dx1, 1'b0};
     wire signed [20:0] sy2 = -{{10{dx2[9]}}, dx2, 1'b0};
 
+    // Lane g tests pixel i + g: e + g * step (past the box the value may wrap, but the
+    // lane is masked off there).
+    wire [L-1:0] mask;
+    genvar g;
+    generate
+        for (g = 0; g < L; g = g + 1) begin : lane
+            localparam signed [20:0] K = g;
+            localparam [9:0] G10 = g;
+            wire signed [20:0] v0 = e0 + sx0 * K;
+            wire signed [20:0] v1 = e1 + sx1 * K;
+            wire signed [20:0] v2 = e2 + sx2 * K;
+            wire in0 = (v0 == 21'sd0) ? tl0 : (v0[20] == cw);
+            wire in1 = (v1 == 21'sd0) ? tl1 : (v1[20] == cw);
+            wire in2 = (v2 == 21'sd0) ? tl2 : (v2[20] == cw);
+            assign mask[g] = (({1'b0, i} + G10) <= {1'b0, bxl}) & in0 & in1 & in2;
+        end
+    endgenerate
+
+    // The covered lanes go out one per cycle, lowest first; a step takes max(1, covered).
+    reg  [L-1:0] sent;                       // lanes of this step already handed over
+    wire [L-1:0] pend = mask & ~sent;
+    wire [L-1:0] low  = pend & (~pend + 1'b1);
+    wire         one  = (pend & ~low) == {L{1'b0}};
+    reg  [2:0]   idx;
+    integer      q;
+    always @* begin
+        idx = 3'd0;
+        for (q = L - 1; q >= 0; q = q - 1) if (low[q]) idx = q[2:0];
+    end
+    wire adv     = (state == RUN) & ((pend == {L{1'b0}}) | (one & frag_ready));
+    wire row_end = ({1'b0, i} + L10) > {1'b0, bxl};
+    wire last    = row_end & (j == byl);
+
     assign busy       = state != IDLE;
-    assign frag_valid = (state == RUN) & hit;
-    assign frag_x     = i;
+    assign frag_valid = (state == RUN) & (pend != {L{1'b0}});
+    assign frag_x     = i + {6'd0, idx};
     assign frag_y     = j;
     assign frag_col   = col;
     assign done       = ((state == S3) & reject) | (adv & last);
@@ -181,7 +220,7 @@ module tri_unit (
             t0 <= 21'sd0; t1 <= 21'sd0; t2 <= 21'sd0; u0 <= 21'sd0; u1 <= 21'sd0; u2 <= 21'sd0;
             tl0 <= 1'b0; tl1 <= 1'b0; tl2 <= 1'b0; reject <= 1'b0;
             e0 <= 21'sd0; e1 <= 21'sd0; e2 <= 21'sd0; er0 <= 21'sd0; er1 <= 21'sd0; er2 <= 21'sd0;
-            i <= 9'd0; j <= 9'd0;
+            i <= 9'd0; j <= 9'd0; sent <= {L{1'b0}};
         end else begin
             case (state)
                 IDLE: if (start) begin
@@ -220,20 +259,24 @@ module tri_unit (
                     er0 <= t0 - u0; er1 <= t1 - u1; er2 <= t2 - u2;
                     i <= bx0;
                     j <= by0;
+                    sent <= {L{1'b0}};
                     state <= reject ? IDLE : RUN;
                 end
                 RUN: if (adv) begin
+                    sent <= {L{1'b0}};
                     if (last) begin
                         state <= IDLE;
-                    end else if (i == bxl) begin
+                    end else if (row_end) begin
                         i   <= bx0;
                         j   <= j + 9'd1;
                         er0 <= er0 + sy0; er1 <= er1 + sy1; er2 <= er2 + sy2;
                         e0  <= er0 + sy0; e1  <= er1 + sy1; e2  <= er2 + sy2;
                     end else begin
-                        i  <= i + 9'd1;
-                        e0 <= e0 + sx0; e1 <= e1 + sx1; e2 <= e2 + sx2;
+                        i  <= i + L10[8:0];
+                        e0 <= e0 + (sx0 <<< LG); e1 <= e1 + (sx1 <<< LG); e2 <= e2 + (sx2 <<< LG);
                     end
+                end else if (frag_ready) begin
+                    sent <= sent | low;
                 end
                 default: state <= IDLE;
             endcase

@@ -7,13 +7,16 @@
 // model's form, not the unit's halved incremental one -- tested at every pixel of the
 // vertices' bounding box within the frame. Checks per triangle: the same pixel set, each
 // pixel once, colour, busy = 4 + clipped box area (4 when degenerate, culled or off the
-// frame) plus frag_ready stalls, done once. Cases: both windings, horizontal and vertical
-// edges, edges through pixel centres, degenerate (points, collinear), culling both ways,
-// triangles hanging off the frame, 512 x 512 frames, random triangles, and a jittered
+// frame) plus frag_ready stalls, done once. With LANES > 1 (tri_unit's parameter) a step
+// of LANES pixels costs max(1, covered pixels) cycles instead. Cases: both windings,
+// horizontal and vertical edges, edges through pixel centres, degenerate (points,
+// collinear), culling both ways, triangles hanging off the frame, 512 x 512 frames,
+// random triangles, and a jittered
 // mesh whose triangles must cover every pixel of its rectangle exactly once (shared
 // edges). Prints "N passed, M failed".
 `timescale 1ns / 1ps
 module tb_tri;
+    parameter LANES = 1;           // tri_unit's pixels per cycle (1, 2, 4, 8)
     reg clk = 1'b0;
     reg rst = 1'b1;
     always #5 clk = ~clk;
@@ -27,7 +30,7 @@ module tb_tri;
     wire [8:0] fx, fy;
     wire [7:0] fc;
 
-    tri_unit dut (
+    tri_unit #(.LANES(LANES)) dut (
         .clk(clk), .rst(rst), .start(start), .x0(vx0), .y0(vy0), .x1(vx1), .y1(vy1),
         .x2(vx2), .y2(vy2), .color(color), .wm1(wm1), .hm1(hm1), .cull(cull), .busy(busy),
         .frag_valid(fv), .frag_x(fx), .frag_y(fy), .frag_col(fc), .frag_ready(ready),
@@ -81,6 +84,17 @@ module tb_tri;
                             mark[j * 512 + i] = 2'd1;
                             nref = nref + 1;
                         end
+                // LANES pixels per step; a step takes one cycle per covered pixel, at least 1.
+                if (LANES > 1) begin
+                    want = 4;
+                    for (j = miny; j < maxy; j = j + 1)
+                        for (i = minx; i < maxx; i = i + LANES) begin
+                            f = 0;
+                            for (t = i; t < i + LANES && t < maxx; t = t + 1)
+                                if (mark[j * 512 + t] == 2'd1) f = f + 1;
+                            want = want + (f > 1 ? f : 1);
+                        end
+                end
             end
             @(negedge clk);
             vx0 = x0; vy0 = y0; vx1 = x1; vy1 = y1; vx2 = x2; vy2 = y2;

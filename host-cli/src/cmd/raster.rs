@@ -82,7 +82,9 @@ fn model_beside_rtl(
     job.setup.traversal = Traversal::BoundingBox;
     let builtin = sim_board::in_process::sim_target_with(&protocol::bus::FITKIT);
     let mut session = host_cli::session::Session::new(builtin);
-    session.handshake().context("handshake with the golden model")?;
+    session
+        .handshake()
+        .context("handshake with the golden model")?;
     let model = host_cli::raster::run(&mut session, &job, name)?;
     let differ = model
         .image

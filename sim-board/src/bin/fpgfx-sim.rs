@@ -6,9 +6,9 @@ use std::io::Write;
 
 use anyhow::Result;
 use clap::Parser;
+use sim_board::board::Fpga;
 use sim_board::bootloader_pty::{self, Chip};
 use sim_board::fpga_port::FpgaPort;
-use sim_board::board::Fpga;
 use sim_board::{board, pty};
 
 #[derive(Parser)]
