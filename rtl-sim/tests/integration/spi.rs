@@ -82,3 +82,18 @@ fn a_soft_reset_clears_the_set_up() {
     assert_eq!(s.flags, wire::FLAG_FIFO_EMPTY, "{s:?}");
     assert_eq!((s.packets, s.fragments, s.clear_cycles), (0, 0, 0), "{s:?}");
 }
+
+#[test]
+fn the_delay_runs_the_clock_within_its_cap() {
+    use embedded_hal::delay::DelayNs;
+    let rtl = harness::rtl();
+    let mut delay = rtl_sim::RtlDelay::new(rtl.clone(), SpiConfig::default())
+        .expect("delay")
+        .with_max_cycles(1_000);
+    let start = rtl.borrow().cycle();
+    delay.delay_us(10);
+    assert_eq!(rtl.borrow().cycle() - start, 500, "10 µs at 50 MHz");
+    delay.delay_ms(1);
+    assert_eq!(rtl.borrow().cycle() - start, 1_500, "1 ms capped at 1 000 cycles");
+    assert_eq!(delay.capped(), 1);
+}
