@@ -94,6 +94,10 @@ fn the_delay_runs_the_clock_within_its_cap() {
     delay.delay_us(10);
     assert_eq!(rtl.borrow().cycle() - start, 500, "10 µs at 50 MHz");
     delay.delay_ms(1);
-    assert_eq!(rtl.borrow().cycle() - start, 1_500, "1 ms capped at 1 000 cycles");
+    assert_eq!(
+        rtl.borrow().cycle() - start,
+        1_500,
+        "1 ms capped at 1 000 cycles"
+    );
     assert_eq!(delay.capped(), 1);
 }
