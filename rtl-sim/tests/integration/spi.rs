@@ -101,3 +101,26 @@ fn the_delay_runs_the_clock_within_its_cap() {
     );
     assert_eq!(delay.capped(), 1);
 }
+
+#[test]
+fn every_operation_clocks_the_same_bits() {
+    let rtl = harness::rtl();
+    let mut spi = RtlSpi::new(rtl, SpiConfig::default()).expect("SPI");
+    let mut split = [0u8; wire::STATUS_BYTES];
+    spi.transaction(&mut [
+        Operation::Write(&[wire::ADDR_STATUS]),
+        Operation::Read(&mut split),
+    ])
+    .expect("write + read");
+    // Transfer: the address out while byte 0 comes in (MISO is 0 during the address).
+    let mut read = [0xFFu8; 1 + wire::STATUS_BYTES];
+    spi.transaction(&mut [Operation::Transfer(&mut read, &[wire::ADDR_STATUS])])
+        .expect("transfer");
+    assert_eq!(read[0], 0);
+    assert_eq!(read[1..], split);
+    let mut in_place = [0u8; 1 + wire::STATUS_BYTES];
+    in_place[0] = wire::ADDR_STATUS;
+    spi.transaction(&mut [Operation::TransferInPlace(&mut in_place)])
+        .expect("transfer in place");
+    assert_eq!(in_place[1..], split);
+}
