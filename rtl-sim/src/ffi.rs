@@ -5,21 +5,20 @@ use std::ptr::NonNull;
 
 use crate::RtlError;
 
-/// Input bits of one cycle, as the shim reads them.
-pub const IN_RST: u32 = 1 << 0;
-pub const IN_SCK: u32 = 1 << 1;
-pub const IN_CS_N: u32 = 1 << 2;
-pub const IN_MOSI: u32 = 1 << 3;
-pub const IN_MEM_WAIT: u32 = 1 << 4;
-pub const IN_CLOCK_GATED: u32 = 1 << 5;
-/// Output bits, as the shim returns them.
-pub const OUT_MISO: u32 = 1 << 0;
-pub const OUT_FIFO_FREE: u32 = 1 << 1;
-pub const OUT_BUSY: u32 = 1 << 2;
+// Input bits of one cycle and output bits after it, as csrc/shim.cpp defines them.
+pub(crate) const IN_RST: u32 = 1 << 0;
+pub(crate) const IN_SCK: u32 = 1 << 1;
+pub(crate) const IN_CS_N: u32 = 1 << 2;
+pub(crate) const IN_MOSI: u32 = 1 << 3;
+pub(crate) const IN_MEM_WAIT: u32 = 1 << 4;
+pub(crate) const IN_CLOCK_GATED: u32 = 1 << 5;
+pub(crate) const OUT_MISO: u32 = 1 << 0;
+pub(crate) const OUT_FIFO_FREE: u32 = 1 << 1;
+pub(crate) const OUT_BUSY: u32 = 1 << 2;
 
 /// The shim's model: opaque to Rust.
 #[repr(C)]
-pub struct FitkitRtl {
+pub(crate) struct FitkitRtl {
     _private: [u8; 0],
 }
 
@@ -36,7 +35,7 @@ mod sys {
 }
 
 #[cfg(rtl_sim_verilated)]
-pub fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
+pub(crate) fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
     let mut no_ram = 0i32;
     // SAFETY: the shim writes `no_ram` and returns a fresh model or null.
     let p = unsafe { sys::fitkit_rtl_new(&mut no_ram) };
@@ -48,19 +47,19 @@ pub fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
 }
 
 #[cfg(rtl_sim_verilated)]
-pub fn free(m: NonNull<FitkitRtl>) {
+pub(crate) fn free(m: NonNull<FitkitRtl>) {
     // SAFETY: `m` came from `new` and is freed once, by `Rtl`'s drop.
     unsafe { sys::fitkit_rtl_free(m.as_ptr()) }
 }
 
 #[cfg(rtl_sim_verilated)]
-pub fn tick(m: NonNull<FitkitRtl>, inputs: u32) -> u32 {
+pub(crate) fn tick(m: NonNull<FitkitRtl>, inputs: u32) -> u32 {
     // SAFETY: `m` is live (owned by the calling `Rtl`, which is not Send).
     unsafe { sys::fitkit_rtl_tick(m.as_ptr(), inputs) }
 }
 
 #[cfg(rtl_sim_verilated)]
-pub fn ram<'a>(m: NonNull<FitkitRtl>) -> &'a [u8] {
+pub(crate) fn ram<'a>(m: NonNull<FitkitRtl>) -> &'a [u8] {
     let mut len = 0usize;
     // SAFETY: the RAM array lives as long as the model; the caller ties the slice to a
     // borrow of the `Rtl` that owns it, and nothing writes the RAM while it is borrowed
@@ -72,7 +71,7 @@ pub fn ram<'a>(m: NonNull<FitkitRtl>) -> &'a [u8] {
 }
 
 #[cfg(not(rtl_sim_verilated))]
-pub fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
+pub(crate) fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
     match env!("RTL_SIM_MISSING") {
         "verilator" => Err(RtlError::NoVerilator),
         _ => Err(RtlError::NoRtl),
@@ -81,14 +80,14 @@ pub fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
 
 // Without a model no `Rtl` is ever constructed, so these are never called.
 #[cfg(not(rtl_sim_verilated))]
-pub fn free(_: NonNull<FitkitRtl>) {}
+pub(crate) fn free(_: NonNull<FitkitRtl>) {}
 
 #[cfg(not(rtl_sim_verilated))]
-pub fn tick(_: NonNull<FitkitRtl>, _: u32) -> u32 {
+pub(crate) fn tick(_: NonNull<FitkitRtl>, _: u32) -> u32 {
     0
 }
 
 #[cfg(not(rtl_sim_verilated))]
-pub fn ram<'a>(_: NonNull<FitkitRtl>) -> &'a [u8] {
+pub(crate) fn ram<'a>(_: NonNull<FitkitRtl>) -> &'a [u8] {
     &[]
 }
