@@ -205,15 +205,14 @@ impl Device {
                     source,
                 }
             })?;
-        if decoded.clear && !matches!(decoded.cmd, protocol::frame::RasterCmd::Clear(_)) {
-            // CB on a drawing command: clear to the set-up's background first (seed 000).
-            raster
-                .draw(&protocol::frame::RasterCmd::Clear(setup.background))
-                .map_err(|source| DeviceError::Raster { packet, source })?;
+        // CB on a drawing command clears to the set-up's background first (seed 000).
+        let cb_draw = decoded.clear && !matches!(decoded.cmd, protocol::frame::RasterCmd::Clear(_));
+        if cb_draw {
+            raster.draw_after_clear(&decoded.cmd)
+        } else {
+            raster.draw(&decoded.cmd)
         }
-        raster
-            .draw(&decoded.cmd)
-            .map_err(|source| DeviceError::Raster { packet, source })?;
+        .map_err(|source| DeviceError::Raster { packet, source })?;
         Ok(true)
     }
 

@@ -44,9 +44,8 @@ fn back_to_back_clears_and_cb() {
     t.assert_exact();
 }
 
-/// The set-up's clear: W · H clear cycles on the RTL, and it completes at cycle W · H + 1
-/// (one cycle to latch the frame); the model's `Raster::new` clears without counting, a
-/// gap docs/rtl.md states and every other case has in its baseline.
+/// The set-up's clear: W · H clear cycles, and it completes at cycle W · H + 1 (one
+/// cycle to latch the frame), on the RTL and in the model alike; it is no packet.
 #[test]
 fn the_set_up_clear_is_counted() {
     for (w, h) in [(1, 1), (7, 3), (320, 240), (512, 512)] {
@@ -62,9 +61,14 @@ fn the_set_up_clear_is_counted() {
         let model = pair.model_counters();
         assert_eq!(
             model,
-            Counters::default(),
-            "the model counts nothing for a set-up"
+            Counters {
+                clear: u64::from(area),
+                ..Counters::default()
+            },
+            "the model's set-up"
         );
+        let end = pair.model.raster().map(|r| r.stats().end_cycle);
+        assert_eq!(end, Some(u64::from(area) + 1), "the model's set-up end");
         pair.assert_frames_equal(&format!("{w}x{h} set-up"));
     }
 }

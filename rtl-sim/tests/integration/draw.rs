@@ -7,7 +7,7 @@ use rand::Rng;
 
 use crate::cases;
 use crate::harness::{self, Pair};
-use crate::tally::{model_gap, Tally};
+use crate::tally::Tally;
 
 /// A class of cases: how its frames and commands are made.
 pub struct Class<'a> {
@@ -35,7 +35,7 @@ impl Class<'_> {
                 let case = format!("{} seed {} frame {f} cmd {k}", self.name, self.seed);
                 let step = pair.step(&case, &cmd, cb);
                 let case = || format!("{case}: {setup:?} {cmd:?} cb={cb}");
-                tally.add(self.name, case, &step, model_gap(&cmd, cb));
+                tally.add(self.name, case, &step);
             }
         }
     }

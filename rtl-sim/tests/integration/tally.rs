@@ -1,13 +1,11 @@
 //! Per-class bookkeeping of the cycle comparison: every case's difference between the
-//! RTL's counters and the model's, beyond the gaps the model is known to have
-//! ([`model_gap`]), grouped, so a failure reports each distinct difference of each class
-//! with its count and a case that shows it.
+//! RTL's counters and the model's (which must be none: the model's timing is the RTL's,
+//! docs/rtl.md "Cycle formulas"), grouped, so a failure reports each distinct difference
+//! of each class with its count and a case that shows it.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::ops::{Add, Sub};
-
-use protocol::frame::RasterCmd;
 
 use crate::harness::Step;
 
@@ -47,27 +45,6 @@ impl Sub for Delta {
     }
 }
 
-/// Where the golden model's accounting is known to differ from the RTL (RTL minus
-/// model) for one command with CB = `cb`; docs/rtl.md "Cycle formulas" states the same.
-/// The RTL is the truth for timing: when the model is corrected, the term goes.
-///
-/// - a line costs the RTL one set-up cycle before its first pixel (max(|Δx|, |Δy|) + 2);
-///   the model counts only the pixels (+ 1);
-/// - a CB line or triangle is one packet to the RTL; the model runs the CB clear as a
-///   command of its own and counts two.
-///
-/// The set-up's W · H clear cycles, which the RTL counts and the model does not, are in
-/// every case's baseline (`Pair::new`); `clears::the_set_up_clear_is_counted` pins them.
-pub fn model_gap(cmd: &RasterCmd, cb: bool) -> Delta {
-    let line = i64::from(matches!(cmd, RasterCmd::Line(_)));
-    let cb_draw = cb && !matches!(cmd, RasterCmd::Clear(_));
-    Delta {
-        line,
-        packets: -i64::from(cb_draw),
-        ..Delta::default()
-    }
-}
-
 impl Delta {
     pub fn of(s: &Step) -> Self {
         let d = |a: u64, b: u64| a as i64 - b as i64;
@@ -94,19 +71,12 @@ pub struct Tally {
 }
 
 impl Tally {
-    /// Records a step under `class`, expecting the RTL to differ from the model by
-    /// `gap` (the sum of [`model_gap`] over the step's commands); `case` names it for the
-    /// report.
-    pub fn add(
-        &mut self,
-        class: &'static str,
-        case: impl FnOnce() -> String,
-        step: &Step,
-        gap: Delta,
-    ) {
+    /// Records a step under `class`, expecting the RTL and the model to agree on every
+    /// counter; `case` names it for the report.
+    pub fn add(&mut self, class: &'static str, case: impl FnOnce() -> String, step: &Step) {
         let c = self.classes.entry(class).or_default();
         c.cases += 1;
-        let d = Delta::of(step) - gap;
+        let d = Delta::of(step);
         if d != Delta::default() {
             c.diffs
                 .entry(d)
@@ -143,7 +113,7 @@ impl Tally {
     /// Panics with the report unless the RTL and the model agree on every counter.
     pub fn assert_exact(&self) {
         if let Some(r) = self.report() {
-            panic!("RTL and model counters differ (RTL minus model, beyond model_gap):\n{r}");
+            panic!("RTL and model counters differ (RTL minus model):\n{r}");
         }
     }
 }

@@ -11,8 +11,12 @@ pub const RECORD_BITS: u32 = 36;
 pub const FRAG_FIFO_DEPTH: u64 = 16;
 /// Clock of seed 000's line block, used for the board-time estimate.
 pub const CLOCK_HZ: f64 = 142e6;
-/// Cycles of per-primitive set-up (edge or decision-variable initialisation).
+/// Cycles of a triangle's set-up (edge functions and bounding box), as the RTL's
+/// triangle unit spends them (docs/rtl.md).
 pub const SETUP_CYCLES: u64 = 4;
+/// Cycles of a line's set-up (the Bresenham decision variable) before its first pixel, as
+/// the RTL's line unit spends them (docs/rtl.md).
+pub const LINE_SETUP_CYCLES: u64 = 1;
 
 /// Which block a command ran on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -120,9 +124,11 @@ impl Model {
         self.occ
     }
 
-    /// Accounts one command of `records` FIFO records that keeps `unit` busy for `busy`
-    /// cycles producing `fragments` fragments, written `lanes` per cycle (the writer is
-    /// as wide as the block: an 8-lane block writes 8-pixel SDRAM bursts).
+    /// Accounts work of `records` FIFO records that keeps `unit` busy for `busy` cycles
+    /// producing `fragments` fragments, written `lanes` per cycle (the writer is as wide
+    /// as the block: an 8-lane block writes 8-pixel SDRAM bursts). It does not count a
+    /// command: the caller knows whether this is one (a set-up's clear is not, and a CB
+    /// draw's clear and draw are one packet).
     pub fn command(
         &mut self,
         stats: &mut Stats,
@@ -157,7 +163,6 @@ impl Model {
         let occ = self.occupancy();
         stats.fifo_max = stats.fifo_max.max(occ);
         stats.end_cycle = self.block_free.max(self.now);
-        stats.commands += 1;
         let c = &mut stats.cycles;
         match unit {
             Unit::Triangle => c.triangle += busy,

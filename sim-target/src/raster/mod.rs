@@ -129,13 +129,21 @@ impl Raster {
         if setup.subpixel_bits > MAX_SUBPIXEL_BITS {
             return Err(RasterError::SubpixelBits(setup.subpixel_bits));
         }
-        Ok(Self {
+        let mut raster = Self {
             setup: *setup,
             fb: Framebuffer::new(width, height, setup.background),
             texture: vec![0; TEXTURE_WORDS],
             stats: Stats::default(),
             hw: hw::Model::default(),
-        })
+        };
+        // The set-up is one FIFO record, then a clear of the frame at one pixel per cycle:
+        // the block is busy for it (the RTL's status counts it as clear cycles), though it
+        // is not a command and writes no fragment.
+        let area = u64::from(width) * u64::from(height);
+        raster
+            .hw
+            .command(&mut raster.stats, hw::Unit::Clear, 1, area, 0, 1);
+        Ok(raster)
     }
 
     /// The framebuffer (read-back).
@@ -190,6 +198,21 @@ impl Raster {
 
     /// Executes one command.
     pub fn draw(&mut self, cmd: &RasterCmd) -> Result<(), RasterError> {
+        self.execute(cmd, true)
+    }
+
+    /// Executes a drawing command whose packet has CB set: the frame is cleared to the
+    /// set-up's background first (seed 000), and the two are one packet, so one command
+    /// and one packet's records, as the RTL counts them; the clear's cycles go to the
+    /// clear unit.
+    pub fn draw_after_clear(&mut self, cmd: &RasterCmd) -> Result<(), RasterError> {
+        self.execute(&RasterCmd::Clear(self.setup.background), false)?;
+        self.execute(cmd, true)
+    }
+
+    /// Draws `cmd`; `counted` says whether it is a command of its own (with its records)
+    /// or part of another's packet.
+    fn execute(&mut self, cmd: &RasterCmd, counted: bool) -> Result<(), RasterError> {
         let bits = self.setup.subpixel_bits;
         let before = self.fb.fragments();
         let (unit, busy) = match cmd {
@@ -204,7 +227,10 @@ impl Raster {
             RasterCmd::Line(l) => {
                 check_point(&l.from, "line.from")?;
                 check_point(&l.to, "line.to")?;
-                (hw::Unit::Line, line::draw(&mut self.fb, l, bits))
+                (
+                    hw::Unit::Line,
+                    hw::LINE_SETUP_CYCLES + line::draw(&mut self.fb, l, bits),
+                )
             }
             RasterCmd::Circle(c) => {
                 check_point(&c.center, "circle.center")?;
@@ -266,7 +292,10 @@ impl Raster {
         };
         let frags = self.fb.fragments() - before;
         self.stats.fragments += frags;
-        let records = records(cmd, bits);
+        let records = if counted { records(cmd, bits) } else { 0 };
+        if counted {
+            self.stats.commands += 1;
+        }
         let lanes = if self.setup.traversal == Traversal::Simd8 && unit == hw::Unit::Triangle {
             8
         } else {
