@@ -7,7 +7,7 @@ use std::net::{TcpListener, TcpStream};
 use std::time::{Duration, Instant};
 
 use firmware::{Controller, ControllerError};
-use sim_target::device::{Device, DeviceError};
+use sim_target::{Device, DeviceError};
 
 use crate::host_link::{HostLink, Pending};
 use crate::in_process::SimBus;
@@ -17,6 +17,7 @@ use crate::socket::Socket;
 
 /// Why a board stopped serving (it never stops otherwise).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum BoardError {
     /// The TCP address could not be bound.
     #[error("cannot listen on {addr}")]

@@ -7,9 +7,9 @@ use std::io::Write;
 use anyhow::Result;
 use clap::Parser;
 use sim_board::bootloader_pty::{self, Chip};
-use sim_board::fpga_port::FpgaPort;
+use sim_board::FpgaPort;
 use sim_board::{board, pty};
-use sim_target::device::DeviceError;
+use sim_target::DeviceError;
 
 #[derive(Parser)]
 #[command(

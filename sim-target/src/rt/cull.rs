@@ -55,7 +55,7 @@ pub fn world_bound(o: &Object) -> Option<([f64; 3], f64)> {
 /// A bounded object's culling sphere, for a format the culling admits.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bound {
-    /// World-space centre.
+    /// Centre of the culling sphere in world units (after the object's transform).
     pub centre: [f64; 3],
     /// Radius, widened by [`RADIUS_SLACK`].
     pub radius: f64,
