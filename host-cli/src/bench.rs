@@ -164,7 +164,7 @@ pub struct Point {
 /// PSNR reported for bit-identical images.
 pub const PSNR_CAP: f64 = 120.0;
 
-/// Everything a bench run measured, what [`write`] turns into CSV, Markdown and plots.
+/// Everything a bench run measured, what [`write()`] turns into CSV, Markdown and plots.
 #[derive(Debug, Clone, Default)]
 pub struct Report {
     /// One point per number format × approximation set of the ray tracer.

@@ -42,7 +42,7 @@ pub use runner::{category_of, run, run_case};
 pub enum Category {
     /// The raster block's golden model: meshes, degenerate triangles, extreme primitives.
     Raster,
-    /// The ray tracer in every number format, through the instrumented [`Probe`] format.
+    /// The ray tracer in every number format, through the instrumented [`Probe`](sim_target::num::instrumented::Probe) format.
     Rt,
     /// The scene-file and raster-file parsers.
     Parse,

@@ -7,12 +7,12 @@
 //! arithmetic, so every traversal produces the same pixels.
 //!
 //! What drives a whole frame is at this level. The block's stages ([`aa`], [`circle`],
-//! [`curve`], [`line`], [`oracle`], [`tex`], [`tri`]) are public as namespaces, the way
-//! callers name them: each is checked stage by stage against an independent reference
-//! (the integration tests, `fpgfx stress`), and their functions read right only qualified
-//! (`tri::setup`, `aa::pattern`, `circle::octant`, `oracle::covers`). The framebuffer,
-//! the fill unit and the cycle model are private; what callers need of them is
-//! re-exported here.
+//! [`curve`], [`line`](mod@line), [`oracle`], [`tex`], [`tri`]) are public as
+//! namespaces, the way callers name them: each is checked stage by stage against an
+//! independent reference (the integration tests, `fpgfx stress`), and their functions
+//! read right only qualified (`tri::setup`, `aa::pattern`, `circle::octant`,
+//! `oracle::covers`). The framebuffer, the fill unit and the cycle model are private;
+//! what callers need of them is re-exported here.
 
 pub mod aa;
 pub mod circle;
