@@ -168,7 +168,7 @@ pub struct Features {
     pub shadows: bool,
     /// Texture lookups: some material has a texture.
     pub textures: bool,
-    /// Specular BRDF terms.
+    /// Specular BRDF terms: some material has one.
     pub specular: bool,
     /// Secondary (reflected/refracted) rays: traced depth > 1.
     pub reflect: bool,

@@ -211,7 +211,7 @@ pub struct Scene {
     pub camera: Camera,
     /// Ambient light L_a (light 0).
     pub ambient: [f64; 3],
-    /// Point/spot lights.
+    /// Point and spot lights (the ambient light is [`Scene::ambient`]).
     pub lights: Vec<Light>,
     /// Materials, shared by index ([`Object::material`]).
     pub materials: Vec<Material>,
