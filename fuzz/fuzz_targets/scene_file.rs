@@ -6,7 +6,7 @@
 //! - a refused text gets a message that names the file, a line inside the text and a key.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use sim_target::rt::scene::{DiffuseModel, Reflection, Scene};
+use sim_target::rt::{DiffuseModel, Reflection, Scene};
 use sim_target::rt::{render, scene_file, Numeric, RenderOptions};
 
 fn finite(xs: &[f64]) -> bool {

@@ -27,11 +27,12 @@ pub enum Kind {
 
 /// Errors of a script, with the file and what the script was doing.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum AnimateError {
     /// The file cannot be read.
     #[error("cannot read {path}: {source}")]
     Read {
-        /// The file.
+        /// The script file, as given.
         path: String,
         /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
@@ -39,7 +40,7 @@ pub enum AnimateError {
     /// Syntax error; Rhai's message has line and position.
     #[error("{path}: {message}")]
     Compile {
-        /// The script.
+        /// The script file, as given.
         path: String,
         /// Rhai's message.
         message: String,
@@ -49,7 +50,7 @@ pub enum AnimateError {
         "{path}: define exactly one of `fn scene(s, frame, time)` or `fn raster(frame, time)`"
     )]
     NoEntry {
-        /// The script.
+        /// The script file, as given.
         path: String,
     },
     /// A scene script without a base scene.
@@ -57,15 +58,15 @@ pub enum AnimateError {
         "{path}: a scene script needs a base scene: `const SCENE = \"file.toml\";` or --scene"
     )]
     NoScene {
-        /// The script.
+        /// The script file, as given.
         path: String,
     },
     /// The script failed while computing a frame.
     #[error("{path}: frame {frame}: {message}")]
     Run {
-        /// The script.
+        /// The script file, as given.
         path: String,
-        /// Frame number.
+        /// Frame the script was computing, counted from 0.
         frame: u32,
         /// Rhai's message (with line and position).
         message: String,
@@ -75,9 +76,9 @@ pub enum AnimateError {
         "{path}: frame {frame}: the script returned something that is not a {what}: {message}"
     )]
     Shape {
-        /// The script.
+        /// The script file, as given.
         path: String,
-        /// Frame number.
+        /// Frame the script was computing, counted from 0.
         frame: u32,
         /// "scene" or "raster job".
         what: &'static str,
@@ -88,11 +89,12 @@ pub enum AnimateError {
 
 /// Why a GIF was not written.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum GifError {
     /// The file cannot be created.
     #[error("cannot create {}", .path.display())]
     Create {
-        /// The file.
+        /// The GIF file.
         path: PathBuf,
         /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
@@ -100,7 +102,7 @@ pub enum GifError {
     /// Encoding or writing a frame failed.
     #[error("cannot write {}", .path.display())]
     Write {
-        /// The file.
+        /// The GIF file.
         path: PathBuf,
         /// The underlying error, reported as this one's `source()`.
         source: image::ImageError,
@@ -263,7 +265,7 @@ impl Script {
 /// Where frames go: a GIF, or one PNG per frame from a pattern with `%0Nd` or `{}`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Output {
-    /// An animated GIF.
+    /// An animated GIF at this path, all frames in one file.
     Gif(PathBuf),
     /// A PNG sequence: the pattern's placeholder becomes the frame number.
     Pngs(String),

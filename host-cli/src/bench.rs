@@ -22,11 +22,12 @@ use crate::raster_file;
 
 /// Errors of a bench run. Every one names the file or point it is about.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum BenchError {
     /// A scene or command file could not be read.
     #[error("cannot read {path}: {source}")]
     Read {
-        /// The file.
+        /// The scene or command file, as given.
         path: String,
         /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
@@ -34,10 +35,10 @@ pub enum BenchError {
     /// A scene file is invalid.
     #[error(transparent)]
     Scene(#[from] scene_file::SceneFileError),
-    /// A render failed.
+    /// The ray tracer refused a scene at one of the swept configurations.
     #[error("{scene}: {source}")]
     Render {
-        /// The scene.
+        /// The scene file, as given.
         scene: String,
         /// The underlying error, reported as this one's `source()`.
         source: rt::RtError,
@@ -45,7 +46,7 @@ pub enum BenchError {
     /// A raster command file is invalid or the model refused it.
     #[error("{file}: {message}")]
     Raster {
-        /// The file.
+        /// The raster command file, as given.
         file: String,
         /// The parser's or the model's refusal, naming the line or command.
         message: String,
@@ -53,7 +54,7 @@ pub enum BenchError {
     /// An output could not be written.
     #[error("cannot write {path}: {message}")]
     Write {
-        /// The file.
+        /// The output (CSV, Markdown or plot) that could not be written.
         path: String,
         /// The I/O, CSV or plot encoder's error, as text.
         message: String,
@@ -100,19 +101,19 @@ impl Sweep {
 pub enum Progress {
     /// A sweep's timed runs begin: `runs` of them (repeats × points × inputs).
     Started {
-        /// Which sweep.
+        /// The sweep starting (ray tracer or raster).
         sweep: Sweep,
         /// How many timed runs follow.
         runs: u64,
     },
     /// One timed run finished.
     Ran {
-        /// Which sweep.
+        /// The sweep the run belongs to.
         sweep: Sweep,
     },
     /// The sweep's timed runs are done (its metrics follow without further events).
     Finished {
-        /// Which sweep.
+        /// The sweep that finished.
         sweep: Sweep,
     },
 }
@@ -153,7 +154,8 @@ pub struct Point {
     pub coverage_mismatch: u64,
     /// Raster: mean |Δ| per channel / 255 — the AA area error.
     pub aa_area_err: f64,
-    /// The product default.
+    /// This point is the product's default configuration ([`DEFAULT_RT`] or
+    /// [`DEFAULT_RASTER`]), marked in the Markdown table.
     pub is_default: bool,
     /// On the Pareto front (cost ↓, PSNR ↑).
     pub front: bool,
@@ -162,12 +164,12 @@ pub struct Point {
 /// PSNR reported for bit-identical images.
 pub const PSNR_CAP: f64 = 120.0;
 
-/// The whole result.
+/// Everything a bench run measured, what [`write()`] turns into CSV, Markdown and plots.
 #[derive(Debug, Clone, Default)]
 pub struct Report {
-    /// Ray-trace points.
+    /// One point per number format × approximation set of the ray tracer.
     pub rt: Vec<Point>,
-    /// Raster points.
+    /// One point per sub-pixel precision × AA pattern × sample count of the rasterizer.
     pub raster: Vec<Point>,
     /// Scenes and files measured, with the size used.
     pub inputs: Vec<String>,

@@ -26,11 +26,12 @@ pub struct Config {
 
 /// Problems with the config file.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ConfigError {
     /// It exists but cannot be read.
     #[error("cannot read {path}: {source}")]
     Read {
-        /// The file.
+        /// The config file that failed to read.
         path: PathBuf,
         /// The underlying error, reported as this one's `source()`.
         source: io::Error,
@@ -38,7 +39,7 @@ pub enum ConfigError {
     /// It is not valid TOML or has unknown keys; the parser's message has line and column.
     #[error("{path}: {message}")]
     Parse {
-        /// The file.
+        /// The config file, named in the message.
         path: PathBuf,
         /// The parser's message.
         message: String,
@@ -128,9 +129,9 @@ pub enum Target {
     Rtl,
     /// A serial port (a board's USB-UART, `fpgfx-sim --pty`, QEMU's pty).
     Serial {
-        /// Device path.
+        /// Device path (`/dev/ttyUSB0`, a pty's `/dev/pts/N`).
         path: String,
-        /// Line rate.
+        /// Line rate in baud.
         baud: u32,
     },
     /// `fpgfx-sim --tcp` (written `tcp:HOST:PORT`).
@@ -183,6 +184,7 @@ pub fn choose(port: Option<&str>, baud: u32, ports: &[PortInfo]) -> (Target, Str
 
 /// Why a target could not be opened.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ConnectError {
     /// No such device.
     #[error("serial port {0} does not exist (`fpgfx ports` lists the ports of this machine)")]
@@ -190,15 +192,15 @@ pub enum ConnectError {
     /// Another program has it open.
     #[error("serial port {0} is busy: another program has it open (a terminal, another fpgfx, ModemManager?)")]
     Busy(String),
-    /// No permission.
+    /// The user may not open the device (not in its group).
     #[error("no permission to open serial port {0} (on Debian, join the `dialout` group)")]
     Permission(String),
     /// Anything else the port said.
     #[error("cannot open serial port {path} at {baud} baud: {message}")]
     Serial {
-        /// Device path.
+        /// Device path as given.
         path: String,
-        /// Line rate.
+        /// Line rate in baud it was opened at.
         baud: u32,
         /// The driver's message.
         message: String,
@@ -209,7 +211,7 @@ pub enum ConnectError {
     /// TCP connection failed.
     #[error("cannot connect to {addr}: {source}")]
     Tcp {
-        /// Address.
+        /// `HOST:PORT` as given after `tcp:`.
         addr: String,
         /// The underlying error, reported as this one's `source()`.
         source: io::Error,

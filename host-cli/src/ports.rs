@@ -18,9 +18,9 @@ pub struct PortInfo {
 /// What a USB serial adapter says about itself.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct UsbInfo {
-    /// Vendor id.
+    /// USB vendor id (`idVendor`), matched against [`KNOWN_ADAPTERS`].
     pub vid: u16,
-    /// Product id.
+    /// USB product id (`idProduct`), matched against [`KNOWN_ADAPTERS`].
     pub pid: u16,
     /// `manufacturer` string, if any.
     pub manufacturer: Option<String>,

@@ -31,6 +31,7 @@ pub struct RasterJob {
 
 /// What is wrong with a command file, and where.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RasterFileError {
     /// The text is not valid TOML/JSON or the top-level keys are wrong.
     #[error("{file}: {message}")]
@@ -45,7 +46,7 @@ pub enum RasterFileError {
     Setting {
         /// File name as given.
         file: String,
-        /// The key.
+        /// The top-level key that is out of range (`width`, `subpixel_bits`, …).
         key: &'static str,
         /// What is wrong.
         message: String,

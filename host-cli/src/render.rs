@@ -98,6 +98,7 @@ pub struct AovFiles(pub Vec<(Aov, PathBuf)>);
 
 /// What is wrong with an `--aov` list; the item is quoted as given.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum AovSpecError {
     /// An item without `=`.
     #[error("{0:?}: expected NAME=FILE.pfm")]
@@ -109,6 +110,7 @@ pub enum AovSpecError {
 
 /// Why an AOV file was not written.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum AovWriteError {
     /// The frame lacks an AOV that was asked for.
     #[error("the target sent no {0} AOV")]
@@ -116,7 +118,7 @@ pub enum AovWriteError {
     /// The file cannot be created.
     #[error("cannot create {}", .path.display())]
     Create {
-        /// The file.
+        /// The AOV file named by `--aov`.
         path: PathBuf,
         /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
@@ -124,7 +126,7 @@ pub enum AovWriteError {
     /// Writing it failed.
     #[error("cannot write {}", .path.display())]
     Write {
-        /// The file.
+        /// The AOV file named by `--aov`.
         path: PathBuf,
         /// The underlying error, reported as this one's `source()`.
         source: std::io::Error,
@@ -192,7 +194,7 @@ impl AovFiles {
 /// A rendered frame as read back.
 #[derive(Debug)]
 pub struct RenderOutput {
-    /// Colour.
+    /// The colour image, RGB888 as the target packed it.
     pub image: image::RgbImage,
     /// Depth AOV, one f32 per pixel.
     pub depth: Option<Vec<f32>>,
@@ -200,7 +202,7 @@ pub struct RenderOutput {
     pub normal: Option<Vec<f32>>,
     /// Board-time estimate in FPGA cycles and rays traced, from the target.
     pub cycles: u64,
-    /// Rays traced.
+    /// Rays the target traced for the frame (the board's own count).
     pub rays: u64,
     /// Both ends' counters.
     pub stats: Stats,

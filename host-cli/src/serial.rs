@@ -1,5 +1,6 @@
 //! A serial port (a USB UART or a pseudo-terminal) as the host's link transport. The
-//! board's end of such a line, inside `fpgfx-sim`, is `sim_board::host_link`.
+//! board's end of such a line, inside `fpgfx-sim`, is sim-board's host link
+//! (`sim-board/src/host_link.rs`).
 
 use std::io::{self, Write};
 use std::time::Duration;
@@ -9,7 +10,6 @@ use crate::session::Transport;
 /// A serial port as a [`Transport`].
 pub struct SerialTransport {
     port: Box<dyn serialport::SerialPort>,
-    name: String,
 }
 
 impl SerialTransport {
@@ -18,15 +18,7 @@ impl SerialTransport {
         let port = serialport::new(path, baud)
             .timeout(Duration::from_millis(10))
             .open()?;
-        Ok(Self {
-            port,
-            name: path.to_string(),
-        })
-    }
-
-    /// The path the port was opened with.
-    pub fn name(&self) -> &str {
-        &self.name
+        Ok(Self { port })
     }
 }
 

@@ -22,7 +22,7 @@ use protocol::MAX_PAYLOAD;
 pub struct Phase {
     /// Encoded messages (host → target) or pixel bytes (target → host).
     pub payload_bytes: u64,
-    /// Wall time.
+    /// Wall time the phase took, the divisor of its throughput.
     pub time: Duration,
 }
 
@@ -44,8 +44,9 @@ pub trait Transport {
 
 /// What can go wrong talking to a target.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SessionError {
-    /// The transport failed.
+    /// The transport's read or write failed (port unplugged, peer closed, OS error).
     #[error("transport: {0}")]
     Io(#[from] io::Error),
     /// No progress for too long.
@@ -61,9 +62,9 @@ pub enum SessionError {
     NoAnswer {
         /// How long we waited.
         waited: Duration,
-        /// Bytes written.
+        /// Bytes written to the transport for the handshake.
         sent: u64,
-        /// Bytes read.
+        /// Bytes that came back, usable or not.
         received: u64,
         /// The first bytes read, in hex, with a diagnosis, or empty.
         sample: String,
@@ -71,7 +72,7 @@ pub enum SessionError {
     /// The target stopped answering in the middle of a job.
     #[error("the target stopped answering {during} ({progress}); no byte for {waited:?}")]
     Stalled {
-        /// The job.
+        /// What the session was doing, as a phrase for the message ("in a read-back").
         during: &'static str,
         /// How far it got.
         progress: String,
@@ -130,9 +131,9 @@ pub struct Session<T: Transport> {
 /// Bytes that crossed the transport, for throughput figures and error messages.
 #[derive(Debug, Clone, Default)]
 pub struct Traffic {
-    /// Bytes written.
+    /// Bytes written to the transport, framing included.
     pub sent: u64,
-    /// Bytes read.
+    /// Bytes read from the transport, framing and noise included.
     pub received: u64,
     /// Encoded request payload bytes the link accepted (what an application sent).
     pub payload_sent: u64,

@@ -8,7 +8,7 @@ use std::net::{TcpListener, TcpStream};
 use std::time::{Duration, Instant};
 
 use firmware::{Controller, ControllerError, FpgaBus};
-use sim_target::device::Device;
+use sim_target::Device;
 
 use crate::host_link::{HostLink, Pending};
 use crate::in_process::SimBus;
@@ -30,6 +30,7 @@ pub enum Fpga {
 
 /// Why a board stopped serving (it never stops otherwise).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum BoardError {
     /// The TCP address could not be bound.
     #[error("cannot listen on {addr}")]

@@ -40,6 +40,7 @@ const OPTION_BYTES: [u8; bl::OPTION_BYTES_SIZE as usize] = [
 
 /// Why a flash image could not be loaded into the model.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum BootloaderError {
     /// A saved flash image must be exactly the flash's size.
     #[error("a flash image must be {expected} bytes, this one is {actual}")]

@@ -15,11 +15,12 @@ use crate::pty::peer_gone;
 
 /// Why the bootloader stopped serving, or could not start.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum BootloaderPtyError {
     /// A missing flash image could not be created erased.
     #[error("cannot create {}", .path.display())]
     CreateImage {
-        /// The image file.
+        /// The flash image file (the chip's flash, persisted between runs).
         path: PathBuf,
         /// What the OS said.
         #[source]
@@ -28,7 +29,7 @@ pub enum BootloaderPtyError {
     /// The flash image could not be read.
     #[error("cannot read {}", .path.display())]
     ReadImage {
-        /// The image file.
+        /// The flash image file (the chip's flash, persisted between runs).
         path: PathBuf,
         /// What the OS said.
         #[source]
@@ -37,7 +38,7 @@ pub enum BootloaderPtyError {
     /// The flash image is not a flash's worth of bytes.
     #[error("flash image {}", .path.display())]
     Image {
-        /// The image file.
+        /// The flash image file (the chip's flash, persisted between runs).
         path: PathBuf,
         /// What is wrong with it.
         #[source]
@@ -46,7 +47,7 @@ pub enum BootloaderPtyError {
     /// The flash image could not be opened for the write-through.
     #[error("cannot open {}", .path.display())]
     OpenImage {
-        /// The image file.
+        /// The flash image file (the chip's flash, persisted between runs).
         path: PathBuf,
         /// What the OS said.
         #[source]

@@ -5,13 +5,13 @@ use std::io::{self, Read, Write};
 use std::time::{Duration, Instant};
 
 use serialport::SerialPort;
-use sim_target::device::Device;
-use sim_target::fpga_link::FpgaServer;
+use sim_target::{Device, FpgaServer};
 
 use crate::pty::peer_gone;
 
 /// Why the FPGA stopped serving before its peer went away.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum FpgaPortError {
     /// The port could not be opened.
     #[error("cannot open FPGA-link port {path}")]
@@ -25,7 +25,7 @@ pub enum FpgaPortError {
     /// Reading the port failed other than by the peer closing it.
     #[error("reading {path}")]
     Read {
-        /// The port.
+        /// The port's device path, as given.
         path: String,
         /// What the OS said.
         #[source]
@@ -34,7 +34,7 @@ pub enum FpgaPortError {
     /// Writing the port failed.
     #[error("writing {path}")]
     Write {
-        /// The port.
+        /// The port's device path, as given.
         path: String,
         /// What the OS said.
         #[source]

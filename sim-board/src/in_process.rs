@@ -164,11 +164,11 @@ impl<B: FpgaBus> BuiltIn<B> {
     }
 }
 
-/// The emulated FPGA ([`sim_target::device::Device`]) as the controller's bus.
-pub struct SimBus(pub sim_target::device::Device);
+/// The emulated FPGA ([`sim_target::Device`]) as the controller's bus.
+pub struct SimBus(pub sim_target::Device);
 
 impl FpgaBus for SimBus {
-    type Error = sim_target::device::DeviceError;
+    type Error = sim_target::DeviceError;
 
     fn fifo_free(&mut self) -> Result<usize, Self::Error> {
         Ok(self.0.fifo_free())
@@ -225,7 +225,7 @@ pub fn sim_target() -> BuiltIn<SimBus> {
 /// The built-in target with another bus layout (e.g. the FITkit's, to check that a file
 /// is drawable by seed 000's board).
 pub fn sim_target_with(layout: &'static BusLayout) -> BuiltIn<SimBus> {
-    let device = sim_target::device::Device::new(layout);
+    let device = sim_target::Device::new(layout);
     let caps = device.caps();
     BuiltIn::new(SimBus(device), caps, layout)
 }
@@ -257,8 +257,7 @@ pub fn sim_target_via_fpga_link() -> Result<BuiltIn<LinkBus>, firmware::FpgaLink
 /// Runs an emulated FPGA on `end` until the other end is dropped.
 fn serve_fpga(mut end: PipeEnd, layout: &'static BusLayout) {
     use embedded_io::{Read, Write};
-    let mut server =
-        sim_target::fpga_link::FpgaServer::new(sim_target::device::Device::new(layout));
+    let mut server = sim_target::FpgaServer::new(sim_target::Device::new(layout));
     let epoch = Instant::now();
     let mut buf = [0u8; 512];
     let mut out = [0u8; protocol::link::MAX_FRAME];

@@ -7,15 +7,20 @@
 //! * in this process ([`in_process`]): `fpgfx --port builtin` and the tests, the host
 //!   joined to the controller by an in-memory pipe, the FPGA on the controller's bus or
 //!   behind the serial FPGA link on a second pipe;
-//! * behind a pseudo-terminal or TCP ([`board`], the `fpgfx-sim` binary): the controller
-//!   on a real byte stream ([`host_link`], [`socket`]), optionally slowed to a UART's rate
-//!   ([`paced`]), so `fpgfx --port` is exercised over a tty;
+//! * behind a pseudo-terminal ([`pty`]) or TCP ([`board`], the `fpgfx-sim` binary): the
+//!   controller on a real byte stream (any [`Pending`] one), optionally slowed to a UART's
+//!   rate, so `fpgfx --port` is exercised over a tty;
 //! * with the FITkit block's RTL, Verilated, for the FPGA ([`rtl`]): the controller's
 //!   SPI driver on the block's pins (`--port rtl`, `fpgfx-sim --fpga rtl`);
-//! * the FPGA alone on a serial port ([`fpga_port`]), for a controller elsewhere: the
+//! * the FPGA alone on a serial port ([`FpgaPort`]), for a controller elsewhere: the
 //!   QEMU board's second UART;
 //! * the STM32's ROM bootloader ([`bootloader`], on a pty through [`bootloader_pty`]),
 //!   what the chip does with BOOT0 high, for `fpgfx flash`.
+//!
+//! The shapes whose entry points are free functions stay modules, named the way callers
+//! name them (`board::serve`, `bootloader_pty::serve`, `in_process::sim_target()`,
+//! `pty::open`, and `bootloader::Stats` beside [`bootloader::Bootloader`]); the byte-stream
+//! plumbing under [`board`] is private, and what a caller needs of it is at the root.
 //!
 //! It is a crate of its own because it runs the firmware's controller: sim-target is the
 //! FPGA and must not depend on the firmware, and the host tool (host-cli) should hold no
@@ -26,10 +31,14 @@
 pub mod board;
 pub mod bootloader;
 pub mod bootloader_pty;
-pub mod fpga_port;
-pub mod host_link;
 pub mod in_process;
-pub mod paced;
 pub mod pty;
 pub mod rtl;
-pub mod socket;
+
+mod fpga_port;
+mod host_link;
+mod paced;
+mod socket;
+
+pub use fpga_port::{FpgaPort, FpgaPortError};
+pub use host_link::Pending;

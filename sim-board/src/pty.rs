@@ -5,6 +5,7 @@ use std::io;
 
 /// Why no pseudo-terminal could be made.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum PtyError {
     /// The OS refused a new pair (out of ptys, no /dev/ptmx).
     #[error("cannot create a pseudo-terminal pair")]

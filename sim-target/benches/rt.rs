@@ -5,7 +5,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use sim_target::num::{self, AcosKind, AtanKind, SqrtKind};
-use sim_target::rt::{self, scene_file, subset::Subset, Kernel, Numeric, RenderOptions};
+use sim_target::rt::{self, scene_file, Kernel, Numeric, RenderOptions, Subset};
 use std::time::Duration;
 
 /// Planned against general kernel, side by side, on the feature subsets of the reference
@@ -40,7 +40,7 @@ fn plan(c: &mut Criterion) {
             "{}: planned and general differ",
             sub.label()
         );
-        if let Ok((full, planned)) = rt::wire::scene_wire_cost(&s) {
+        if let Ok((full, planned)) = rt::scene_wire_cost(&s) {
             eprintln!(
                 "{}: kernel {}, {} rays; wire today {} words / {} msgs / {} B, planned {} words ({} needed) / {} msgs / {} B",
                 sub.label(),

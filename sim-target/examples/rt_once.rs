@@ -3,9 +3,9 @@
 //! wall-clock figures:
 //! `cargo run --release -p sim-target --example rt_once -- SCENE.toml FORMAT [WxH]
 //! [general|nocull] [seed] [aovs] [spheres|noshadows|notextures|depth1]` (the last: a feature
-//! subset, `rt::subset`; `aovs` also fills the depth and normal planes, as the device does).
+//! subset, `rt::Subset`; `aovs` also fills the depth and normal planes, as the device does).
 
-use sim_target::rt::{self, scene_file, subset::Subset, Kernel, RenderOptions};
+use sim_target::rt::{self, scene_file, Kernel, RenderOptions, Subset};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

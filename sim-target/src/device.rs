@@ -27,13 +27,14 @@ const PACKETS_PER_WAIT: usize = 4;
 
 /// A fault of the emulated FPGA: what a board would flag on its error line.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum DeviceError {
     /// A FIFO packet did not decode with the device's layout.
     #[error("input FIFO packet #{packet} on channel {channel:#04x}: {source}")]
     Packet {
         /// Index of the packet since power-on.
         packet: u64,
-        /// Its channel.
+        /// The bus channel it arrived on (which block it was for).
         channel: u8,
         /// The decoder's complaint.
         source: BusError,
@@ -52,9 +53,9 @@ pub enum DeviceError {
     /// A packet larger than the FIFO's free space: the controller ignored FIFO_FREE.
     #[error("input FIFO overrun: {len} records pushed with {free} free")]
     Overrun {
-        /// Records pushed.
+        /// Records in the packet.
         len: usize,
-        /// Free records.
+        /// Records the FIFO had free when it arrived.
         free: usize,
     },
     /// Raster records arrived before any set-up.
@@ -63,9 +64,9 @@ pub enum DeviceError {
     /// A register write past the end of the register file.
     #[error("register write at {offset} of {len} words past the {size}-word register file")]
     Registers {
-        /// First register.
+        /// Index of the first register written.
         offset: u16,
-        /// Words.
+        /// 32-bit words in the write.
         len: usize,
         /// Size of the register file.
         size: usize,
@@ -78,7 +79,8 @@ pub enum DeviceError {
     Render(crate::rt::RtError),
 }
 
-/// The emulated FPGA.
+/// The emulated FPGA: one per board, driven by the controller through its bus calls
+/// (`push_packet`, `write_regs`, `start`, `read`, …) and reset like the real one.
 pub struct Device {
     layout: &'static BusLayout,
     fifo: VecDeque<(u8, heapless::Vec<u64, MAX_RECORDS>)>,
@@ -386,7 +388,7 @@ impl Device {
                 let z = if req.plane == Plane::Depth {
                     fb.depth()
                         .iter()
-                        .map(|&z| z as f32 / crate::raster::fb::Z_FAR as f32)
+                        .map(|&z| z as f32 / crate::raster::Z_FAR as f32)
                         .collect()
                 } else {
                     Cow::Borrowed(&[][..])

@@ -47,7 +47,7 @@ impl FpgaServer {
         }
     }
 
-    /// The emulated FPGA.
+    /// The device behind the link, for a caller that inspects or resets it directly.
     pub fn device(&mut self) -> &mut Device {
         &mut self.device
     }
@@ -58,7 +58,8 @@ impl FpgaServer {
         self.fault_text.take()
     }
 
-    /// The link's counters.
+    /// The FPGA link's own counters (frames sent, resent, dropped for CRC), so a noisy
+    /// second UART shows in the stats apart from the host link's.
     pub fn link_counters(&self) -> protocol::frame::LinkCounters {
         self.link.counters()
     }

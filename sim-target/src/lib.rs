@@ -1,18 +1,26 @@
 //! The FPGA, emulated: a bit-exact golden model of the raster and ray-trace blocks, and
 //! the device around them that a controller drives.
 //!
-//! * [`device`]: the FPGA as the controller's bus sees it (FIFO, blocks, read-back);
-//! * [`fpga_link`]: the same device behind the serial FPGA link, sans-I/O;
-//! * [`raster`] and [`rt`]: the two blocks' golden models; [`num`]: the number formats
-//!   the ray tracer runs in; [`scene_regs`]: a scene to and from its register image.
+//! What is where:
+//!
+//! * at the root: [`Device`], the FPGA as the controller's bus sees it (FIFO, blocks,
+//!   read-back), and [`FpgaServer`], the same device behind the serial FPGA link,
+//!   sans-I/O;
+//! * [`raster`] and [`rt`]: the two blocks' golden models;
+//! * [`num`]: the number formats the ray tracer runs in;
+//! * [`scene_regs`]: a ray-tracer scene to and from its register image.
 //!
 //! This crate is the FPGA and nothing else: the rest of an emulated board (the
 //! firmware's controller, the line to the host, the STM32's ROM bootloader) is the
 //! `sim-board` crate, because it runs the firmware and the model must not depend on it.
+#![warn(missing_docs)]
 
-pub mod device;
-pub mod fpga_link;
+mod device;
+mod fpga_link;
 pub mod num;
 pub mod raster;
 pub mod rt;
 pub mod scene_regs;
+
+pub use device::{Device, DeviceError, FIFO_RECORDS};
+pub use fpga_link::FpgaServer;

@@ -12,7 +12,7 @@ use protocol::scene::{
     SceneRegs, TermRegs, TextureRegs,
 };
 
-use crate::rt::vec::f;
+use crate::rt::f;
 use crate::rt::{
     Camera, DiffuseModel, Light, Material, Object, Reflection, Scene, Specular, SpecularModel,
     Spot, Term, Texture, TextureKind,
@@ -23,6 +23,7 @@ pub type Regs = SceneRegs<8, 2>;
 
 /// Why a scene and a register image could not be converted.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneRegsError {
     /// A value the register map cannot hold (range, count, code).
     #[error("scene registers: {0}")]

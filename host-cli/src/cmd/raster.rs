@@ -43,7 +43,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
     if a.stats {
         let d = out.stats.device;
         let l = out.stats.link;
-        let clock = sim_target::raster::hw::CLOCK_HZ;
+        let clock = sim_target::raster::CLOCK_HZ;
         println!("commands      {}", d.commands);
         println!("bus records   {}", d.bus_words);
         println!("fragments     {}", d.fragments);

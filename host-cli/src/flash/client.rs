@@ -288,7 +288,8 @@ impl<T: Transport> Client<T> {
         )
     }
 
-    /// Go.
+    /// Go: the chip jumps to `address` (the application's vector table) and leaves the
+    /// bootloader, so a flashed board runs without a reset.
     pub fn go(&mut self, address: u32) -> Result<(), FlashError> {
         self.send_command(Command::Go)?;
         self.port.write_all(&bl::address_frame(address))?;

@@ -8,6 +8,7 @@ use crate::connect::ConnectError;
 
 /// What can go wrong flashing.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum FlashError {
     /// The target named is not a serial port, so no bootloader can be behind it.
     #[error(
@@ -29,7 +30,7 @@ pub enum FlashError {
     NoSync {
         /// How many 0x7F sync bytes were sent before giving up.
         attempts: u32,
-        /// The line rate.
+        /// Line rate in baud the sync was tried at.
         baud: u32,
         /// Mentions the flushing burst if one was sent.
         burst: &'static str,
@@ -47,7 +48,7 @@ pub enum FlashError {
     /// The chip answered something that is neither ACK nor NACK.
     #[error("{command}: expected {expected} {stage}, the chip answered {got}")]
     Unexpected {
-        /// The command.
+        /// The AN3155 command that got the answer.
         command: &'static str,
         /// What the protocol says comes.
         expected: &'static str,
@@ -59,7 +60,7 @@ pub enum FlashError {
     /// The chip stopped answering.
     #[error("{command}: no answer {stage} within {timeout:?} (got {got})")]
     Timeout {
-        /// The command.
+        /// The AN3155 command waiting for its answer.
         command: &'static str,
         /// At which step.
         stage: String,
@@ -84,7 +85,7 @@ pub enum FlashError {
     Block {
         /// The block's address.
         address: u32,
-        /// Attempts made.
+        /// Attempts made before giving up ([`FlashOptions::attempts`](super::FlashOptions::attempts)).
         attempts: u32,
         /// The last failure.
         #[source]
@@ -95,9 +96,9 @@ pub enum FlashError {
     Verify {
         /// First differing address.
         address: u32,
-        /// Image byte.
+        /// The byte the image has at `address`.
         wrote: u8,
-        /// Chip byte.
+        /// The byte the chip read back there.
         read: u8,
     },
     /// The port itself failed.

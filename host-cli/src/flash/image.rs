@@ -18,11 +18,12 @@ pub fn parse_u32(s: &str) -> Result<u32, String> {
 
 /// Why an image file could not be turned into flash blocks.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ImageError {
     /// The file could not be read.
     #[error("cannot read {path}")]
     Read {
-        /// The file.
+        /// The image file, as given.
         path: String,
         /// The underlying error, reported as this one's `source()`.
         source: io::Error,
@@ -49,7 +50,7 @@ pub enum ImageError {
         "the image covers {start:#010x}..{end:#010x}, outside the flash (0x08000000..0x08100000)"
     )]
     OutsideFlash {
-        /// First byte.
+        /// Address of the image's first byte.
         start: u32,
         /// One past the last byte.
         end: u64,

@@ -52,13 +52,13 @@ impl Progress for () {}
 /// What a flash did, for the summary line and for tests.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Report {
-    /// The chip.
+    /// What Get, Get Version and Get ID said about the chip.
     pub chip: ChipInfo,
-    /// Sectors erased.
+    /// Flash sectors erased (only those the image touches), by sector number.
     pub sectors: Vec<u16>,
-    /// Blocks written.
+    /// Write Memory blocks written (at most 256 bytes each) and verified.
     pub blocks: usize,
-    /// Bytes written.
+    /// Image bytes written.
     pub bytes: usize,
     /// Block retries that were needed.
     pub retries: u32,
@@ -70,7 +70,8 @@ pub struct Report {
     pub jumped: Option<u32>,
 }
 
-/// Options of [`flash`].
+/// How [`flash`] runs: whether it verifies and jumps, whether it accepts another chip, how
+/// often it tries a block.
 #[derive(Debug, Clone, Copy)]
 pub struct FlashOptions {
     /// Read back and compare.

@@ -40,9 +40,9 @@ pub use runner::{category_of, run, run_case};
 /// Which kernels a case attacks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Category {
-    /// The raster block.
+    /// The raster block's golden model: meshes, degenerate triangles, extreme primitives.
     Raster,
-    /// The ray tracer.
+    /// The ray tracer in every number format, through the instrumented [`Probe`](sim_target::num::instrumented::Probe) format.
     Rt,
     /// The scene-file and raster-file parsers.
     Parse,
@@ -95,6 +95,7 @@ impl clap::ValueEnum for Category {
 
 /// Errors of the stress runner itself (not of the kernels, which are counted).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum StressError {
     /// A worker pool could not be built.
     #[error("cannot start worker pool: {0}")]
@@ -106,7 +107,7 @@ pub enum StressError {
 pub struct Config {
     /// Cases to run (indices `0..cases`).
     pub cases: u64,
-    /// Generator seed.
+    /// Seed every case's generator is derived from, with its index.
     pub seed: u64,
     /// Restrict to one category (indices keep their meaning within it).
     pub only: Option<Category>,

@@ -5,13 +5,11 @@
 use protocol::frame::{
     Aa, AaPattern, Bezier, BezierPatch, Circle, Connectivity, Cull, FillRule, Filter, Line,
     LineAlgo, Pixel, Point, Polygon, RasterCmd, RasterSetup, Rgb, SeedFill, Shade, TexRef,
-    Traversal, Triangle, Wrap,
+    Traversal, Triangle, Wrap, MAX_SUBPIXEL_BITS,
 };
 use rand::rngs::SmallRng;
 use rand::Rng;
-use sim_target::raster::oracle;
-use sim_target::raster::tri::{COORD_LIMIT, MAX_SUBPIXEL_BITS};
-use sim_target::raster::Raster;
+use sim_target::raster::{oracle, Raster, COORD_LIMIT};
 
 use super::report::CaseResult;
 

@@ -8,7 +8,7 @@ use super::Category;
 /// Counts of one category (or of one case).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Counts {
-    /// Cases run.
+    /// Cases run, passed or not: the denominator of every other count.
     pub cases: u64,
     /// Cases that panicked.
     pub panics: u64,
@@ -128,7 +128,7 @@ impl FormatCounts {
 /// One failing case, enough to run it again.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Failure {
-    /// Its category.
+    /// Category the case belongs to (use with `--only`).
     pub category: Category,
     /// Its index (use with the same `--seed` and `--only`).
     pub index: u64,
@@ -145,9 +145,9 @@ pub struct Report {
     pub by_format: [FormatCounts; 7],
     /// The first failures (at most [`MAX_FAILURES`]), lowest index first.
     pub failures: Vec<Failure>,
-    /// Wall-clock seconds.
+    /// Wall-clock seconds of the whole run, for the summary line.
     pub seconds: f64,
-    /// The seed.
+    /// Seed the run used ([`Config::seed`](super::Config::seed)), printed so a failure can be run again.
     pub seed: u64,
 }
 
@@ -169,7 +169,7 @@ impl Report {
         self.total().failed()
     }
 
-    /// The human-readable table.
+    /// The counts as the text table `fpgfx stress` prints.
     pub fn table(&self) -> String {
         use std::fmt::Write;
         let mut s = String::new();
@@ -267,7 +267,7 @@ impl Report {
 /// The outcome of one case.
 #[derive(Debug, Clone, Default)]
 pub struct CaseResult {
-    /// Its counts.
+    /// What the case counted, added to its category's [`Counts`].
     pub counts: Counts,
     /// Per-format counts (rt only).
     pub formats: [FormatCounts; 7],

@@ -9,7 +9,7 @@ use rand::rngs::SmallRng;
 use rand::Rng;
 use sim_target::num::instrumented::{self, Probe};
 use sim_target::num::{Q16_16, Q24_8, Q32_32, Q8_24};
-use sim_target::rt::vec::f;
+use sim_target::rt::f;
 use sim_target::rt::{
     self, Camera, DiffuseModel, Filter as TexFilter, Frame, Light, Mapping, Material, Object,
     Reflection, RenderOptions, Scene, Shape, Specular, SpecularModel, Spot, Term, Texture,

@@ -6,7 +6,7 @@ use firmware::{FitkitSpi, FpgaBus};
 use protocol::bus::{self, FITKIT};
 use protocol::frame::{Block, Cull, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame};
 use rtl_sim::{RtlDelay, RtlSpi, SpiConfig};
-use sim_target::device::Device;
+use sim_target::Device;
 
 use crate::cases;
 use crate::harness;

@@ -7,7 +7,7 @@ use protocol::bus::{self, PackOptions, FITKIT};
 use protocol::fitkit_spi::{self as wire, Status};
 use protocol::frame::{Cull, RasterCmd, RasterSetup, Rgb, Traversal};
 use rtl_sim::{MemWait, Rtl, RtlSpi, SharedRtl, SpiConfig};
-use sim_target::device::Device;
+use sim_target::Device;
 
 /// Cycle bound of every wait on the RTL: above the longest case (a 512 × 512 bounding
 /// box is 262 144 cycles, a full FIFO of them far more, but the cases queue few).

@@ -1,6 +1,6 @@
 //! The Verilated RTL against the golden model: the same FITkit commands into both (the
 //! RTL over `RtlSpi`, framed by `protocol::fitkit_spi`; the model through
-//! `sim_target::device::Device` with the FITkit layout), then equal framebuffers and
+//! `sim_target::Device` with the FITkit layout), then equal framebuffers and
 //! equal per-unit cycle counts. Without verilator every test fails with `Rtl::new`'s
 //! message, never skips.
 

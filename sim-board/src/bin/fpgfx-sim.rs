@@ -8,7 +8,7 @@ use anyhow::Result;
 use clap::Parser;
 use sim_board::board::Fpga;
 use sim_board::bootloader_pty::{self, Chip};
-use sim_board::fpga_port::FpgaPort;
+use sim_board::FpgaPort;
 use sim_board::{board, pty};
 
 #[derive(Parser)]

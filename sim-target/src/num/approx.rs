@@ -506,7 +506,7 @@ fn div_newton<S: Scalar>(a: S, b: S, iters: u8, start: fn(S) -> S) -> S {
     a * y
 }
 
-/// Entries of the [`recip_lut`] start table.
+/// Entries of the `recip_lut` start table.
 pub const RECIP_LUT_ENTRIES: usize = 32;
 
 /// The better PRE_D: b = m·2ᵉ, m ∈ [½, 1), start from a 32-entry table of 1/m (geometric

@@ -12,6 +12,12 @@
 //! error wherever it has not been decided (see [`instrumented`] for why that matters). The
 //! formulas a format uses when it has nothing cheaper of its own are in [`composed`]; the
 //! `composed!` macro below writes the forwarding methods for the formats that use them.
+//!
+//! The formats and the approximations are re-exported here from private modules. Two
+//! modules stay public as namespaces callers name on purpose: [`composed`]`::rsqrt` is the
+//! composed form of a method, not a second `rsqrt` (the `composed!` lists name them so),
+//! and [`instrumented`] is a family of wrapper formats with its own counters
+//! (`instrumented::count`, `instrumented::Probe`).
 
 /// Writes the named [`Scalar`] methods inside a format's `impl Scalar` as calls of their
 /// [`composed`] forms: the list at each use is the one place that says which methods a
@@ -136,8 +142,12 @@ pub mod composed;
 mod formats;
 pub mod instrumented;
 
-pub use approx::*;
-pub use formats::*;
+pub use approx::{
+    acos, acos_table, atan, atan2, div_lut_nr, div_nr, powi, pre_d, pre_d_lut, pre_s, pre_s_lut,
+    pre_s_seamless, rsqrt, rsqrt_nr, sqrt, AcosKind, AtanKind, SqrtKind, ACOS_BINADES,
+    ACOS_SEGMENTS, MAX_POW_EXPONENT, RECIP_LUT_ENTRIES,
+};
+pub use formats::{Q16_16, Q24_8, Q32_32, Q8_24};
 
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -219,9 +229,9 @@ pub trait Scalar:
     /// that needs both ⌊x⌋ and its integer floors once (the compiler does not merge two
     /// inlined float floors across their branches).
     fn int_to_i64(self) -> i64;
-    /// Additive identity.
+    /// 0, exact in every format: the start of every sum.
     fn zero() -> Self;
-    /// Multiplicative identity.
+    /// 1, exact in every format (the fixed formats all have an integer part).
     fn one() -> Self;
     /// 1/x with the format's own divider.
     fn recip(self) -> Self;

@@ -152,7 +152,7 @@ fn bbox(v: &[Point; 3], bits: u8, w: u32, h: u32) -> Option<(i64, i64, i64, i64)
 /// returns pixels visited. `shade(fb, x, y, colour)` is asked for every pixel with
 /// coverage: it may run the depth test and substitute a texture colour, and returns the
 /// colour to blend or `None` to leave the pixel (depth test failed).
-pub fn draw_triangle(
+pub(crate) fn draw_triangle(
     fb: &mut Framebuffer,
     t: &Triangle,
     bits: u8,

@@ -48,7 +48,7 @@ pub fn outline(r: i64) -> Vec<(i64, i64)> {
 
 /// Draws a circle around the pixel nearest the centre with the radius rounded to whole
 /// pixels; returns busy cycles (one per octant step, or per filled pixel).
-pub fn draw(fb: &mut Framebuffer, c: &Circle, bits: u8) -> u64 {
+pub(crate) fn draw(fb: &mut Framebuffer, c: &Circle, bits: u8) -> u64 {
     let half = if bits == 0 { 0 } else { 1i64 << (bits - 1) };
     let cx = (c.center.x as i64 + half) >> bits;
     let cy = (c.center.y as i64 + half) >> bits;

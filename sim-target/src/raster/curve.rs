@@ -6,7 +6,7 @@ use super::RasterError;
 use protocol::frame::{BezierPatch, Point};
 
 /// Deepest subdivision: 2^16 segments bound the work of a tiny tolerance.
-pub const MAX_DEPTH: u32 = 16;
+pub(crate) const MAX_DEPTH: u32 = 16;
 
 type P = (f64, f64);
 

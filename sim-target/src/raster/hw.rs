@@ -40,7 +40,7 @@ pub struct BlockCycles {
     pub triangle: u64,
     /// Line block (Bresenham/DDA, thick, AA, Bézier segments).
     pub line: u64,
-    /// Circle block.
+    /// Circle block (midpoint outlines and filled circles).
     pub circle: u64,
     /// Fill block (seed fill, polygon spans).
     pub fill: u64,
@@ -51,7 +51,7 @@ pub struct BlockCycles {
 /// Counters the device reports. Cycles are the model's, not the host's time.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Stats {
-    /// Commands executed.
+    /// Commands executed, refused ones not counted.
     pub commands: u64,
     /// Fragments written to the framebuffer.
     pub fragments: u64,

@@ -76,12 +76,12 @@ pub fn thin_pixels<F: FnMut(i64, i64, i64, i64)>(
 }
 
 /// Draws a line; returns busy cycles (one per pixel visited).
-pub fn draw(fb: &mut Framebuffer, l: &Line, bits: u8) -> u64 {
+pub(crate) fn draw(fb: &mut Framebuffer, l: &Line, bits: u8) -> u64 {
     draw_skip_first(fb, l, bits, false)
 }
 
 /// Draws a line, optionally without the pixel of `from` (polyline joints).
-pub fn draw_skip_first(fb: &mut Framebuffer, l: &Line, bits: u8, skip_first: bool) -> u64 {
+pub(crate) fn draw_skip_first(fb: &mut Framebuffer, l: &Line, bits: u8, skip_first: bool) -> u64 {
     let c1 = l.color_to.unwrap_or(l.color);
     if l.aa {
         return aa_line(fb, l, bits);

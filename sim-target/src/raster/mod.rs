@@ -5,20 +5,30 @@
 //! reads [`Raster::framebuffer`] and [`Raster::stats`]. Geometry arrives already snapped
 //! to sub-pixel units (`round(px · 2^subpixel_bits)`); everything after that is integer
 //! arithmetic, so every traversal produces the same pixels.
+//!
+//! What drives a whole frame is at this level. The block's stages ([`aa`], [`circle`],
+//! [`curve`], [`line`](mod@line), [`oracle`], [`tex`], [`tri`]) are public as
+//! namespaces, the way callers name them: each is checked stage by stage against an
+//! independent reference (the integration tests, `fpgfx stress`), and their functions
+//! read right only qualified (`tri::setup`, `aa::pattern`, `circle::octant`,
+//! `oracle::covers`). The framebuffer, the fill unit and the cycle model are private;
+//! what callers need of them is re-exported here.
 
 pub mod aa;
 pub mod circle;
 pub mod curve;
-pub mod fb;
-pub mod fill;
-pub mod hw;
 pub mod line;
 pub mod oracle;
 pub mod tex;
 pub mod tri;
 
-pub use fb::Framebuffer;
-pub use hw::Stats;
+mod fb;
+mod fill;
+mod hw;
+
+pub use fb::{Framebuffer, Z_FAR};
+pub use hw::{BlockCycles, Stats, CLOCK_HZ, FIFO_DEPTH};
+pub use tri::COORD_LIMIT;
 
 use protocol::frame::{
     AaPattern, Point, RasterCmd, RasterSetup, Rgb, Shade, Traversal, Triangle, MAX_FRAME_SIDE,
@@ -28,15 +38,16 @@ use tri::{TravCounters, TriSetup};
 
 /// Why a command or set-up was refused. Nothing from outside may panic the model.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum RasterError {
     /// Framebuffer size zero or above [`MAX_FRAME_SIDE`].
     #[error("framebuffer {width}x{height} outside 1..={max} per side")]
     Size {
-        /// Requested width.
+        /// Width [`Raster::new`] was asked for, in pixels.
         width: u32,
-        /// Requested height.
+        /// Height [`Raster::new`] was asked for, in pixels.
         height: u32,
-        /// Largest side.
+        /// Largest side the model accepts ([`MAX_FRAME_SIDE`]).
         max: u32,
     },
     /// More fractional bits than the edge-function widths were sized for.
@@ -45,9 +56,9 @@ pub enum RasterError {
     /// A coordinate beyond the guard band.
     #[error("{field} = {value} outside ±{limit} sub-pixel units", limit = tri::COORD_LIMIT)]
     Coordinate {
-        /// Which field.
+        /// The command field that held it (`line.from`, `circle.radius`, …).
         field: &'static str,
-        /// The value.
+        /// Its value in sub-pixel units.
         value: i64,
     },
     /// A w of zero cannot be divided by.
@@ -59,9 +70,9 @@ pub enum RasterError {
     /// Seed outside the framebuffer.
     #[error("seed ({x}, {y}) outside the framebuffer")]
     SeedOutside {
-        /// Column.
+        /// Seed column in pixels.
         x: u16,
-        /// Row.
+        /// Seed row in pixels.
         y: u16,
     },
     /// The seed fill's bounded span stack overflowed.
@@ -70,23 +81,23 @@ pub enum RasterError {
     /// A texture reference reaches past texture memory.
     #[error("texture at {base} ({w}x{h} with MIP levels) exceeds {words} texels")]
     Texture {
-        /// First texel.
+        /// Index of the texture's first texel in texture memory.
         base: u32,
-        /// Width.
+        /// Base-level width in texels.
         w: u32,
-        /// Height.
+        /// Base-level height in texels.
         h: u32,
-        /// Texture memory size.
+        /// Texels of texture memory ([`TEXTURE_WORDS`]).
         words: usize,
     },
     /// Texture write past the end of texture memory or not a whole number of texels.
     #[error("texture write at {offset} of {len} bytes does not fit {words} texels")]
     TextureWrite {
-        /// First texel.
+        /// Texel index the write starts at.
         offset: u32,
-        /// Bytes.
+        /// Length of the write in bytes (4 per texel).
         len: usize,
-        /// Texture memory size.
+        /// Texels of texture memory ([`TEXTURE_WORDS`]).
         words: usize,
     },
 }
@@ -94,7 +105,8 @@ pub enum RasterError {
 /// Texels of texture memory in the model.
 pub const TEXTURE_WORDS: usize = 1 << 18;
 
-/// The raster block.
+/// The raster block: set up once per frame size, then fed commands; owns the framebuffer,
+/// texture memory and the cycle model.
 #[derive(Debug, Clone)]
 pub struct Raster {
     setup: RasterSetup,

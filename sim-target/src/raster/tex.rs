@@ -17,7 +17,7 @@ pub fn footprint(t: &TexRef) -> u64 {
 }
 
 /// Largest MIP level (1 × 1 in the longer direction).
-pub fn max_level(t: &TexRef) -> u32 {
+pub(crate) fn max_level(t: &TexRef) -> u32 {
     t.width_log2.max(t.height_log2) as u32
 }
 
@@ -36,7 +36,7 @@ fn level_base(t: &TexRef, l: u32) -> u64 {
 }
 
 /// Refuses textures that reach past memory (or have absurd sizes).
-pub fn check(t: &TexRef, words: usize) -> Result<(), RasterError> {
+pub(crate) fn check(t: &TexRef, words: usize) -> Result<(), RasterError> {
     let err = RasterError::Texture {
         base: t.base,
         w: 1u32.checked_shl(t.width_log2 as u32).unwrap_or(0),
@@ -99,7 +99,7 @@ fn unpack(c: u32) -> [u32; 3] {
 }
 
 /// Nearest texel of level `l` at (u, v) in Q16.16.
-pub fn nearest(mem: &[u32], t: &TexRef, l: u32, u: i64, v: i64) -> [u32; 3] {
+pub(crate) fn nearest(mem: &[u32], t: &TexRef, l: u32, u: i64, v: i64) -> [u32; 3] {
     let (w, h) = level_size(t, l);
     let x = (u * w as i64) >> 16;
     let y = (v * h as i64) >> 16;

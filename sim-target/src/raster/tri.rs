@@ -11,18 +11,16 @@
 //! tests uses `i128` and `tests/raster_tri.rs` checks vertices at the limits.
 //!
 //! [`MAX_FRAME_SIDE`]: protocol::frame::MAX_FRAME_SIDE
+//! [`MAX_SUBPIXEL_BITS`]: protocol::frame::MAX_SUBPIXEL_BITS
 
 use protocol::frame::{Cull, Point, Traversal};
 
-/// The bound below is proven for this precision: the protocol's limit, re-exported where
-/// the proof is.
-pub use protocol::frame::MAX_SUBPIXEL_BITS;
 /// Largest magnitude of a vertex coordinate in sub-pixel units.
 pub const COORD_LIMIT: i32 = 1 << 23;
 /// Zigzag block side in pixels.
 pub const ZIGZAG_BLOCK: u32 = 8;
 /// Hierarchical tile sides, coarse to fine.
-pub const TILE_SIZES: [u32; 2] = [32, 8];
+pub(crate) const TILE_SIZES: [u32; 2] = [32, 8];
 
 /// One edge function in pixel-index form, fill-rule bias folded in: the pixel `(i, j)`
 /// is inside this edge iff `a·i + b·j + c ≥ 0`.
@@ -66,7 +64,7 @@ pub struct TriSetup {
 }
 
 /// Edge functions were built from clockwise input (before normalisation).
-pub fn is_clockwise(v: &[Point; 3]) -> Option<bool> {
+pub(crate) fn is_clockwise(v: &[Point; 3]) -> Option<bool> {
     let (x0, y0) = (v[0].x as i64, v[0].y as i64);
     let area =
         (v[2].x as i64 - x0) * (v[1].y as i64 - y0) - (v[2].y as i64 - y0) * (v[1].x as i64 - x0);
@@ -107,7 +105,7 @@ pub fn setup(v: &[Point; 3], bits: u8, width: u32, height: u32, cull: Cull) -> O
 /// coordinates at pixels whose centre may lie outside the triangle. `None` when the
 /// triangle is degenerate or culled.
 #[inline]
-pub fn edges_only(v: &[Point; 3], bits: u8, cull: Cull) -> Option<TriSetup> {
+pub(crate) fn edges_only(v: &[Point; 3], bits: u8, cull: Cull) -> Option<TriSetup> {
     let cw = is_clockwise(v)?;
     match (cull, cw) {
         (Cull::Clockwise, true) | (Cull::CounterClockwise, false) => return None,

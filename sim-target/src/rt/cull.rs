@@ -55,9 +55,9 @@ pub fn world_bound(o: &Object) -> Option<([f64; 3], f64)> {
 /// A bounded object's culling sphere, for a format the culling admits.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bound {
-    /// World-space centre.
+    /// Centre of the culling sphere in world units (after the object's transform).
     pub centre: [f64; 3],
-    /// Radius, widened by [`RADIUS_SLACK`].
+    /// Radius, widened by `RADIUS_SLACK`.
     pub radius: f64,
     /// Secondary (shadow and reflected) rays: distance from the centre within which a ray
     /// origin keeps the error model's guarantee for any ray direction; rays from farther
@@ -87,7 +87,7 @@ pub struct Bound {
 /// sphere from within `safe_distance` **and** the pretest's f32 value of |dᵀFd| is at
 /// least `a_min` **and** its f32 |d|² is within [`GATE_DD`] (|d| ∈ (0.9, 1.1)).
 ///
-/// **The threshold.** `bounds` picks the smallest |a| (`a_model`) at which [`Model`]
+/// **The threshold.** `bounds` picks the smallest |a| (`a_model`) at which `Model`
 /// admits every origin within a distance that covers the scene's other objects and the
 /// eye (`reach`; shortened where the model cannot reach it), for any direction in the
 /// window, with |a| taken as an absolute lower bound as in the primary gate's model.

@@ -15,32 +15,47 @@
 //! specialised, which change the operations that run; shadows, textures and specular
 //! tested at run time, which changes no arithmetic), so their images and operation counts
 //! are the same bits as the full set's.
+//!
+//! The scene model, the vectors, the output packers, the feature subsets and the wire
+//! cost are private modules re-exported here. The kernel's stages ([`cull`], [`shade`],
+//! [`shapes`], [`texture`]) are public as namespaces: each is tested on its own against
+//! an f64 reference (the integration tests) and benched (`benches/rt.rs`), and their
+//! functions read right only qualified (`shapes::sphere`, `shade::fresnel`,
+//! `texture::texel`, `cull::bounds`). The scene file format is one too:
+//! [`scene_file::parse`].
 
 pub mod cull;
-pub mod output;
-mod pretest;
-use pretest::RayF32;
-pub mod scene;
 pub mod scene_file;
 pub mod shade;
 pub mod shapes;
-pub mod subset;
 pub mod texture;
-pub mod vec;
-pub mod wire;
+
+mod output;
+mod pretest;
+mod scene;
+mod subset;
+mod vec;
+mod wire;
 
 pub use output::{pack_kcu116, pack_rgb888, psnr, unpack_kcu116, unpack_rgb888, write_pfm};
 pub use protocol::frame::Numeric;
-pub use scene::*;
+pub use scene::{
+    Camera, DiffuseModel, Filter, Light, Mapping, Material, Object, Reflection, Scene, Shape,
+    Specular, SpecularModel, Spot, Term, Texture, TextureKind,
+};
 pub use shapes::Quadratic;
+pub use subset::Subset;
+pub use vec::{f, V3};
+pub use wire::{planned_scene, scene_wire_cost, WireCost};
 
 use crate::num::{AcosKind, AtanKind, Scalar, SqrtKind, Q16_16, Q24_8, Q32_32, Q8_24};
+use pretest::RayF32;
 use rayon::prelude::*;
 use shade::{DiffuseParams, SpecParams};
 use shapes::IntersectFn;
 use std::time::Instant;
 use texture::TexSlot;
-use vec::{f, M3, V3};
+use vec::M3;
 
 /// Which approximation the kernel uses for each non-trivial function.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -111,11 +126,11 @@ pub const BOARD_FRAME_OVERHEAD: u64 = 16_765_083 - 1920 * 1080 * 8;
 /// Rendering choices beyond the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderOptions {
-    /// Number format.
+    /// Number format the kernel computes in (the scene itself is always f64).
     pub numeric: Numeric,
     /// Override of the scene's samples per pixel.
     pub spp: Option<u32>,
-    /// Approximations.
+    /// Which approximation each non-trivial function uses.
     pub math: Math,
     /// Also produce the depth and normal AOVs.
     pub aovs: bool,
@@ -151,9 +166,9 @@ pub enum Kernel {
 pub struct Features {
     /// Shadow rays (point/spot lights present and SHADOW_ENABLE).
     pub shadows: bool,
-    /// Texture lookups.
+    /// Texture lookups: some material has a texture.
     pub textures: bool,
-    /// Specular BRDF terms.
+    /// Specular BRDF terms: some material has one.
     pub specular: bool,
     /// Secondary (reflected/refracted) rays: traced depth > 1.
     pub reflect: bool,
@@ -232,9 +247,9 @@ impl Default for RenderOptions {
 pub struct Stats {
     /// Primary rays (pixels × spp).
     pub primary_rays: u64,
-    /// Shadow rays.
+    /// Shadow rays traced (one per light a hit point faces, when shadows are on).
     pub shadow_rays: u64,
-    /// Reflected rays.
+    /// Mirror-reflected rays traced (depth > 1, reflective materials).
     pub reflected_rays: u64,
     /// Refracted rays (beyond: transmissive dielectrics).
     pub refracted_rays: u64,
@@ -279,12 +294,12 @@ impl Stats {
     }
 }
 
-/// A rendered frame.
+/// A rendered frame: the image, its optional AOVs, and what producing it cost.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Frame {
-    /// Width.
+    /// Width in pixels (the scene's, or [`RenderOptions::size`]).
     pub width: u32,
-    /// Height.
+    /// Height in pixels (the scene's, or [`RenderOptions::size`]).
     pub height: u32,
     /// RGB888, row-major, ⌊255·clamp(c)⌋ per channel.
     pub rgb8: Vec<u8>,
@@ -292,7 +307,7 @@ pub struct Frame {
     pub depth: Option<Vec<f32>>,
     /// World-space unit normal after the shading flip, 3 floats per pixel (0 for a miss).
     pub normal: Option<Vec<f32>>,
-    /// Statistics.
+    /// Rays traced, wall time and the board-time estimate.
     pub stats: Stats,
     /// The plan the scene compiled to.
     pub plan: Plan,
@@ -300,6 +315,7 @@ pub struct Frame {
 
 /// Errors of [`render`].
 #[derive(Debug, thiserror::Error, PartialEq)]
+#[non_exhaustive]
 pub enum RtError {
     /// The scene cannot be rendered as given.
     #[error("invalid scene: {0}")]

@@ -8,7 +8,7 @@ pub use protocol::scene::{Mapping, Shape, TexFilter as Filter};
 /// Camera as in the scene file: w = normalize(position − look_at), u = normalize(up × w).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Camera {
-    /// Eye position.
+    /// Where the eye is, in world units: the origin of every primary ray.
     pub position: [f64; 3],
     /// Point looked at.
     pub look_at: [f64; 3],
@@ -32,7 +32,7 @@ pub struct Spot {
 /// A point light, optionally a spot light.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Light {
-    /// Position.
+    /// Where the light is, in world units (distance to it sets the 1/d² fall-off).
     pub position: [f64; 3],
     /// Radiant intensity per channel (falls off with 1/d²).
     pub color: [f64; 3],
@@ -43,46 +43,46 @@ pub struct Light {
 /// k and colour of a term.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Term {
-    /// Weight.
+    /// Weight the term's contribution is multiplied by (the seed's k_a, k_d).
     pub k: f64,
-    /// Colour.
+    /// Linear RGB the term reflects, per channel.
     pub color: [f64; 3],
 }
 
-/// Diffuse BRDF.
+/// Which diffuse BRDF a material uses: Lambert, or Oren–Nayar for rough surfaces.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum DiffuseModel {
     /// 1/π.
     Lambert,
     /// Oren–Nayar with roughness variance σ².
     OrenNayar {
-        /// σ².
+        /// Roughness variance σ² (0 is Lambert's result at Oren–Nayar's cost).
         sigma2: f64,
     },
 }
 
-/// Specular BRDF.
+/// Which specular BRDF a specular term uses.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SpecularModel {
     /// Normalised Blinn–Phong.
     BlinnPhong,
     /// Torrance–Sparrow with Fresnel of complex index η − ik.
     TorranceSparrow {
-        /// Refractive index.
+        /// Real part η of the complex refractive index in the Fresnel factor.
         eta: f64,
-        /// Extinction coefficient.
+        /// Extinction coefficient k, the imaginary part (0 for a dielectric).
         k: f64,
     },
 }
 
-/// Specular term.
+/// A material's optional specular term: a highlight per point/spot light.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Specular {
-    /// Weight.
+    /// Weight the highlight is multiplied by (the seed's k_s).
     pub k: f64,
-    /// Colour.
+    /// Linear RGB of the highlight, per channel.
     pub color: [f64; 3],
-    /// BRDF.
+    /// Which BRDF shapes the highlight.
     pub model: SpecularModel,
     /// Phong exponent (≤ 1023, power by repeated squaring).
     pub exponent: u32,
@@ -97,9 +97,9 @@ pub enum Reflection {
     Constant(f64),
     /// Unpolarised Fresnel reflectance of η − ik; k > 0 is a conductor (θt = 0).
     Fresnel {
-        /// Refractive index.
+        /// Real part η of the complex refractive index.
         eta: f64,
-        /// Extinction coefficient.
+        /// Extinction coefficient k, the imaginary part (> 0: a conductor).
         k: f64,
     },
     /// (beyond) A transmissive dielectric: Fresnel reflectance r plus a refracted ray of
@@ -124,12 +124,12 @@ pub enum TextureKind {
     RgbDots,
     /// ½(1 + sin(f·x + t·turbulence)).
     Marble {
-        /// Noise seed.
+        /// Seed of the turbulence's value noise: one marble pattern per seed.
         seed: u32,
     },
     /// fract(rings·r + t·turbulence).
     Wood {
-        /// Noise seed.
+        /// Seed of the turbulence's value noise: one grain pattern per seed.
         seed: u32,
     },
 }
@@ -137,9 +137,9 @@ pub enum TextureKind {
 /// A texture applied to a material's ambient and diffuse colours.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Texture {
-    /// Generator.
+    /// Which procedural pattern fills the texture memory.
     pub kind: TextureKind,
-    /// Mapping.
+    /// How a hit point becomes (u, v): planar, cylindrical or spherical.
     pub mapping: Mapping,
     /// (u, v) scale (repeat count).
     pub scale: [f64; 2],
@@ -147,7 +147,7 @@ pub struct Texture {
     pub offset: [f64; 2],
     /// Second colour of grey textures (the first is the diffuse colour).
     pub color2: [f64; 3],
-    /// Filter.
+    /// Nearest or bilinear lookup between texels.
     pub filter: Filter,
 }
 
@@ -156,26 +156,26 @@ pub struct Texture {
 pub struct Material {
     /// Name from the scene file.
     pub name: String,
-    /// Ambient term.
+    /// Response to the scene's ambient light; none skips the term.
     pub ambient: Option<Term>,
-    /// Diffuse term.
+    /// Response to each point/spot light that reaches the surface.
     pub diffuse: Term,
-    /// Diffuse model.
+    /// BRDF of the diffuse term.
     pub diffuse_model: DiffuseModel,
-    /// Specular term.
+    /// Highlight per light; none skips the term (and the plan drops it from the kernel).
     pub specular: Option<Specular>,
-    /// Reflection.
+    /// What a reflected (or refracted) ray adds; [`Reflection::None`] traces none.
     pub reflection: Reflection,
-    /// Texture.
+    /// Pattern applied to the ambient and diffuse colours; none samples nothing.
     pub texture: Option<Texture>,
 }
 
 /// An object: canonical shape, then scale, rotation (degrees, X then Y then Z), translation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Object {
-    /// Shape.
+    /// The canonical shape, before scale, rotation and translation.
     pub shape: Shape,
-    /// Translation.
+    /// Offset in world units, applied last.
     pub translate: [f64; 3],
     /// Per-axis scale (> 0).
     pub scale: [f64; 3],
@@ -185,18 +185,20 @@ pub struct Object {
     pub material: usize,
 }
 
-/// A whole scene.
+/// Everything one frame is rendered from: what a scene file parses to and what the
+/// register image ([`crate::scene_regs`]) holds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
-    /// Frame width.
+    /// Frame width in pixels.
     pub width: u32,
-    /// Frame height.
+    /// Frame height in pixels.
     pub height: u32,
     /// RAYTRACING_DEPTH (1 = primary rays only).
     pub depth: u32,
-    /// CORE_BIAS.
+    /// CORE_BIAS: the smallest hit distance t that counts, and how far secondary rays
+    /// start off their surface (so a surface does not shadow itself).
     pub bias: f64,
-    /// MAX_DISTANCE.
+    /// MAX_DISTANCE: the largest hit distance t that counts, the model's "infinity".
     pub max_distance: f64,
     /// Colour of rays that hit nothing.
     pub background: [f64; 3],
@@ -205,14 +207,14 @@ pub struct Scene {
     /// SHADOW_ENABLE: point/spot lights are tested for occluders (false: every light
     /// reaches every surface facing it, and the plan drops shadow rays from the kernel).
     pub shadows: bool,
-    /// Camera.
+    /// Where primary rays start and which way they look.
     pub camera: Camera,
     /// Ambient light L_a (light 0).
     pub ambient: [f64; 3],
-    /// Point/spot lights.
+    /// Point and spot lights (the ambient light is [`Scene::ambient`]).
     pub lights: Vec<Light>,
-    /// Materials.
+    /// Materials, shared by index ([`Object::material`]).
     pub materials: Vec<Material>,
-    /// Objects.
+    /// Objects in scene-file order (every ray tests all of them unless culled).
     pub objects: Vec<Object>,
 }

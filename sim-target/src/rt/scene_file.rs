@@ -10,7 +10,7 @@ use toml::Spanned;
 /// Capabilities a scene is checked against (the seed's OBJ_NUM and LIGHTS_NUM).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limits {
-    /// Maximum objects.
+    /// Most objects a scene may have (the register map's OBJ_NUM slots).
     pub max_objects: usize,
     /// Maximum lights, the ambient light included.
     pub max_lights: usize,
@@ -31,7 +31,7 @@ impl Default for Limits {
 pub struct SceneFileError {
     /// File name as given to [`parse`].
     pub file: String,
-    /// 1-based line.
+    /// Line of the key in the file, counted from 1 as editors do.
     pub line: usize,
     /// Offending key (or the nearest one).
     pub key: String,

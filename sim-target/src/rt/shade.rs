@@ -87,7 +87,7 @@ pub fn oren_nayar<S: Scalar>(n: V3<S>, wi: V3<S>, wo: V3<S>, p: &DiffuseParams<S
 /// Precomputed specular constants.
 #[derive(Debug, Clone, Copy)]
 pub struct SpecParams<S> {
-    /// Exponent e.
+    /// Phong exponent e of (n·h)^e ([`crate::rt::Specular::exponent`]).
     pub e: u32,
     /// (e + 2)/(2π).
     pub norm: S,
@@ -95,7 +95,7 @@ pub struct SpecParams<S> {
     pub eta: S,
     /// k for Torrance–Sparrow's F.
     pub k: S,
-    /// Square root.
+    /// Which √ the BRDF's normalisations use ([`crate::rt::Math::sqrt`]).
     pub sqrt: SqrtKind,
 }
 

@@ -61,7 +61,8 @@ fn in_range<S: Scalar>(t: S, tmin: S, tmax: S) -> bool {
     t >= tmin && t <= tmax
 }
 
-/// Unit sphere.
+/// Hit t ∈ [tmin, tmax] of the ray o + t·d with the unit sphere at the origin (object
+/// space): [`sphere_c`] with c = |o|² − 1 computed here.
 #[inline]
 pub fn sphere<S: Scalar>(o: V3<S>, d: V3<S>, tmin: S, tmax: S, m: &Math) -> Option<S> {
     sphere_c(o, d, o.dot(o) - S::one(), tmin, tmax, m)

@@ -130,13 +130,13 @@ pub fn map_uv<S: Scalar>(mapping: Mapping, p: V3<S>, m: &Math) -> (S, S) {
 /// here instead of per sample (the hardware has them as constants in its address unit).
 #[derive(Debug, Clone)]
 pub struct TexSlot<S> {
-    /// First word.
+    /// Index of the texture's first word in the ray tracer's texture memory.
     pub base: usize,
     /// Side in texels.
     pub side: usize,
-    /// Mapping.
+    /// How a hit point becomes (u, v), as the material's texture says.
     pub mapping: Mapping,
-    /// Filter.
+    /// Nearest or bilinear lookup, as the material's texture says.
     pub filter: Filter,
     /// (u, v) scale.
     pub scale: (S, S),

@@ -3,19 +3,19 @@
 use crate::num::{self, Scalar, SqrtKind};
 use core::ops::{Add, Mul, Neg, Sub};
 
-/// A 3-vector.
+/// A 3-vector in the kernel's format: points, directions, normals and colours alike.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct V3<S> {
-    /// x.
+    /// First component (x, or red for a colour).
     pub x: S,
-    /// y.
+    /// Second component (y, or green).
     pub y: S,
-    /// z.
+    /// Third component (z, or blue).
     pub z: S,
 }
 
 impl<S: Scalar> V3<S> {
-    /// From components.
+    /// The vector (x, y, z), components already in the format.
     #[inline(always)]
     pub fn new(x: S, y: S, z: S) -> Self {
         Self { x, y, z }
@@ -24,21 +24,22 @@ impl<S: Scalar> V3<S> {
     pub fn from_f64(a: [f64; 3]) -> Self {
         Self::new(S::from_f64(a[0]), S::from_f64(a[1]), S::from_f64(a[2]))
     }
-    /// To f64.
+    /// Back to f64 (exact: every format widens to f64 exactly), for references and AOVs.
     pub fn to_f64(self) -> [f64; 3] {
         [self.x.to_f64(), self.y.to_f64(), self.z.to_f64()]
     }
-    /// Zero vector.
+    /// (0, 0, 0): the start of a colour sum, and what a zero-length normalise returns.
     #[inline(always)]
     pub fn zero() -> Self {
         Self::new(S::zero(), S::zero(), S::zero())
     }
-    /// Dot product.
+    /// v·o through [`Scalar::dot3`]: one rounding in the fixed formats, not five.
     #[inline(always)]
     pub fn dot(self, o: Self) -> S {
         S::dot3(self.x, o.x, self.y, o.y, self.z, o.z)
     }
-    /// Cross product.
+    /// v × o with each product and difference rounded by the format; [`V3::cross2`] is
+    /// the variant for where the result must be exact.
     #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
         Self::new(
@@ -58,7 +59,7 @@ impl<S: Scalar> V3<S> {
             S::dot2(self.x, o.y, -self.y, o.x),
         )
     }
-    /// Per-component product.
+    /// Per-component product, each rounded to nearest: a colour times a colour.
     #[inline(always)]
     pub fn hadamard(self, o: Self) -> Self {
         Self::new(self.x.mul_rn(o.x), self.y.mul_rn(o.y), self.z.mul_rn(o.z))
@@ -77,7 +78,7 @@ impl<S: Scalar> V3<S> {
         }
         self.scale(num::rsqrt(l2, sq))
     }
-    /// Length.
+    /// |v| = √(v·v) with the chosen square root.
     #[inline(always)]
     pub fn length(self, sq: SqrtKind) -> S {
         num::sqrt(self.dot(self), sq)

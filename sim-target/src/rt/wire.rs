@@ -60,14 +60,14 @@ pub struct WireCost {
 }
 
 /// Cost of sending `regs` to a target at power-on with today's merge gap.
-pub fn wire_cost(regs: &Regs) -> WireCost {
+fn wire_cost(regs: &Regs) -> WireCost {
     wire_cost_gap(regs, DEFAULT_MERGE_GAP)
 }
 
 /// The cheapest way (in link bytes) to send `regs`: the plan zeroes unused words, and a
 /// zero costs one byte as a postcard varint, so bridging a longer run of them can beat
 /// opening a new message (≈ 15 bytes of framing); every gap up to 16 is tried.
-pub fn wire_cost_best(regs: &Regs) -> WireCost {
+fn wire_cost_best(regs: &Regs) -> WireCost {
     (0..=16)
         .map(|g| wire_cost_gap(regs, g))
         .min_by_key(|c| (c.bytes, c.gap))
@@ -75,7 +75,7 @@ pub fn wire_cost_best(regs: &Regs) -> WireCost {
 }
 
 /// Cost of sending `regs` to a target at power-on, bridging up to `gap` unchanged words.
-pub fn wire_cost_gap(regs: &Regs, gap: usize) -> WireCost {
+fn wire_cost_gap(regs: &Regs, gap: usize) -> WireCost {
     let empty = Regs::new();
     let mut c = WireCost {
         gap,

@@ -3,7 +3,7 @@
 //! result is blended by the sample coverage.
 
 use protocol::frame::*;
-use sim_target::raster::{aa, fb::Z_FAR, Raster};
+use sim_target::raster::{aa, Raster, Z_FAR};
 
 const BITS: u8 = 4;
 const N: u32 = 32;

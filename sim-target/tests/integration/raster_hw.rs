@@ -1,7 +1,7 @@
 //! The hardware model: FIFO back-pressure, cycle counts, board time.
 
 use protocol::frame::*;
-use sim_target::raster::{hw, records, Raster};
+use sim_target::raster::{records, Raster, FIFO_DEPTH};
 
 fn raster(t: Traversal) -> Raster {
     let s = RasterSetup {
@@ -80,7 +80,7 @@ fn full_fifo_stalls_the_controller() {
     }
     let s = *r.stats();
     assert!(s.fifo_stalls > 0, "a slow block must push back");
-    assert!(s.fifo_max <= hw::FIFO_DEPTH);
+    assert!(s.fifo_max <= FIFO_DEPTH);
     assert_eq!(s.fifo_records, 300 * 2);
     assert!(s.end_cycle >= s.cycles.triangle);
     assert!((s.board_seconds() - s.end_cycle as f64 / 142e6).abs() < 1e-12);

@@ -4,11 +4,11 @@
 //! undoing a fix fails here and not only in the whole-frame PSNR of `rt_render`.
 
 use sim_target::num::{AcosKind, AtanKind, Scalar, SqrtKind, Q16_16};
-use sim_target::rt::scene::{Mapping, Shape};
 use sim_target::rt::shapes::{self, Quadratic};
 use sim_target::rt::texture;
-use sim_target::rt::vec::V3;
 use sim_target::rt::Math;
+use sim_target::rt::V3;
+use sim_target::rt::{Mapping, Shape};
 
 const M: Math = Math {
     sqrt: SqrtKind::Exact,

@@ -12,8 +12,8 @@
 //!   culled and unculled, bit for bit, in every fixed format.
 
 use sim_target::num::{Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
-use sim_target::rt::{cull, scene_file, shapes, vec::V3, Math, Numeric, Reflection, Scene};
-use sim_target::rt::{scene::Object, Shape};
+use sim_target::rt::{cull, scene_file, shapes, Math, Numeric, Reflection, Scene, V3};
+use sim_target::rt::{Object, Shape};
 
 use crate::common;
 

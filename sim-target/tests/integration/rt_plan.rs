@@ -5,10 +5,8 @@
 
 use sim_target::num::SqrtKind;
 use sim_target::rt::{
-    self, scene_file,
-    subset::Subset,
-    wire::{planned_scene, scene_wire_cost},
-    Kernel, Math, Numeric, RenderOptions, Scene,
+    self, planned_scene, scene_file, scene_wire_cost, Kernel, Math, Numeric, RenderOptions, Scene,
+    Subset,
 };
 use sim_target::scene_regs::{from_regs, to_regs};
 

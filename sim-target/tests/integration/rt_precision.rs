@@ -5,8 +5,8 @@
 
 use sim_target::num::{Scalar, SqrtKind, Q16_16};
 use sim_target::rt::shapes::{self, Quadratic};
-use sim_target::rt::vec::V3;
 use sim_target::rt::Math;
+use sim_target::rt::V3;
 
 /// Depth profile through the nearest point (row 50): the seed's rays are o = 0,
 /// d = (x, y, −1) through an image plane at distance 1 (not normalised; t = t′ because

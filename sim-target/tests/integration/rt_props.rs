@@ -3,10 +3,10 @@
 //! farther than the closest true one (checked by marching a dense set of samples).
 
 use proptest::prelude::*;
-use sim_target::rt::scene::Shape;
 use sim_target::rt::shapes;
-use sim_target::rt::vec::V3;
 use sim_target::rt::Math;
+use sim_target::rt::Shape;
+use sim_target::rt::V3;
 
 fn on_surface(shape: Shape, p: V3<f64>) -> bool {
     let e = 1e-6;

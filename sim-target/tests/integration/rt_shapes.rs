@@ -2,12 +2,12 @@
 //! Fresnel limits, textures and mappings.
 
 use sim_target::num::SqrtKind;
-use sim_target::rt::scene::{Mapping, Shape, TextureKind};
 use sim_target::rt::shade::{self, DiffuseParams, SpecParams};
 use sim_target::rt::shapes;
 use sim_target::rt::texture;
-use sim_target::rt::vec::V3;
 use sim_target::rt::Math;
+use sim_target::rt::V3;
+use sim_target::rt::{Mapping, Shape, TextureKind};
 use std::f64::consts::{FRAC_1_PI, PI};
 
 const M: Math = Math {

@@ -7,9 +7,9 @@
 
 use proptest::prelude::*;
 use sim_target::num::{Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
-use sim_target::rt::scene::{Filter, Mapping};
 use sim_target::rt::texture::{sample, sample_grey, side_for, TexSlot};
-use sim_target::rt::vec::V3;
+use sim_target::rt::V3;
+use sim_target::rt::{Filter, Mapping};
 
 /// The sampler as it was before session 5 (verbatim but for taking the slot's public
 /// fields): the reference the fast paths must reproduce.
