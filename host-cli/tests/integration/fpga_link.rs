@@ -2,12 +2,12 @@
 //! `protocol::link`, as on a QEMU board) must produce exactly the images of the in-process
 //! bus: the link changes the transport, never a bit.
 
-mod common;
-
 use host_cli::raster_file;
 use host_cli::render::{Aovs, Packing, Renderer};
 use host_cli::session::{Session, Transport};
 use sim_board::in_process::{sim_target, sim_target_via_fpga_link};
+
+use crate::common;
 
 fn example(path: &str) -> String {
     let full = common::example(path);

@@ -2,17 +2,15 @@
 //! job or an error, never a panic; every non-finite number is refused; whatever parses
 //! draws on the raster block without a panic.
 
-mod hostile_text;
-
+use crate::hostile_text::{damage, edits, float_literals};
 use host_cli::raster_file;
-use hostile_text::{damage, edits, float_literals};
 use proptest::prelude::*;
 use sim_target::raster::Raster;
 
 const EXAMPLES: [&str; 3] = [
-    include_str!("../../examples/raster/aa.toml"),
-    include_str!("../../examples/raster/fitkit.toml"),
-    include_str!("../../examples/raster/gallery.toml"),
+    include_str!("../../../examples/raster/aa.toml"),
+    include_str!("../../../examples/raster/fitkit.toml"),
+    include_str!("../../../examples/raster/gallery.toml"),
 ];
 
 fn to_json(text: &str) -> String {

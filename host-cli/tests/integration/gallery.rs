@@ -1,15 +1,15 @@
 //! The raster gallery (`examples/raster/*.toml`) through the whole built-in path, compared
 //! byte for byte with the golden PNGs in `examples/raster/golden/`, for every traversal.
-//! `FPGFX_BLESS=1 cargo test -p host-cli --test gallery` rewrites the goldens after an
-//! intended change (look at them before committing).
-
-mod common;
+//! `FPGFX_BLESS=1 cargo test -p host-cli --test integration gallery::` rewrites the goldens
+//! after an intended change (look at them before committing).
 
 use std::path::{Path, PathBuf};
 
 use host_cli::raster_file;
 use host_cli::session::Session;
 use protocol::frame::{AaPattern, Traversal};
+
+use crate::common;
 
 fn examples() -> PathBuf {
     common::workspace().join("examples/raster")

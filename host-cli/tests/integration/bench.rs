@@ -2,10 +2,10 @@
 //! finite cost and error, the reference-identical points are where they must be, and the
 //! default configurations sit on their Pareto fronts.
 
-mod common;
-
 use host_cli::bench::{self, BenchConfig};
 use std::path::PathBuf;
+
+use crate::common;
 
 #[test]
 fn quick_bench_writes_outputs_and_default_is_on_the_front() {
