@@ -44,6 +44,21 @@ pub fn tmp(name: &str) -> String {
     dir.join(name).display().to_string()
 }
 
+/// The raster gallery, `examples/raster/*.toml`, sorted: the one list of the files that
+/// the tests draw, compare, send over the FPGA link and damage, so that a new example
+/// joins all of them.
+pub fn raster_gallery() -> Vec<PathBuf> {
+    let dir = workspace().join("examples/raster");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 3, "gallery files missing: {files:?}");
+    files
+}
+
 /// An image file as RGB8, named in the panic when it is missing or unreadable (the usual
 /// cause: the command that should have written it did not).
 pub fn rgb(path: &str) -> image::RgbImage {

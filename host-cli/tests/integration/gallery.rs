@@ -33,13 +33,7 @@ fn draw(
 
 #[test]
 fn gallery_matches_golden_pngs_for_every_traversal() {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(examples())
-        .expect("examples/raster")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    assert!(files.len() >= 3, "gallery files missing: {files:?}");
+    let files = common::raster_gallery();
     let bless = std::env::var_os("FPGFX_BLESS").is_some();
     for file in files {
         let stem = file
