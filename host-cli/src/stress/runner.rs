@@ -7,14 +7,13 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use protocol::frame::Numeric;
-use protocol::names::Named;
 use rand::rngs::SmallRng;
 use rand::SeedableRng;
 use sim_target::num::instrumented;
 
 use super::damage::parse_case;
 use super::raster::raster_case;
-use super::report::{CaseResult, Counts, Failure, Report, MAX_FAILURES};
+use super::report::{AcneCase, AcneList, CaseResult, Counts, Failure, Report, MAX_FAILURES};
 use super::rt::rt_case;
 use super::{Category, Config, StressError};
 
@@ -51,18 +50,23 @@ pub fn run_case(
         .num_threads(1)
         .build()
         .map_err(|e| StressError::Pool(e.to_string()))?;
-    Ok(pool.install(|| case_on_this_thread(seed, index, only)))
+    Ok(pool.install(|| case_on_this_thread(seed, index, only, AcneList::Off)))
 }
 
 /// [`run_case`] on the calling thread, which must be the only thread of the current rayon
 /// pool.
-fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Category, CaseResult) {
+fn case_on_this_thread(
+    seed: u64,
+    index: u64,
+    only: Option<Category>,
+    acne: AcneList,
+) -> (Category, CaseResult) {
     let cat = category_of(index, only);
     let mut rng = case_rng(seed, index, cat);
     instrumented::set_nan_trap(trap());
     let out = catch_unwind(AssertUnwindSafe(|| match cat {
         Category::Raster => raster_case(&mut rng),
-        Category::Rt => rt_case(&mut rng),
+        Category::Rt => rt_case(&mut rng, acne == AcneList::Pixels),
         Category::Parse => parse_case(&mut rng),
     }));
     let mut r = match out {
@@ -81,28 +85,11 @@ fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Catego
                 },
                 formats: Default::default(),
                 failure: Some(format!("panic: {msg}{at}")),
+                acne: None,
             }
         }
     };
     r.counts.cases = 1;
-    if r.counts.acne + r.counts.acne_out_of_range > 0 && list_acne() {
-        // Debugging aid (FPGFX_STRESS_ACNE=1): which cases, in which format, have acne.
-        let fmt = r.formats.iter().position(|f| f.renders > 0).unwrap_or(0);
-        if r.counts.acne > 0 {
-            eprintln!(
-                "acne: case {index} {} {}/{} pixels",
-                Numeric::ALL[fmt].name(),
-                r.counts.acne,
-                r.counts.acne_checked
-            );
-        } else {
-            eprintln!(
-                "acne: case {index} {} {} pixels, scene beyond the format's range",
-                Numeric::ALL[fmt].name(),
-                r.counts.acne_out_of_range
-            );
-        }
-    }
     if r.failure.is_none() && r.counts.failed() {
         r.failure = Some(format!("{:?}", r.counts));
     }
@@ -114,12 +101,6 @@ fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Catego
 fn trap() -> bool {
     static TRAP: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *TRAP.get_or_init(|| std::env::var_os("FPGFX_STRESS_TRAP").is_some())
-}
-
-/// Debugging aid (`FPGFX_STRESS_ACNE=1`): list the cases with acne on stderr.
-fn list_acne() -> bool {
-    static LIST: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *LIST.get_or_init(|| std::env::var_os("FPGFX_STRESS_ACNE").is_some())
 }
 
 /// Runs `cfg.cases` cases (or the one of `cfg.case`) on all cores. Each worker thread owns
@@ -176,7 +157,10 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
                     loop {
                         let k = next.fetch_add(1, Ordering::Relaxed) as usize;
                         let Some(&index) = indices.get(k) else { break };
-                        let (cat, r) = case_on_this_thread(cfg.seed, index, cfg.only);
+                        let (cat, mut r) = case_on_this_thread(cfg.seed, index, cfg.only, cfg.acne);
+                        if cfg.acne != AcneList::Off {
+                            local.acne.extend(acne_case(index, &mut r));
+                        }
                         local.by_category[cat as usize].add(&r.counts);
                         for (a, b) in local.by_format.iter_mut().zip(&r.formats) {
                             a.add(b);
@@ -197,6 +181,7 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
                         a.add(b);
                     }
                     t.failures.extend(local.failures);
+                    t.acne.extend(local.acne);
                 });
             });
         }
@@ -205,6 +190,29 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
     let mut report = total.into_inner().unwrap_or_else(|p| p.into_inner());
     report.failures.sort_by_key(|f| f.index);
     report.failures.truncate(MAX_FAILURES);
+    report.acne.sort_by_key(|c| c.index);
     report.seconds = started.elapsed().as_secs_f64();
     Ok(report)
+}
+
+/// Case `index`'s entry in [`Report::acne`], if its render left lit pixels black (an rt
+/// case renders in one format: the one with a render).
+fn acne_case(index: u64, r: &mut CaseResult) -> Option<AcneCase> {
+    let c = &r.counts;
+    if c.acne + c.acne_out_of_range == 0 {
+        return None;
+    }
+    let fmt = r.formats.iter().position(|f| f.renders > 0).unwrap_or(0);
+    Some(AcneCase {
+        index,
+        numeric: Numeric::ALL[fmt],
+        pixels: if c.acne > 0 {
+            c.acne
+        } else {
+            c.acne_out_of_range
+        },
+        checked: c.acne_checked,
+        beyond_range: c.acne == 0,
+        detail: r.acne.take(),
+    })
 }
