@@ -3,7 +3,7 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use protocol::frame::Numeric;
@@ -35,6 +35,26 @@ fn case_rng(seed: u64, index: u64, cat: Category) -> SmallRng {
 thread_local! {
     /// Where the last panic on this thread happened (filled by the run's panic hook).
     static PANIC_AT: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
+    /// This thread is one of a run's workers: the run's panic hook records its panics
+    /// instead of passing them on.
+    static IN_CASE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// What [`std::panic::take_hook`] returns.
+type PanicHook = Box<dyn Fn(&std::panic::PanicHookInfo<'_>) + Sync + Send + 'static>;
+
+/// Held by a run while its panic hook is installed. The hook is the process's: runs that
+/// overlapped (tests on parallel threads) would each put back the hook they found, the
+/// last one to finish possibly a silencing one, for good.
+static HOOK: Mutex<()> = Mutex::new(());
+
+/// Puts back the hook a run found, once the run's own (which shares it) is gone.
+fn restore_hook(hook: Arc<PanicHook>) {
+    drop(std::panic::take_hook());
+    match Arc::try_unwrap(hook) {
+        Ok(hook) => std::panic::set_hook(hook),
+        Err(shared) => std::panic::set_hook(Box::new(move |info| shared(info))),
+    }
 }
 
 /// Runs one case, catching a panic, on a private one-thread pool (so that the renders
@@ -125,9 +145,16 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
         seed: cfg.seed,
         ..Report::default()
     });
-    // A panicking case is counted, not printed: silence the default hook meanwhile.
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|info| {
+    // A panicking case is counted, not printed: its panics skip the previous hook
+    // meanwhile, and every other thread's still reach it (the process may be running
+    // other work, such as other tests, beside this run).
+    let _one_hook = HOOK.lock().unwrap_or_else(|p| p.into_inner());
+    let hook: Arc<PanicHook> = Arc::new(std::panic::take_hook());
+    let others = hook.clone();
+    std::panic::set_hook(Box::new(move |info| {
+        if !IN_CASE.get() {
+            return others(info);
+        }
         let at = info
             .location()
             .map(|l| format!(" at {}:{}", l.file(), l.line()))
@@ -145,7 +172,7 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
     let pools = match pools {
         Ok(p) => p,
         Err(e) => {
-            std::panic::set_hook(hook);
+            restore_hook(hook);
             return Err(e);
         }
     };
@@ -153,6 +180,7 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
         for pool in &pools {
             sc.spawn(|| {
                 pool.install(|| {
+                    IN_CASE.set(true);
                     let mut local = Report::default();
                     loop {
                         let k = next.fetch_add(1, Ordering::Relaxed) as usize;
@@ -182,11 +210,12 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
                     }
                     t.failures.extend(local.failures);
                     t.acne.extend(local.acne);
+                    IN_CASE.set(false);
                 });
             });
         }
     });
-    std::panic::set_hook(hook);
+    restore_hook(hook);
     let mut report = total.into_inner().unwrap_or_else(|p| p.into_inner());
     report.failures.sort_by_key(|f| f.index);
     report.failures.truncate(MAX_FAILURES);
