@@ -23,11 +23,13 @@ pub const INBOX: usize = 4;
 // Exhaustive on purpose: one variant per transport parameter, so a caller whose host link
 // cannot fail (`H::Error = Infallible`) proves it with `match never {}`; another variant
 // would need another transport parameter, which breaks callers anyway.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum ControllerError<H, B> {
     /// Reading or writing the host link failed.
+    #[error("host link: {0}")]
     Host(H),
     /// The FPGA transport failed.
+    #[error("FPGA: {0}")]
     Fpga(B),
 }
 

@@ -48,24 +48,32 @@ const LOW_CREDIT: usize = 128;
 const WINDOW: usize = 4;
 
 /// What went wrong on the FPGA link.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum FpgaLinkError<E> {
     /// The UART failed; the port's own error, as the board's driver reports it.
+    #[error("the FPGA link's UART failed: {0}")]
     Io(E),
     /// No answer within the time limit; `waiting_for` names the question.
+    #[error("no answer from the FPGA to {waiting_for}")]
     Timeout {
         /// The unanswered question.
         waiting_for: &'static str,
     },
     /// The FPGA refused an earlier posted request.
+    #[error("the FPGA refused request {} ({:?})", .0.request, .0.code)]
     Fault(Fault),
     /// An answer that does not fit the question, or that does not decode.
+    #[error("an answer from the FPGA that does not fit {question}")]
     Unexpected {
         /// The question it should have answered.
         question: &'static str,
     },
     /// The FPGA side was built from another message set.
+    #[error(
+        "the FPGA side was built from another message set (schema hash {theirs:#018x}, \
+         ours {ours:#018x})"
+    )]
     Schema {
         /// This build's [`FPGA_SCHEMA_HASH`].
         ours: u64,
@@ -73,6 +81,7 @@ pub enum FpgaLinkError<E> {
         theirs: u64,
     },
     /// The FPGA side restarted: everything it held is gone; reset and start over.
+    #[error("the FPGA side restarted and lost everything it held")]
     PeerReset,
 }
 

@@ -70,12 +70,12 @@ const PACKAGES: &[Package] = &[
     Package {
         program: "qemu-system-arm",
         package: "qemu-system-arm",
-        why: "runs the STM32F405 board binary end to end (host-cli/tests/qemu.rs)",
+        why: "runs the STM32F405 board binary end to end (host-cli/tests/integration/qemu.rs)",
     },
     Package {
         program: "stm32flash",
         package: "stm32flash",
-        why: "the third-party AN3155 client `fpgfx-sim --bootloader` is checked against (host-cli/tests/flash.rs)",
+        why: "the third-party AN3155 client `fpgfx-sim --bootloader` is checked against (host-cli/tests/integration/flash.rs)",
     },
     Package {
         program: "verilator",

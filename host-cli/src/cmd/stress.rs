@@ -1,7 +1,8 @@
 //! `fpgfx stress`: the adversarial runner of [`host_cli::stress`], its table on stdout.
 
 use anyhow::Result;
-use host_cli::stress::{self, Category};
+use host_cli::stress::{self, AcneCase, AcneList, Category};
+use protocol::names::Named;
 
 /// Arguments of `fpgfx stress`.
 #[derive(clap::Args)]
@@ -31,11 +32,51 @@ pub fn run(a: &Args) -> Result<()> {
         only: a.only,
         case: a.case,
         threads: a.threads,
+        acne: acne_list(),
     })?;
+    for case in &report.acne {
+        print_acne(case);
+    }
     print!("{}", report.table());
     anyhow::ensure!(
         !report.failed(),
         "stress found failures (panics, NaN/inf, cracks, double writes, coverage, wraps or accepted non-finite input)"
     );
     Ok(())
+}
+
+/// Debugging aid, from the environment rather than a flag: `FPGFX_STRESS_ACNE=1` lists
+/// the cases with acne on stderr, `FPGFX_STRESS_ACNE=2` (with `--case K`) also each
+/// one's scene and black pixels.
+fn acne_list() -> AcneList {
+    match std::env::var_os("FPGFX_STRESS_ACNE") {
+        None => AcneList::Off,
+        Some(v) if v == "2" => AcneList::Pixels,
+        Some(_) => AcneList::Cases,
+    }
+}
+
+/// One entry of the acne list, on stderr (the table owns stdout).
+fn print_acne(c: &AcneCase) {
+    let format = c.numeric.name();
+    if c.beyond_range {
+        eprintln!(
+            "acne: case {} {format} {} pixels, scene beyond the format's range",
+            c.index, c.pixels
+        );
+    } else {
+        eprintln!(
+            "acne: case {} {format} {}/{} pixels",
+            c.index, c.pixels, c.checked
+        );
+    }
+    if let Some(d) = &c.detail {
+        eprintln!("acne in {} scene, {format}: {:?}", d.kind, d.scene);
+        for p in &d.pixels {
+            eprintln!(
+                "  pixel ({}, {}): t {:e} p {:?} n {:?} n·wi {:.4} dist {:e} ref rgb {:?}",
+                p.x, p.y, p.t, p.point, p.normal, p.n_dot_wi, p.light_distance, p.reference_rgb
+            );
+        }
+    }
 }

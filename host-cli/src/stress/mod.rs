@@ -33,7 +33,10 @@ mod runner;
 
 use protocol::names::{Named, UnknownName};
 
-pub use report::{CaseResult, Counts, Failure, FormatCounts, Report, MAX_FAILURES};
+pub use report::{
+    AcneCase, AcneDetail, AcneList, AcnePixel, CaseResult, Counts, Failure, FormatCounts, Report,
+    MAX_FAILURES,
+};
 pub use rt::range_demand;
 pub use runner::{category_of, run, run_case};
 
@@ -115,4 +118,6 @@ pub struct Config {
     pub case: Option<u64>,
     /// Worker threads (0 = all cores).
     pub threads: usize,
+    /// Which acne cases to list in [`Report::acne`].
+    pub acne: AcneList,
 }

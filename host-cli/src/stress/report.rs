@@ -2,6 +2,7 @@
 
 use protocol::frame::Numeric;
 use protocol::names::Named;
+use sim_target::rt::Scene;
 
 use super::Category;
 
@@ -149,6 +150,74 @@ pub struct Report {
     pub seconds: f64,
     /// Seed the run used ([`Config::seed`](super::Config::seed)), printed so a failure can be run again.
     pub seed: u64,
+    /// The cases with acne, lowest index first, when [`Config::acne`](super::Config::acne)
+    /// asked for them (empty otherwise).
+    pub acne: Vec<AcneCase>,
+}
+
+/// How much of the acne a run lists case by case ([`Report::acne`]) beyond the counts: a
+/// debugging aid for finding the scenes a format self-shadows, off by default because a
+/// long run has thousands of such cases and the scenes are large.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum AcneList {
+    /// Counts only.
+    #[default]
+    Off,
+    /// Each case with black lit pixels: index, format and pixel counts.
+    Cases,
+    /// Also each such case's scene and every black pixel (meant for `--case K`).
+    Pixels,
+}
+
+/// A case whose render left lit pixels black: acne, or, when its scene lies beyond the
+/// format's range, the format's range limit.
+#[derive(Debug, Clone)]
+pub struct AcneCase {
+    /// The case index (with the run's seed and `only`).
+    pub index: u64,
+    /// The format it rendered in.
+    pub numeric: Numeric,
+    /// Black lit pixels.
+    pub pixels: u64,
+    /// Pixels the acne check looked at; 0 when `beyond_range` (those are not checked).
+    pub checked: u64,
+    /// The scene needs more range than the format has, so its black pixels are counted
+    /// apart from acne ([`Counts::acne_out_of_range`]).
+    pub beyond_range: bool,
+    /// With [`AcneList::Pixels`]: the scene and each black pixel.
+    pub detail: Option<AcneDetail>,
+}
+
+/// The scene of an [`AcneCase`] and its black pixels, for [`AcneList::Pixels`].
+#[derive(Debug, Clone)]
+pub struct AcneDetail {
+    /// Which generator made the scene (`Acne` or `Coincident`).
+    pub kind: String,
+    /// The scene as rendered.
+    pub scene: Scene,
+    /// Every black pixel, in raster order.
+    pub pixels: Vec<AcnePixel>,
+}
+
+/// One black lit pixel, with what the f64 reference saw there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AcnePixel {
+    /// Column.
+    pub x: u32,
+    /// Row.
+    pub y: u32,
+    /// Distance to the reference's hit along the primary ray.
+    pub t: f64,
+    /// The reference's hit point.
+    pub point: [f64; 3],
+    /// The reference's normal there (facing the eye).
+    pub normal: [f64; 3],
+    /// n·ωᵢ: how squarely the surface faces the light (checked pixels have at least 0.3).
+    pub n_dot_wi: f64,
+    /// Distance from the hit point to the light.
+    pub light_distance: f64,
+    /// The reference's colour of the pixel.
+    pub reference_rgb: [u8; 3],
 }
 
 /// Failures kept in a report.
@@ -273,4 +342,7 @@ pub struct CaseResult {
     pub formats: [FormatCounts; 7],
     /// Why it failed, if it did.
     pub failure: Option<String>,
+    /// The scene and black pixels of an rt case with acne, when asked for
+    /// ([`AcneList::Pixels`]).
+    pub acne: Option<AcneDetail>,
 }

@@ -16,7 +16,7 @@ use sim_target::rt::{
     TextureKind,
 };
 
-use super::report::CaseResult;
+use super::report::{AcneDetail, AcnePixel, CaseResult};
 
 const SHAPES: [Shape; 7] = [
     Shape::Sphere,
@@ -164,7 +164,9 @@ enum RtKind {
     Wild,
 }
 
-pub(super) fn rt_case(rng: &mut SmallRng) -> CaseResult {
+/// One rt case; `acne_detail` keeps the scene and black pixels of acne in
+/// [`CaseResult::acne`] ([`AcneList::Pixels`](super::report::AcneList::Pixels)).
+pub(super) fn rt_case(rng: &mut SmallRng, acne_detail: bool) -> CaseResult {
     let mut r = CaseResult::default();
     let kind = [
         RtKind::Acne,
@@ -260,9 +262,14 @@ pub(super) fn rt_case(rng: &mut SmallRng) -> CaseResult {
                 ..opts
             },
         ) {
-            let (acne, checked) = count_acne(&scene, &reference, &frame);
-            if acne > 0 && list_acne_verbose() {
-                eprintln!("acne in {kind:?} scene, {}: {scene:?}", numeric.name());
+            let mut pixels = acne_detail.then(Vec::new);
+            let (acne, checked) = count_acne(&scene, &reference, &frame, pixels.as_mut());
+            if acne > 0 {
+                r.acne = pixels.map(|pixels| AcneDetail {
+                    kind: format!("{kind:?}"),
+                    scene: scene.clone(),
+                    pixels,
+                });
             }
             if fits {
                 r.counts.acne = acne;
@@ -609,7 +616,14 @@ fn primary_dir(c: &Camera, w: u32, h: u32, i: u32, j: u32) -> [f64; 3] {
 /// where the near face rightly shadows it (seed 1, case 551791: a cube of half-size
 /// 1.15·10⁻³ seen from 2.4·10⁻³, 22 black pixels in f64). The normal AOV faces the eye, so
 /// such a hit is the one whose normal points towards the object's centre.
-fn count_acne(scene: &Scene, reference: &Frame, test: &Frame) -> (u64, u64) {
+///
+/// `black`, when given, receives each black pixel with what the reference saw there.
+fn count_acne(
+    scene: &Scene,
+    reference: &Frame,
+    test: &Frame,
+    mut black: Option<&mut Vec<AcnePixel>>,
+) -> (u64, u64) {
     let (Some(rd), Some(rn), Some(tn)) = (&reference.depth, &reference.normal, &test.normal) else {
         return (0, 0);
     };
@@ -637,13 +651,19 @@ fn count_acne(scene: &Scene, reference: &Frame, test: &Frame) -> (u64, u64) {
             }
             checked += 1;
             if test.rgb8[3 * k..3 * k + 3].iter().all(|&c| c == 0) {
-                if list_acne_verbose() {
-                    eprintln!(
-                        "  pixel ({i}, {j}): t {t:e} p {p:?} n {n:?} n·wi {:.4} dist {:e} ref rgb {:?}",
-                        f::dot(n, wi),
-                        f::dot(f::add(light.position, f::scale(p, -1.0)), f::add(light.position, f::scale(p, -1.0))).sqrt(),
-                        &reference.rgb8[3 * k..3 * k + 3]
-                    );
+                if let Some(black) = black.as_deref_mut() {
+                    let to_light = f::add(light.position, f::scale(p, -1.0));
+                    let rgb = &reference.rgb8[3 * k..3 * k + 3];
+                    black.push(AcnePixel {
+                        x: i,
+                        y: j,
+                        t,
+                        point: p,
+                        normal: n,
+                        n_dot_wi: f::dot(n, wi),
+                        light_distance: f::dot(to_light, to_light).sqrt(),
+                        reference_rgb: [rgb[0], rgb[1], rgb[2]],
+                    });
                 }
                 acne += 1;
             }
@@ -668,10 +688,4 @@ fn seen_from_inside(scene: &Scene, p: [f64; 3], n: [f64; 3]) -> bool {
 /// divides each component: the generated scenes are functions of these bits).
 fn norm(a: [f64; 3]) -> [f64; 3] {
     f::scale(a, 1.0 / f::length(a))
-}
-
-/// Debugging aid (`FPGFX_STRESS_ACNE=2`): also print each acne scene and pixel.
-fn list_acne_verbose() -> bool {
-    static LIST: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *LIST.get_or_init(|| std::env::var_os("FPGFX_STRESS_ACNE").is_some_and(|v| v == "2"))
 }

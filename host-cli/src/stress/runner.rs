@@ -3,18 +3,17 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use protocol::frame::Numeric;
-use protocol::names::Named;
 use rand::rngs::SmallRng;
 use rand::SeedableRng;
 use sim_target::num::instrumented;
 
 use super::damage::parse_case;
 use super::raster::raster_case;
-use super::report::{CaseResult, Counts, Failure, Report, MAX_FAILURES};
+use super::report::{AcneCase, AcneList, CaseResult, Counts, Failure, Report, MAX_FAILURES};
 use super::rt::rt_case;
 use super::{Category, Config, StressError};
 
@@ -36,6 +35,26 @@ fn case_rng(seed: u64, index: u64, cat: Category) -> SmallRng {
 thread_local! {
     /// Where the last panic on this thread happened (filled by the run's panic hook).
     static PANIC_AT: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
+    /// This thread is one of a run's workers: the run's panic hook records its panics
+    /// instead of passing them on.
+    static IN_CASE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// What [`std::panic::take_hook`] returns.
+type PanicHook = Box<dyn Fn(&std::panic::PanicHookInfo<'_>) + Sync + Send + 'static>;
+
+/// Held by a run while its panic hook is installed. The hook is the process's: runs that
+/// overlapped (tests on parallel threads) would each put back the hook they found, the
+/// last one to finish possibly a silencing one, for good.
+static HOOK: Mutex<()> = Mutex::new(());
+
+/// Puts back the hook a run found, once the run's own (which shares it) is gone.
+fn restore_hook(hook: Arc<PanicHook>) {
+    drop(std::panic::take_hook());
+    match Arc::try_unwrap(hook) {
+        Ok(hook) => std::panic::set_hook(hook),
+        Err(shared) => std::panic::set_hook(Box::new(move |info| shared(info))),
+    }
 }
 
 /// Runs one case, catching a panic, on a private one-thread pool (so that the renders
@@ -51,18 +70,23 @@ pub fn run_case(
         .num_threads(1)
         .build()
         .map_err(|e| StressError::Pool(e.to_string()))?;
-    Ok(pool.install(|| case_on_this_thread(seed, index, only)))
+    Ok(pool.install(|| case_on_this_thread(seed, index, only, AcneList::Off)))
 }
 
 /// [`run_case`] on the calling thread, which must be the only thread of the current rayon
 /// pool.
-fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Category, CaseResult) {
+fn case_on_this_thread(
+    seed: u64,
+    index: u64,
+    only: Option<Category>,
+    acne: AcneList,
+) -> (Category, CaseResult) {
     let cat = category_of(index, only);
     let mut rng = case_rng(seed, index, cat);
     instrumented::set_nan_trap(trap());
     let out = catch_unwind(AssertUnwindSafe(|| match cat {
         Category::Raster => raster_case(&mut rng),
-        Category::Rt => rt_case(&mut rng),
+        Category::Rt => rt_case(&mut rng, acne == AcneList::Pixels),
         Category::Parse => parse_case(&mut rng),
     }));
     let mut r = match out {
@@ -81,28 +105,11 @@ fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Catego
                 },
                 formats: Default::default(),
                 failure: Some(format!("panic: {msg}{at}")),
+                acne: None,
             }
         }
     };
     r.counts.cases = 1;
-    if r.counts.acne + r.counts.acne_out_of_range > 0 && list_acne() {
-        // Debugging aid (FPGFX_STRESS_ACNE=1): which cases, in which format, have acne.
-        let fmt = r.formats.iter().position(|f| f.renders > 0).unwrap_or(0);
-        if r.counts.acne > 0 {
-            eprintln!(
-                "acne: case {index} {} {}/{} pixels",
-                Numeric::ALL[fmt].name(),
-                r.counts.acne,
-                r.counts.acne_checked
-            );
-        } else {
-            eprintln!(
-                "acne: case {index} {} {} pixels, scene beyond the format's range",
-                Numeric::ALL[fmt].name(),
-                r.counts.acne_out_of_range
-            );
-        }
-    }
     if r.failure.is_none() && r.counts.failed() {
         r.failure = Some(format!("{:?}", r.counts));
     }
@@ -114,12 +121,6 @@ fn case_on_this_thread(seed: u64, index: u64, only: Option<Category>) -> (Catego
 fn trap() -> bool {
     static TRAP: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *TRAP.get_or_init(|| std::env::var_os("FPGFX_STRESS_TRAP").is_some())
-}
-
-/// Debugging aid (`FPGFX_STRESS_ACNE=1`): list the cases with acne on stderr.
-fn list_acne() -> bool {
-    static LIST: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *LIST.get_or_init(|| std::env::var_os("FPGFX_STRESS_ACNE").is_some())
 }
 
 /// Runs `cfg.cases` cases (or the one of `cfg.case`) on all cores. Each worker thread owns
@@ -144,9 +145,16 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
         seed: cfg.seed,
         ..Report::default()
     });
-    // A panicking case is counted, not printed: silence the default hook meanwhile.
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|info| {
+    // A panicking case is counted, not printed: its panics skip the previous hook
+    // meanwhile, and every other thread's still reach it (the process may be running
+    // other work, such as other tests, beside this run).
+    let _one_hook = HOOK.lock().unwrap_or_else(|p| p.into_inner());
+    let hook: Arc<PanicHook> = Arc::new(std::panic::take_hook());
+    let others = hook.clone();
+    std::panic::set_hook(Box::new(move |info| {
+        if !IN_CASE.get() {
+            return others(info);
+        }
         let at = info
             .location()
             .map(|l| format!(" at {}:{}", l.file(), l.line()))
@@ -164,7 +172,7 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
     let pools = match pools {
         Ok(p) => p,
         Err(e) => {
-            std::panic::set_hook(hook);
+            restore_hook(hook);
             return Err(e);
         }
     };
@@ -172,11 +180,15 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
         for pool in &pools {
             sc.spawn(|| {
                 pool.install(|| {
+                    IN_CASE.set(true);
                     let mut local = Report::default();
                     loop {
                         let k = next.fetch_add(1, Ordering::Relaxed) as usize;
                         let Some(&index) = indices.get(k) else { break };
-                        let (cat, r) = case_on_this_thread(cfg.seed, index, cfg.only);
+                        let (cat, mut r) = case_on_this_thread(cfg.seed, index, cfg.only, cfg.acne);
+                        if cfg.acne != AcneList::Off {
+                            local.acne.extend(acne_case(index, &mut r));
+                        }
                         local.by_category[cat as usize].add(&r.counts);
                         for (a, b) in local.by_format.iter_mut().zip(&r.formats) {
                             a.add(b);
@@ -197,14 +209,39 @@ pub fn run(cfg: &Config) -> Result<Report, StressError> {
                         a.add(b);
                     }
                     t.failures.extend(local.failures);
+                    t.acne.extend(local.acne);
+                    IN_CASE.set(false);
                 });
             });
         }
     });
-    std::panic::set_hook(hook);
+    restore_hook(hook);
     let mut report = total.into_inner().unwrap_or_else(|p| p.into_inner());
     report.failures.sort_by_key(|f| f.index);
     report.failures.truncate(MAX_FAILURES);
+    report.acne.sort_by_key(|c| c.index);
     report.seconds = started.elapsed().as_secs_f64();
     Ok(report)
+}
+
+/// Case `index`'s entry in [`Report::acne`], if its render left lit pixels black (an rt
+/// case renders in one format: the one with a render).
+fn acne_case(index: u64, r: &mut CaseResult) -> Option<AcneCase> {
+    let c = &r.counts;
+    if c.acne + c.acne_out_of_range == 0 {
+        return None;
+    }
+    let fmt = r.formats.iter().position(|f| f.renders > 0).unwrap_or(0);
+    Some(AcneCase {
+        index,
+        numeric: Numeric::ALL[fmt],
+        pixels: if c.acne > 0 {
+            c.acne
+        } else {
+            c.acne_out_of_range
+        },
+        checked: c.acne_checked,
+        beyond_range: c.acne == 0,
+        detail: r.acne.take(),
+    })
 }

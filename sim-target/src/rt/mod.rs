@@ -648,8 +648,10 @@ fn prepare<S: Scalar>(
             }
         })
         .collect();
-    // the flat objects' side test (`pretest::Flat`): for formats that declare their
-    // rounding (not an instrumented wrapper), and only with a positive CORE_BIAS
+    // the flat objects' side test (`pretest::Flat`): only where culling is on (the planned
+    // kernel with `RenderOptions::cull`; a count of every operation turns it off), for
+    // formats that declare their rounding (all do; the instrumented wrappers declare their
+    // format's), and only with a positive CORE_BIAS
     let bias = S::from_f64(scene.bias);
     let side_test = cull && S::rounding().is_some() && bias > S::zero();
     let flats: Vec<pretest::Flat> = objs

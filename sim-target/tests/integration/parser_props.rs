@@ -3,7 +3,7 @@
 //! in any field is refused, naming a key and a line (found by `fpgfx stress`: the parser
 //! used to accept them everywhere but in `scale`).
 
-#[path = "../../../host-cli/tests/hostile_text/mod.rs"]
+#[path = "../../../host-cli/tests/integration/hostile_text.rs"]
 mod hostile_text;
 
 use hostile_text::{damage, edits, float_literals};

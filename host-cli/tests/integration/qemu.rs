@@ -4,14 +4,14 @@
 //! defmt log (semihosting, decoded with the ELF's format table) is printed into the test
 //! log. `cargo test qemu` runs just this. QEMU comes from Debian (`cargo xtask setup`).
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use common::{collect, every_primitive, example, ok, rgb, sim_command, tmp, workspace, KillOnDrop};
+use crate::common::{
+    collect, every_primitive, example, ok, rgb, sim_command, tmp, workspace, KillOnDrop,
+};
 
 const TARGET: &str = "thumbv7em-none-eabihf";
 

@@ -3,7 +3,7 @@
 //! writes, coverage mismatches and wrap-arounds, and no non-finite number accepted by a
 //! parser. Plus regression tests for what earlier stress runs found.
 
-use host_cli::stress::{self, Category, Config};
+use host_cli::stress::{self, AcneList, Category, Config};
 use protocol::frame::{
     Aa, AaPattern, Cull, Filter, Point, RasterCmd, RasterSetup, Rgb, Shade, TexRef, Traversal,
     Triangle, Wrap,
@@ -18,6 +18,7 @@ fn hundred_thousand_cases_are_clean() {
         only: None,
         case: None,
         threads: 0,
+        acne: AcneList::Off,
     })
     .expect("worker pool");
     let t = report.total();
@@ -56,6 +57,7 @@ fn a_case_reproduces_alone() {
             only: None,
             case: Some(k),
             threads: 1,
+            acne: AcneList::Off,
         })
         .expect("pool");
         assert_eq!(b.by_category[a.0 as usize], a.1.counts, "case {k}");

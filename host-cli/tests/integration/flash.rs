@@ -3,13 +3,11 @@
 //! `fpgfx flash` program it. The emulator's flash is persisted with `--flash-image`, which
 //! gives the tests an independent view of what actually landed.
 
-mod common;
-
 use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-use common::{fails, fpgfx_command, ok, pty_pair, sim_stderr, start_sim, tmp, Sim};
+use crate::common::{fails, fpgfx_command, ok, pty_pair, sim_stderr, start_sim, tmp, Sim};
 use protocol::bootloader::{FLASH_BASE, FLASH_SIZE};
 
 /// The emulator as an STM32F405 in its ROM bootloader (BOOT0 high).

@@ -2,18 +2,26 @@
 //! job or an error, never a panic; every non-finite number is refused; whatever parses
 //! draws on the raster block without a panic.
 
-mod hostile_text;
+use std::sync::OnceLock;
 
 use host_cli::raster_file;
-use hostile_text::{damage, edits, float_literals};
 use proptest::prelude::*;
 use sim_target::raster::Raster;
 
-const EXAMPLES: [&str; 3] = [
-    include_str!("../../examples/raster/aa.toml"),
-    include_str!("../../examples/raster/fitkit.toml"),
-    include_str!("../../examples/raster/gallery.toml"),
-];
+use crate::common;
+use crate::hostile_text::{damage, edits, float_literals};
+
+/// The raster gallery's texts, read once: the property tests damage them thousands of
+/// times.
+fn examples() -> &'static [String] {
+    static TEXTS: OnceLock<Vec<String>> = OnceLock::new();
+    TEXTS.get_or_init(|| {
+        common::raster_gallery()
+            .iter()
+            .map(|p| std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())))
+            .collect()
+    })
+}
 
 fn to_json(text: &str) -> String {
     let v: toml::Value = toml::from_str(text).expect("example is TOML");
@@ -36,7 +44,7 @@ fn draw(job: &raster_file::RasterJob) {
 #[test]
 fn every_non_finite_number_is_refused() {
     let mut tried = 0;
-    for (e, text) in EXAMPLES.iter().enumerate() {
+    for (e, text) in examples().iter().enumerate() {
         assert!(raster_file::parse(text, "ex.toml").is_ok(), "example {e}");
         let lits = float_literals(text);
         assert!(!lits.is_empty(), "example {e} has floats");
@@ -83,11 +91,11 @@ proptest! {
     /// Damaged examples (TOML and JSON): a job that draws, or an error.
     #[test]
     fn damaged_examples_parse_or_fail(
-        ex in 0usize..EXAMPLES.len(),
+        ex in 0usize..examples().len(),
         json in any::<bool>(),
         edits in edits(b"[]{}=\",.:\n0-9e#a "),
     ) {
-        let base = if json { to_json(EXAMPLES[ex]) } else { EXAMPLES[ex].to_string() };
+        let base = if json { to_json(&examples()[ex]) } else { examples()[ex].clone() };
         let text = damage(&base, &edits);
         if let Ok(job) = raster_file::parse(&text, if json { "d.json" } else { "d.toml" }) {
             draw(&job);

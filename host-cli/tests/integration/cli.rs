@@ -2,9 +2,7 @@
 //! status 1, no panic, no backtrace (the common runner checks those two on every run);
 //! and on good input, a PNG.
 
-mod common;
-
-use common::{example, fails, ok, refused, tmp};
+use crate::common::{example, fails, ok, refused, tmp};
 
 /// A scratch file with this text; returns its path.
 fn temp(name: &str, text: &str) -> String {

@@ -2,12 +2,10 @@
 //! identity, the one known adapter chosen when no port is named, the config file's
 //! defaults and its errors.
 
-mod common;
-
 use std::os::unix::fs::symlink;
 use std::path::Path;
 
-use common::{assert_fails, assert_ok, example, fpgfx_command, run, Run};
+use crate::common::{assert_fails, assert_ok, example, fpgfx_command, run, Run};
 
 use host_cli::connect::{choose, Target};
 use host_cli::ports::{describe, list_in, the_one_adapter};

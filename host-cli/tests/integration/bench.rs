@@ -2,10 +2,10 @@
 //! finite cost and error, the reference-identical points are where they must be, and the
 //! default configurations sit on their Pareto fronts.
 
-mod common;
-
 use host_cli::bench::{self, BenchConfig};
 use std::path::PathBuf;
+
+use crate::common;
 
 #[test]
 fn quick_bench_writes_outputs_and_default_is_on_the_front() {
@@ -65,8 +65,9 @@ fn quick_bench_writes_outputs_and_default_is_on_the_front() {
     assert!(cost("f32/exact") < cost("f64/exact"));
     let d = report.rt.iter().find(|p| p.is_default).expect("rt default");
     assert!(d.front, "rt default off the front: {d:?}");
-    // The raster default (8 bits, no AA) is NOT asserted: the example files put every
-    // vertex on a ¼-pixel grid, so 4 bits draw them identically for less (docs/bench.md).
+    // The raster default (8 bits, no AA) is NOT asserted: the quick run's two files put
+    // every vertex on a ¼-pixel grid, so 4 bits draw them identically for less
+    // (docs/bench.md, "Reading").
     let d = report
         .raster
         .iter()

@@ -1,9 +1,9 @@
 //! Hostile-text helpers shared by the two file parsers' property tests
-//! (`host-cli/tests/raster_file_props.rs` for raster command files,
-//! `sim-target/tests/parser_props.rs` for scene files, which includes this file by path:
-//! a test cannot depend on another crate's tests, and both parsers take the same kind of
-//! TOML, so the literal finder and the damage model are one piece of code).
-// Each test binary compiles this module and uses a subset of it.
+//! (`host-cli/tests/integration/raster_file_props.rs` for raster command files,
+//! `sim-target/tests/integration/parser_props.rs` for scene files, which includes this
+//! file by path: a test cannot depend on another crate's tests, and both parsers take the
+//! same kind of TOML, so the literal finder and the damage model are one piece of code).
+// sim-target's test binary compiles this module too and uses a subset of it.
 #![allow(dead_code)]
 
 use proptest::prelude::*;

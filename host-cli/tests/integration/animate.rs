@@ -2,9 +2,9 @@
 //! changed registers cross the link; each frame equals a plain render of the scene the
 //! script produced; script and scene errors name the script, the frame and the line.
 
-mod common;
-
-use common::{assert_no_panic, collect, example, fails, fpgfx_command, ok, rgb, start_sim, tmp};
+use crate::common::{
+    assert_no_panic, collect, example, fails, fpgfx_command, ok, rgb, start_sim, tmp,
+};
 
 /// `fpgfx --port builtin ARGS…` must succeed; returns its stdout.
 fn builtin_ok(args: &[&str]) -> String {

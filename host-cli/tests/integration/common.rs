@@ -1,10 +1,6 @@
 //! Scaffolding shared by host-cli's end-to-end tests: one way to start the emulator, run
 //! `fpgfx`, name temporary files and load images, so that a fix (say, hermetic
-//! environment variables or the no-panic rule) reaches every test binary at once.
-
-// Each test binary compiles this module on its own and uses only a subset of it; the
-// rest would otherwise be reported as dead code in every one of them.
-#![allow(dead_code)]
+//! environment variables or the no-panic rule) reaches every test module at once.
 
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
@@ -26,17 +22,41 @@ pub fn example(rel: &str) -> String {
     workspace().join("examples").join(rel).display().to_string()
 }
 
-/// A path for a scratch file in this test binary's own directory (one per process, so
-/// concurrent test binaries and earlier runs never collide). The directory is left in
+/// A path for a scratch file in the calling test module's own directory: one directory
+/// per process (so concurrent runs and earlier ones never collide) and in it one per
+/// module, named after the caller's source file (the modules share the process and run
+/// on parallel threads, and several use the same file names). The directory is left in
 /// place: after a failure the files are what one wants to look at.
+#[track_caller]
 pub fn tmp(name: &str) -> String {
-    let dir = std::env::temp_dir().join(format!(
-        "fpgfx-{}-{}",
-        env!("CARGO_CRATE_NAME"),
-        std::process::id()
-    ));
+    let module = Path::new(std::panic::Location::caller().file())
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .expect("a test module's file has a name");
+    let dir = std::env::temp_dir()
+        .join(format!(
+            "fpgfx-{}-{}",
+            env!("CARGO_CRATE_NAME"),
+            std::process::id()
+        ))
+        .join(module);
     std::fs::create_dir_all(&dir).expect("temp dir");
     dir.join(name).display().to_string()
+}
+
+/// The raster gallery, `examples/raster/*.toml`, sorted: the one list of the files that
+/// the tests draw, compare, send over the FPGA link and damage, so that a new example
+/// joins all of them.
+pub fn raster_gallery() -> Vec<PathBuf> {
+    let dir = workspace().join("examples/raster");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 3, "gallery files missing: {files:?}");
+    files
 }
 
 /// An image file as RGB8, named in the panic when it is missing or unreadable (the usual
@@ -97,7 +117,7 @@ pub fn sim_command() -> Command {
 /// to its tests (`CARGO_BIN_EXE_*`), so it is looked for next to `fpgfx`, in the same
 /// target profile directory. `cargo test --workspace` has built it there; `cargo test -p
 /// host-cli` has not, so when it is missing, or older than its sources (a stale one would
-/// test old code without a word), it is built there, once per test binary.
+/// test old code without a word), it is built there, once per test run.
 pub fn sim_binary() -> PathBuf {
     static SIM: OnceLock<PathBuf> = OnceLock::new();
     SIM.get_or_init(|| {

@@ -2,9 +2,7 @@
 //! FPGA model, `fpgfx --port` drives it. The images must equal built-in mode's, and a
 //! second host session on the same running board must work (the link resynchronises).
 
-mod common;
-
-use common::{example, fails, ok, pty_pair, rgb, start_sim, start_tcp_sim, tmp};
+use crate::common::{example, fails, ok, pty_pair, rgb, start_sim, start_tcp_sim, tmp};
 
 #[test]
 fn pty_board_draws_what_built_in_draws() {

@@ -2,8 +2,6 @@
 //! FPGA is exactly what the file said, errors name the command, and a slow bus stalls the
 //! pipeline instead of losing anything.
 
-mod common;
-
 use std::convert::Infallible;
 
 use firmware::FpgaBus;
@@ -15,6 +13,8 @@ use protocol::frame::{
     StartFrame,
 };
 use sim_board::in_process::BuiltIn;
+
+use crate::common;
 
 /// An FPGA that records packets and drains its FIFO `drain` records per `wait()`.
 struct Recorder {

@@ -2,31 +2,34 @@
 //! `protocol::link`, as on a QEMU board) must produce exactly the images of the in-process
 //! bus: the link changes the transport, never a bit.
 
-mod common;
+use std::path::Path;
 
 use host_cli::raster_file;
 use host_cli::render::{Aovs, Packing, Renderer};
 use host_cli::session::{Session, Transport};
 use sim_board::in_process::{sim_target, sim_target_via_fpga_link};
 
-fn example(path: &str) -> String {
-    let full = common::example(path);
-    std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{full}: {e}"))
+use crate::common;
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-fn raster_image<T: Transport>(target: T, file: &str) -> (Vec<u8>, u64) {
-    let job = raster_file::parse(&example(file), file).expect("example parses");
+fn raster_image<T: Transport>(target: T, file: &Path) -> (Vec<u8>, u64) {
+    let name = file.display().to_string();
+    let job = raster_file::parse(&read(file), &name).expect("example parses");
     let mut session = Session::new(target);
     session.handshake().expect("handshake");
-    let out = host_cli::raster::run(&mut session, &job, file).expect("draws");
+    let out = host_cli::raster::run(&mut session, &job, &name).expect("draws");
     (out.image.into_raw(), out.stats.device.fragments)
 }
 
 #[test]
 fn raster_gallery_over_the_fpga_link_is_identical() {
-    for file in ["raster/gallery.toml", "raster/aa.toml"] {
-        let want = raster_image(sim_target(), file);
-        let got = raster_image(sim_target_via_fpga_link().expect("link up"), file);
+    for path in common::raster_gallery() {
+        let file = path.display();
+        let want = raster_image(sim_target(), &path);
+        let got = raster_image(sim_target_via_fpga_link().expect("link up"), &path);
         assert_eq!(want.1, got.1, "{file}: fragment counts differ");
         let diff = want.0.iter().zip(&got.0).filter(|(a, b)| a != b).count();
         assert_eq!(want.0.len(), got.0.len());
@@ -36,7 +39,7 @@ fn raster_gallery_over_the_fpga_link_is_identical() {
 
 #[test]
 fn render_over_the_fpga_link_is_identical_and_sends_only_changes() {
-    let text = example("reference.toml");
+    let text = read(Path::new(&common::example("reference.toml")));
     let mut scene = sim_target::rt::scene_file::parse(&text, "reference.toml").expect("parses");
     scene.width = 64;
     scene.height = 36;

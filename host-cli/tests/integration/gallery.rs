@@ -1,15 +1,15 @@
 //! The raster gallery (`examples/raster/*.toml`) through the whole built-in path, compared
 //! byte for byte with the golden PNGs in `examples/raster/golden/`, for every traversal.
-//! `FPGFX_BLESS=1 cargo test -p host-cli --test gallery` rewrites the goldens after an
-//! intended change (look at them before committing).
-
-mod common;
+//! `FPGFX_BLESS=1 cargo test -p host-cli --test integration gallery::` rewrites the goldens
+//! after an intended change (look at them before committing).
 
 use std::path::{Path, PathBuf};
 
 use host_cli::raster_file;
 use host_cli::session::Session;
 use protocol::frame::{AaPattern, Traversal};
+
+use crate::common;
 
 fn examples() -> PathBuf {
     common::workspace().join("examples/raster")
@@ -33,13 +33,7 @@ fn draw(
 
 #[test]
 fn gallery_matches_golden_pngs_for_every_traversal() {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(examples())
-        .expect("examples/raster")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    assert!(files.len() >= 3, "gallery files missing: {files:?}");
+    let files = common::raster_gallery();
     let bless = std::env::var_os("FPGFX_BLESS").is_some();
     for file in files {
         let stem = file

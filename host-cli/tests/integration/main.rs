@@ -1,0 +1,28 @@
+//! host-cli's integration tests, one module per area: the `fpgfx` binary on good and bad
+//! input, the built-in pipeline (recording bus, gallery goldens, FPGA link), the
+//! emulated board over a pty and TCP, flashing through the ROM bootloader, the real
+//! board binary under QEMU, target selection, `animate`, `bench`, `stress` and the
+//! raster file parser's property tests. One binary rather than one per file: each test
+//! binary links the whole stack again, so a single one is built and linked once.
+//!
+//! The tests share one process and run on parallel threads: scratch files go to a
+//! folder per module ([`common::tmp`]), and nothing here sets environment variables or
+//! listens on a fixed port. Proptest keeps the cases it shrinks to in
+//! `tests/proptest-regressions/<module>.txt` (its default next to a `main.rs`); commit
+//! them, and they run first on every later run.
+
+mod common;
+mod hostile_text;
+
+mod animate;
+mod bench;
+mod cli;
+mod flash;
+mod fpga_link;
+mod gallery;
+mod pipeline;
+mod ports;
+mod pty;
+mod qemu;
+mod raster_file_props;
+mod stress;
