@@ -49,7 +49,7 @@ fn check_layout(job: &RasterJob, file: &str, layout: &BusLayout) -> Result<(), S
         protocol::bus::channel(layout, Kind::of(cmd))
             .and_then(|_| protocol::bus::pack(layout, cmd, opts))
             .map_err(|e| {
-                SessionError::Unexpected(format!(
+                SessionError::Unsupported(format!(
                     "{file}: cmd[{index}] ({}): the target's raster block takes the {} layout: {e}",
                     op_name(cmd),
                     layout.name
@@ -69,13 +69,13 @@ pub fn run<T: Transport>(
     if let Some(peer) = session.peer() {
         let caps = peer.caps;
         if !caps.raster {
-            return Err(SessionError::Unexpected(format!(
+            return Err(SessionError::Unsupported(format!(
                 "the target ({}) has no raster block",
                 peer.ident
             )));
         }
         if job.setup.width > caps.max_width || job.setup.height > caps.max_height {
-            return Err(SessionError::Unexpected(format!(
+            return Err(SessionError::Unsupported(format!(
                 "{file}: size {}×{} exceeds the target's {}×{}",
                 job.setup.width, job.setup.height, caps.max_width, caps.max_height
             )));

@@ -250,13 +250,13 @@ impl Renderer {
         if let Some(peer) = session.peer() {
             let caps = peer.caps;
             if !caps.ray_trace {
-                return Err(SessionError::Unexpected(format!(
+                return Err(SessionError::Unsupported(format!(
                     "the target ({}) has no ray-trace block",
                     peer.ident
                 )));
             }
             if !caps.numeric.contains(numeric) {
-                return Err(SessionError::Unexpected(format!(
+                return Err(SessionError::Unsupported(format!(
                     "the target ({}) cannot compute in {numeric:?}",
                     peer.ident
                 )));

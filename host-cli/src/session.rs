@@ -106,6 +106,11 @@ pub enum SessionError {
     /// An answer that makes no sense at this point.
     #[error("unexpected answer from the target: {0}")]
     Unexpected(String),
+    /// The job needs what the target's `Caps` say it does not have; refused before
+    /// anything is sent. The text names the target and, for a command, its place in the
+    /// file.
+    #[error("{0}")]
+    Unsupported(String),
     /// A read-back whose length or CRC does not match what the target announced.
     #[error("read-back corrupt: {0}")]
     ReadBack(String),

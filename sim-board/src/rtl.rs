@@ -70,7 +70,7 @@ pub fn rtl_target_on(
         bus_on(rtl, config)?,
         caps(),
         &FITKIT,
-        "fpgfx RTL target (Verilated rtl/, FITkit SPI)",
+        "fpgfx RTL target: Verilated rtl/ on FITkit SPI",
     ))
 }
 

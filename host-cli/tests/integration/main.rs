@@ -25,4 +25,5 @@ mod ports;
 mod pty;
 mod qemu;
 mod raster_file_props;
+mod rtl;
 mod stress;
