@@ -300,12 +300,56 @@ fn skia_workloads() -> Vec<(&'static str, Vec<Tri>)> {
     ]
 }
 
+/// tiny-skia's side of the comparison: the triangles as paths, a 512 × 512 pixmap and an
+/// opaque solid paint without anti-aliasing.
+struct Skia {
+    paths: Vec<tiny_skia::Path>,
+    pixmap: tiny_skia::Pixmap,
+    paint: tiny_skia::Paint<'static>,
+}
+
+impl Skia {
+    fn new(tris: &[Tri]) -> Self {
+        let paths: Vec<tiny_skia::Path> = tris
+            .iter()
+            .filter_map(|t| {
+                let mut pb = tiny_skia::PathBuilder::new();
+                pb.move_to(t[0].0 as f32, t[0].1 as f32);
+                pb.line_to(t[1].0 as f32, t[1].1 as f32);
+                pb.line_to(t[2].0 as f32, t[2].1 as f32);
+                pb.close();
+                pb.finish()
+            })
+            .collect();
+        assert_eq!(paths.len(), tris.len(), "every triangle is a valid path");
+        let mut paint = tiny_skia::Paint::default();
+        paint.set_color_rgba8(255, 128, 0, 255);
+        paint.anti_alias = false;
+        Self {
+            paths,
+            pixmap: tiny_skia::Pixmap::new(W, H).expect("pixmap"),
+            paint,
+        }
+    }
+
+    fn fill(&mut self) {
+        for p in &self.paths {
+            self.pixmap.fill_path(
+                p,
+                &self.paint,
+                tiny_skia::FillRule::Winding,
+                tiny_skia::Transform::identity(),
+                None,
+            );
+        }
+    }
+}
+
 /// The model (every traversal, and the protocol's default) against tiny-skia 0.11 filling
 /// the same integer-vertex triangles into a 512 × 512 RGBA8888 pixmap, anti-aliasing off,
 /// one solid opaque colour (its fastest path: a span fill). Throughput is in the model's
 /// fragments for every entry, so the time ratio is the fill-rate ratio.
 fn vs_tiny_skia(c: &mut Criterion) {
-    use tiny_skia::{FillRule, Paint, PathBuilder, Pixmap, Transform};
     for (name, tris) in skia_workloads() {
         let cmds = cmds(&tris);
         let mut probe = Raster::new(W, H, &setup(Traversal::Scanline)).expect("setup");
@@ -333,28 +377,9 @@ fn vs_tiny_skia(c: &mut Criterion) {
                 })
             });
         }
-        let paths: Vec<tiny_skia::Path> = tris
-            .iter()
-            .filter_map(|t| {
-                let mut pb = PathBuilder::new();
-                pb.move_to(t[0].0 as f32, t[0].1 as f32);
-                pb.line_to(t[1].0 as f32, t[1].1 as f32);
-                pb.line_to(t[2].0 as f32, t[2].1 as f32);
-                pb.close();
-                pb.finish()
-            })
-            .collect();
-        assert_eq!(paths.len(), tris.len(), "every triangle is a valid path");
-        let mut pixmap = Pixmap::new(W, H).expect("pixmap");
-        let mut paint = Paint::default();
-        paint.set_color_rgba8(255, 128, 0, 255);
-        paint.anti_alias = false;
+        let mut sk = Skia::new(&tris);
         g.bench_function(BenchmarkId::from_parameter("tiny-skia"), |b| {
-            b.iter(|| {
-                for p in &paths {
-                    pixmap.fill_path(p, &paint, FillRule::Winding, Transform::identity(), None);
-                }
-            })
+            b.iter(|| sk.fill())
         });
         g.finish();
     }
@@ -364,7 +389,7 @@ criterion_group!(benches, triangles, vs_tiny_skia, lines);
 
 /// Instruction-count mode for `valgrind --tool=callgrind` on a shared machine, where
 /// wall-clock medians are noisy: `RASTER_CG=100px:Scanline` (or `line:Bresenham`, or
-/// `ts:sliver:Tiles` for a tiny-skia workload) draws
+/// `ts:sliver:Tiles` for a tiny-skia workload, `ts:sliver:tiny-skia` for tiny-skia) draws
 /// that workload `RASTER_CG_ITERS` times (default 100) and exits without criterion.
 fn callgrind_mode(spec: &str) {
     let iters: usize = std::env::var("RASTER_CG_ITERS")
@@ -387,6 +412,15 @@ fn callgrind_mode(spec: &str) {
         }
         .map(|(_, t)| t)
         .unwrap_or_default();
+        if trav == "tiny-skia" {
+            // tiny-skia itself, for cycle counts of both sides of the comparison.
+            let mut sk = Skia::new(&tris);
+            for _ in 0..iters {
+                sk.fill();
+            }
+            println!("{spec}: {} triangles drawn {iters} times", tris.len());
+            return;
+        }
         cmds(&tris)
     };
     let t = [

@@ -358,13 +358,20 @@ const _: () = assert!(
     "the block accounting assumes a two-level tile hierarchy whose fine level is the zigzag grid"
 );
 
-/// Columns of one row of blocks (or coarse tiles), in block units from the bounding
-/// box's left edge: `live` are not rejected, `acc` trivially accepted (`acc ⊆ live`).
-/// Both are intervals: per edge, rejection and acceptance are monotone along a row.
+/// One row of blocks (or coarse tiles) as pixel columns: `live` spans the blocks that
+/// are not rejected, `acc` those trivially accepted (`acc ⊆ live`), each clipped to the
+/// bounding box and empty when `start ≥ end`. Both are runs of whole blocks: per edge,
+/// rejection and acceptance are monotone along a row.
 #[derive(Debug, Clone, Copy)]
 struct RowClass {
     live: (i64, i64),
     acc: (i64, i64),
+}
+
+/// Pixels of a run of columns (0 when empty).
+#[inline(always)]
+fn width((a, b): (i64, i64)) -> i64 {
+    (b - a).max(0)
 }
 
 /// A grid of `2^shift`-pixel blocks anchored at the bounding box's top-left corner, as
@@ -384,12 +391,17 @@ impl Grid {
         ((self.x1 - 1 - self.x0) >> self.shift) + 1
     }
 
-    /// Pixels covered by the block columns `[l, h)`.
-    fn width(&self, (l, h): (i64, i64)) -> i64 {
-        if l >= h {
-            return 0;
+    /// Pixel run `r` as block columns `[l, h)` (`r` must start on a block and end on one
+    /// or at the box's edge).
+    fn blocks(&self, r: (i64, i64)) -> (i64, i64) {
+        if r.0 >= r.1 {
+            return (0, 0);
         }
-        (self.x0 + (h << self.shift)).min(self.x1) - (self.x0 + (l << self.shift))
+        let m = (1 << self.shift) - 1;
+        (
+            (r.0 - self.x0) >> self.shift,
+            (r.1 - self.x0 + m) >> self.shift,
+        )
     }
 
     /// What [`classify`] says of every block of the pixel rows `[by, bye)`, from the
@@ -399,31 +411,33 @@ impl Grid {
     /// reaches its greatest; each bound is monotone in the row, so its extremes over the
     /// block are at its first and last rows. Edges with `a < 0` mirror that, and the
     /// horizontal edge rejects a block with no row in `rows` and accepts one with all.
+    #[inline(always)]
     fn class(&self, top: &Bounds, bot: &Bounds, by: u32, bye: u32) -> RowClass {
-        let (x0, x1, sh) = (self.x0, self.x1, self.shift);
+        let (x0, x1) = (self.x0, self.x1);
+        let m = (1 << self.shift) - 1;
         let (ya, yb) = self.rows;
-        let live_lo = top[0].min(bot[0]).max(top[1].min(bot[1]));
-        let acc_lo = top[0].max(bot[0]).max(top[1].max(bot[1]));
-        let live_hi = top[2].max(bot[2]).min(top[3].max(bot[3]));
-        let acc_hi = top[2].min(bot[2]).min(top[3].min(bot[3]));
-        // Live: the block's last column reaches live_lo and its first is left of live_hi.
+        let live_lo = top[0].min(bot[0]).max(top[1].min(bot[1])).max(x0);
+        let acc_lo = top[0].max(bot[0]).max(top[1].max(bot[1])).max(x0);
+        let live_hi = top[2].max(bot[2]).min(top[3].max(bot[3])).min(x1);
+        let acc_hi = top[2].min(bot[2]).min(top[3].min(bot[3])).min(x1);
+        // Live: from the block holding live_lo to the one holding live_hi − 1.
         let live = if by < yb && ya < bye && live_lo < x1 && live_hi > x0 {
             (
-                (live_lo.max(x0) - x0) >> sh,
-                ((live_hi.min(x1) - 1 - x0) >> sh) + 1,
+                x0 + ((live_lo - x0) & !m),
+                (x0 + ((live_hi - x0 + m) & !m)).min(x1),
             )
         } else {
             (0, 0)
         };
-        // Accepted: the block's columns lie within [acc_lo, acc_hi).
+        // Accepted: the whole blocks within [acc_lo, acc_hi) (the box's last, narrower
+        // block counts as whole when acc_hi reaches the box's edge).
         let acc = if ya <= by && bye <= yb {
-            let l = (acc_lo.max(x0) - x0 + (1 << sh) - 1) >> sh;
             let h = if acc_hi >= x1 {
-                self.cols()
+                x1
             } else {
-                (acc_hi - x0).max(0) >> sh
+                x0 + ((acc_hi - x0).max(0) & !m)
             };
-            (l, h)
+            (x0 + ((acc_lo - x0 + m) & !m), h)
         } else {
             (0, 0)
         };
@@ -539,12 +553,12 @@ impl BlockCost {
                 continue;
             };
             let rc = self.fine.class(top, bot, by, bye);
-            let (live, acc) = (self.fine.width(rc.live), self.fine.width(rc.acc));
+            let (live, acc) = (width(rc.live), width(rc.acc));
             let h = (bye - by) as u64;
             self.c.accepted += acc as u64 * h;
             self.c.pixel_tests += (live - acc) as u64 * h;
             if let Some((col, dir)) = &mut self.zigzag {
-                self.c.block_tests += zigzag_row(rc.live, bw, col, dir);
+                self.c.block_tests += zigzag_row(self.fine.blocks(rc.live), bw, col, dir);
             }
         }
         if self.zigzag.is_none() {
@@ -554,7 +568,7 @@ impl BlockCost {
             let fine_cols = |w: i64| (w as u64).div_ceil(ZIGZAG_BLOCK as u64);
             let fine_rows = (rows.len() as u64).div_ceil(ZIGZAG_BLOCK as u64);
             self.c.block_tests += g.cols() as u64
-                + fine_rows * (fine_cols(g.width(rc.live)) - fine_cols(g.width(rc.acc)));
+                + fine_rows * (fine_cols(width(rc.live)) - fine_cols(width(rc.acc)));
         }
     }
 }
