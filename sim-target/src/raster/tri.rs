@@ -1,4 +1,5 @@
-//! Triangle setup (edge functions, fill rule, orientation) and the five traversals.
+//! Triangle setup (edge functions, fill rule, orientation), the exact edge walk that fills
+//! every triangle, and what each of the five traversals would cost walking it.
 //!
 //! # Integer widths (docs/requirements.md §0)
 //! Vertices arrive in sub-pixel units with at most [`MAX_SUBPIXEL_BITS`] fractional bits
