@@ -1,5 +1,6 @@
 //! Fill rate of the raster golden model per traversal against embedded-graphics drawing
-//! the same triangles into a comparable RGB888 framebuffer, and line pixel rate.
+//! the same triangles into a comparable RGB888 framebuffer, against tiny-skia on the
+//! workloads the traversal-independence requirement names, and line pixel rate.
 //!
 //! `cargo bench -p sim-target --bench raster -- --warm-up-time 1 --measurement-time 2`
 
@@ -215,17 +216,187 @@ fn lines(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, triangles, lines);
+/// Deterministic generator for the tiny-skia workloads (an LCG, so that both sides and
+/// both runs of a before/after comparison draw the same triangles).
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> u32 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 33) as u32
+    }
+
+    /// Uniform in `lo..=hi`.
+    fn range(&mut self, lo: i32, hi: i32) -> i32 {
+        lo + (self.next() % (hi - lo + 1) as u32) as i32
+    }
+}
+
+/// Twice the signed area of a triangle in whole pixels.
+fn area2(t: &Tri) -> i64 {
+    let [(x0, y0), (x1, y1), (x2, y2)] = t.map(|(x, y)| (x as i64, y as i64));
+    (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+}
+
+/// `n` triangles with integer vertices inside the viewport whose area lies in `area`,
+/// each drawn as `offsets` from a random anchor (rejection-sampled, fixed seed).
+fn random_tris(
+    seed: u64,
+    n: usize,
+    area: core::ops::RangeInclusive<i64>,
+    mut shape: impl FnMut(&mut Lcg) -> [(i32, i32); 2],
+) -> Vec<Tri> {
+    let mut r = Lcg(seed);
+    let mut out = Vec::with_capacity(n);
+    while out.len() < n {
+        let p = (r.range(0, W as i32 - 1), r.range(0, H as i32 - 1));
+        let [u, v] = shape(&mut r);
+        let t = [p, (p.0 + u.0, p.1 + u.1), (p.0 + v.0, p.1 + v.1)];
+        let inside = t
+            .iter()
+            .all(|&(x, y)| (0..W as i32).contains(&x) && (0..H as i32).contains(&y));
+        if inside && area.contains(&(area2(&t).abs() / 2)) {
+            out.push(t);
+        }
+    }
+    out
+}
+
+/// The requirement's three workloads: 10 000 triangles of ~100 px, 1 000 of ~10 000 px
+/// and 10 000 slivers (100–250 px long, 1–3 px wide), both orientations.
+fn skia_workloads() -> Vec<(&'static str, Vec<Tri>)> {
+    let corners = |m: i32| {
+        move |r: &mut Lcg| {
+            [
+                (r.range(-m, m), r.range(-m, m)),
+                (r.range(-m, m), r.range(-m, m)),
+            ]
+        }
+    };
+    let sliver = |r: &mut Lcg| {
+        let (dx, dy) = (r.range(-250, 250), r.range(-250, 250));
+        let (ox, oy) = (r.range(-3, 3), r.range(-3, 3));
+        [(dx, dy), (dx + ox, dy + oy)]
+    };
+    vec![
+        ("100px", random_tris(1, 10_000, 90..=110, corners(20))),
+        (
+            "10000px",
+            random_tris(2, 1_000, 9_000..=11_000, corners(200)),
+        ),
+        (
+            "sliver",
+            random_tris(3, 10_000, 50..=400, |r| loop {
+                let s = sliver(r);
+                let len2 = s[0].0 * s[0].0 + s[0].1 * s[0].1;
+                if (100 * 100..=250 * 250).contains(&len2) {
+                    return s;
+                }
+            }),
+        ),
+    ]
+}
+
+/// tiny-skia's side of the comparison: the triangles as paths, a 512 × 512 pixmap and an
+/// opaque solid paint without anti-aliasing.
+struct Skia {
+    paths: Vec<tiny_skia::Path>,
+    pixmap: tiny_skia::Pixmap,
+    paint: tiny_skia::Paint<'static>,
+}
+
+impl Skia {
+    fn new(tris: &[Tri]) -> Self {
+        let paths: Vec<tiny_skia::Path> = tris
+            .iter()
+            .filter_map(|t| {
+                let mut pb = tiny_skia::PathBuilder::new();
+                pb.move_to(t[0].0 as f32, t[0].1 as f32);
+                pb.line_to(t[1].0 as f32, t[1].1 as f32);
+                pb.line_to(t[2].0 as f32, t[2].1 as f32);
+                pb.close();
+                pb.finish()
+            })
+            .collect();
+        assert_eq!(paths.len(), tris.len(), "every triangle is a valid path");
+        let mut paint = tiny_skia::Paint::default();
+        paint.set_color_rgba8(255, 128, 0, 255);
+        paint.anti_alias = false;
+        Self {
+            paths,
+            pixmap: tiny_skia::Pixmap::new(W, H).expect("pixmap"),
+            paint,
+        }
+    }
+
+    fn fill(&mut self) {
+        for p in &self.paths {
+            self.pixmap.fill_path(
+                p,
+                &self.paint,
+                tiny_skia::FillRule::Winding,
+                tiny_skia::Transform::identity(),
+                None,
+            );
+        }
+    }
+}
+
+/// The model (every traversal, and the protocol's default) against tiny-skia 0.11 filling
+/// the same integer-vertex triangles into a 512 × 512 RGBA8888 pixmap, anti-aliasing off,
+/// one solid opaque colour (its fastest path: a span fill). Throughput is in the model's
+/// fragments for every entry, so the time ratio is the fill-rate ratio.
+fn vs_tiny_skia(c: &mut Criterion) {
+    for (name, tris) in skia_workloads() {
+        let cmds = cmds(&tris);
+        let mut probe = Raster::new(W, H, &setup(Traversal::Scanline)).expect("setup");
+        for cmd in &cmds {
+            probe.draw(cmd).expect("draw");
+        }
+        let mut g = c.benchmark_group(format!("vs-tiny-skia/{name}"));
+        g.throughput(Throughput::Elements(probe.stats().fragments));
+        g.sample_size(10);
+        let travs = [
+            ("default", Traversal::default()),
+            ("BoundingBox", Traversal::BoundingBox),
+            ("Scanline", Traversal::Scanline),
+            ("Zigzag", Traversal::Zigzag),
+            ("Tiles", Traversal::Tiles),
+            ("Simd8", Traversal::Simd8),
+        ];
+        for (id, t) in travs {
+            let mut r = Raster::new(W, H, &setup(t)).expect("setup");
+            g.bench_function(BenchmarkId::from_parameter(id), |b| {
+                b.iter(|| {
+                    for cmd in &cmds {
+                        r.draw(cmd).expect("draw");
+                    }
+                })
+            });
+        }
+        let mut sk = Skia::new(&tris);
+        g.bench_function(BenchmarkId::from_parameter("tiny-skia"), |b| {
+            b.iter(|| sk.fill())
+        });
+        g.finish();
+    }
+}
+
+criterion_group!(benches, triangles, vs_tiny_skia, lines);
 
 /// Instruction-count mode for `valgrind --tool=callgrind` on a shared machine, where
-/// wall-clock medians are noisy: `RASTER_CG=100px:Scanline` (or `line:Bresenham`) draws
+/// wall-clock medians are noisy: `RASTER_CG=100px:Scanline` (or `line:Bresenham`, or
+/// `ts:sliver:Tiles` for a tiny-skia workload, `ts:sliver:tiny-skia` for tiny-skia) draws
 /// that workload `RASTER_CG_ITERS` times (default 100) and exits without criterion.
 fn callgrind_mode(spec: &str) {
     let iters: usize = std::env::var("RASTER_CG_ITERS")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(100);
-    let (shape, trav) = spec.split_once(':').unwrap_or((spec, "Scanline"));
+    let (shape, trav) = spec.rsplit_once(':').unwrap_or((spec, "Scanline"));
     let cmds = if shape == "line" {
         let algo = if trav == "Dda" {
             LineAlgo::Dda
@@ -234,11 +405,22 @@ fn callgrind_mode(spec: &str) {
         };
         line_cmds(algo)
     } else {
-        let tris = shapes()
-            .into_iter()
-            .find(|(n, _)| *n == shape)
-            .map(|(_, t)| t)
-            .unwrap_or_default();
+        // `ts:100px` names a tiny-skia workload.
+        let tris = match shape.strip_prefix("ts:") {
+            Some(ts) => skia_workloads().into_iter().find(|(n, _)| *n == ts),
+            None => shapes().into_iter().find(|(n, _)| *n == shape),
+        }
+        .map(|(_, t)| t)
+        .unwrap_or_default();
+        if trav == "tiny-skia" {
+            // tiny-skia itself, for cycle counts of both sides of the comparison.
+            let mut sk = Skia::new(&tris);
+            for _ in 0..iters {
+                sk.fill();
+            }
+            println!("{spec}: {} triangles drawn {iters} times", tris.len());
+            return;
+        }
         cmds(&tris)
     };
     let t = [

@@ -22,8 +22,38 @@ pub struct Framebuffer {
     pat_color: Option<Rgb>,
 }
 
-/// Bytes of the cached span pattern (64 RGB888 pixels).
-const PAT_BYTES: usize = 3 * 64;
+/// Bytes of the cached span pattern (256 RGB888 pixels: most triangle spans in one copy,
+/// and cheap to rebuild when the colour changes).
+const PAT_BYTES: usize = 3 * 256;
+
+/// Copies the start of the span pattern `pat` over `dst`. One memcpy per 256 pixels from
+/// a cached pattern row, since per-pixel 3-byte stores cost more than the copy; but a
+/// memcpy call dominates the spans of slivers and triangle tips, so up to 32 bytes
+/// (10 pixels) are two overlapping fixed-size copies instead (the pattern is the same
+/// at every offset, so the overlap writes the same bytes twice).
+#[inline(always)]
+fn copy_pattern(dst: &mut [u8], pat: &[u8; PAT_BYTES]) {
+    let n = dst.len();
+    macro_rules! two {
+        ($k:literal) => {{
+            dst[..$k].copy_from_slice(&pat[..$k]);
+            dst[n - $k..].copy_from_slice(&pat[n - $k..n]);
+        }};
+    }
+    match n {
+        0 => {}
+        1 => dst[0] = pat[0],
+        2..=3 => two!(2),
+        4..=7 => two!(4),
+        8..=15 => two!(8),
+        16..=32 => two!(16),
+        _ => {
+            for ch in dst.chunks_mut(PAT_BYTES) {
+                ch.copy_from_slice(&pat[..ch.len()]);
+            }
+        }
+    }
+}
 
 impl Framebuffer {
     /// A framebuffer cleared to `background`, depth cleared to far.
@@ -168,12 +198,7 @@ impl Framebuffer {
             }
             self.pat_color = Some(c);
         }
-        // One memcpy per 64 pixels from a cached pattern row: spans are mostly short,
-        // and per-pixel 3-byte stores cost more than the copy.
-        let row = &mut self.rgb[idx * 3..(idx + n) * 3];
-        for ch in row.chunks_mut(PAT_BYTES) {
-            ch.copy_from_slice(&self.pat[..ch.len()]);
-        }
+        copy_pattern(&mut self.rgb[idx * 3..(idx + n) * 3], &self.pat);
         self.count(idx, n);
     }
 

@@ -1,4 +1,5 @@
-//! Triangle setup (edge functions, fill rule, orientation) and the five traversals.
+//! Triangle setup (edge functions, fill rule, orientation), the exact edge walk that fills
+//! every triangle, and what each of the five traversals would cost walking it.
 //!
 //! # Integer widths (docs/requirements.md §0)
 //! Vertices arrive in sub-pixel units with at most [`MAX_SUBPIXEL_BITS`] fractional bits
@@ -201,43 +202,17 @@ pub fn seed004_rejects(edges: &[Edge; 3], x0: u32, y0: u32, x1: u32, y1: u32) ->
         .all(|&(x, y)| edges.iter().any(|e| e.at(x as i64, y as i64) < 0))
 }
 
-/// Emits runs of inside pixels of row `j` in `[x0, x1)` by per-pixel incremental tests.
-#[inline]
-fn test_row<F: FnMut(u32, u32, u32)>(s: &TriSetup, j: u32, x0: u32, x1: u32, emit: &mut F) {
-    let [e0, e1, e2] = &s.edges;
-    let (mut v0, mut v1, mut v2) = (
-        e0.at(x0 as i64, j as i64),
-        e1.at(x0 as i64, j as i64),
-        e2.at(x0 as i64, j as i64),
-    );
-    let mut start = None;
-    for i in x0..x1 {
-        let inside = (v0 | v1 | v2) >= 0;
-        match (inside, start) {
-            (true, None) => start = Some(i),
-            (false, Some(s0)) => {
-                emit(j, s0, i);
-                start = None;
-            }
-            _ => {}
-        }
-        v0 += e0.a;
-        v1 += e1.a;
-        v2 += e2.a;
-    }
-    if let Some(s0) = start {
-        emit(j, s0, x1);
-    }
-}
-
 /// One edge's span bound walked down the rows exactly: the quotient and remainder of
 /// `N(j) / d` are stepped with additions only (the divisions happen once, at set-up).
 /// Lower and upper bounds are both kept in floor form (a ceiling is a floor of
 /// `n + d − 1`) with the column offset folded into `q`, so a row costs one
-/// add-compare-carry per bound and no branch on the edge's kind.
+/// add-carry per bound and no branch on the edge's kind. The remainder is kept minus
+/// `d` (in `[−d, 0)`), so that the carry is its sign bit: an arithmetic shift, where a
+/// 64-bit compare costs several instructions once LLVM vectorises the four bounds.
 #[derive(Clone, Copy)]
 struct Step {
     q: i64,
+    /// Remainder − d.
     r: i64,
     d: i64,
     dq: i64,
@@ -249,7 +224,7 @@ impl Step {
     const fn neutral(at: i64) -> Self {
         Self {
             q: at,
-            r: 0,
+            r: -1,
             d: 1,
             dq: 0,
             dr: 0,
@@ -261,7 +236,7 @@ impl Step {
         let (q, dq) = (n.div_euclid(d), dn.div_euclid(d));
         Self {
             q: offset + q,
-            r: n - q * d,
+            r: n - q * d - d,
             d,
             dq,
             dr: dn - dq * d,
@@ -271,17 +246,24 @@ impl Step {
     #[inline(always)]
     fn advance(&mut self) {
         self.r += self.dr;
-        let carry = (self.r >= self.d) as i64;
-        self.q += self.dq + carry;
-        self.r -= self.d & -carry;
+        // All ones when the remainder reached d.
+        let carry = !(self.r >> 63);
+        self.q += self.dq + (carry & 1);
+        self.r -= self.d & carry;
     }
 }
+
+/// Each slanted edge's bound on one row, in absolute pixel columns: `[lo0, lo1, hi0,
+/// hi1]`, where an edge with `a > 0` admits the columns `x ≥ lo` and one with `a < 0` the
+/// columns `x < hi`. Unclamped, so that they describe the edge and not the bounding box.
+type Bounds = [i64; 4];
 
 /// Scanline spans without per-row divisions. A triangle has at most two edges with
 /// `a > 0` (they bound the span from the left) and two with `a < 0` (from the right),
 /// because the three `a` sum to zero; missing ones are padded with neutral bounds. A
 /// horizontal edge (`a = 0`) does not depend on the column: it only trims the row range,
-/// which is decided here once.
+/// which is decided here once. The bounds are stepped over every row of the bounding
+/// box, trimmed or not, because the block accounting needs them at block corners.
 struct EdgeWalk {
     x0: i64,
     x1: i64,
@@ -293,7 +275,8 @@ struct EdgeWalk {
 
 impl EdgeWalk {
     fn new(s: &TriSetup) -> Self {
-        let [x0, mut y0, x1, mut y1] = s.bbox;
+        let [x0, y0, x1, y1] = s.bbox;
+        let (mut ya, mut yb) = (y0, y1);
         for e in &s.edges {
             if e.a != 0 {
                 continue;
@@ -303,12 +286,12 @@ impl EdgeWalk {
             let span = (y1 - y0) as i64;
             if e.b > 0 {
                 let k = (-v).div_euclid(e.b) + ((-v).rem_euclid(e.b) > 0) as i64;
-                y0 += k.clamp(0, span) as u32;
+                ya = y0 + k.clamp(0, span) as u32;
             } else if e.b < 0 {
                 let k = v.div_euclid(-e.b) + 1;
-                y1 = y0 + k.clamp(0, span) as u32;
+                yb = y0 + k.clamp(0, span) as u32;
             } else if v < 0 {
-                y1 = y0;
+                yb = y0;
             }
         }
         let (xa, xb) = (x0 as i64, x1 as i64);
@@ -336,78 +319,266 @@ impl EdgeWalk {
             x1: xb,
             lo,
             hi,
-            rows: (y0, y1.max(y0)),
+            rows: (ya, yb.max(ya)),
         }
     }
 
-    /// The span of the current row (possibly empty: `lo ≥ hi`), then steps to the next row.
+    /// The current row's bounds, then steps to the next row.
     #[inline(always)]
-    fn next_row(&mut self) -> (i64, i64) {
-        let lo = self.lo[0].q.max(self.lo[1].q).max(self.x0);
-        let hi = self.hi[0].q.min(self.hi[1].q).min(self.x1);
+    fn next_row(&mut self) -> Bounds {
+        let b = [self.lo[0].q, self.lo[1].q, self.hi[0].q, self.hi[1].q];
         self.lo[0].advance();
         self.lo[1].advance();
         self.hi[0].advance();
         self.hi[1].advance();
-        (lo, hi)
+        b
+    }
+
+    /// The covered span of a row with bounds `b` (empty when `lo ≥ hi`).
+    #[inline(always)]
+    fn span(&self, b: &Bounds) -> (i64, i64) {
+        (b[0].max(b[1]).max(self.x0), b[2].min(b[3]).min(self.x1))
     }
 }
 
-/// Rows of spans the scanline traversal computes before handing them out.
-const SPAN_BAND: usize = 32;
+/// Rows of bounds the walk computes before handing out spans: one coarse tile row, so
+/// that a band is also the unit of the tile accounting.
+const SPAN_BAND: usize = TILE_SIZES[0] as usize;
+/// log2 of the zigzag block side, which is also the fine tile side.
+const BLOCK_SHIFT: u32 = ZIGZAG_BLOCK.trailing_zeros();
+/// log2 of the coarse tile side.
+const TILE_SHIFT: u32 = TILE_SIZES[0].trailing_zeros();
+const _: () = assert!(
+    TILE_SIZES.len() == 2
+        && TILE_SIZES[1] == ZIGZAG_BLOCK
+        && ZIGZAG_BLOCK.is_power_of_two()
+        && TILE_SIZES[0].is_power_of_two()
+        && TILE_SIZES[0] > ZIGZAG_BLOCK,
+    "the block accounting assumes a two-level tile hierarchy whose fine level is the zigzag grid"
+);
 
-/// Joins spans that touch within a band of rows, so that block traversals hand the
-/// framebuffer one long span per row instead of one per block (the SDRAM burst model).
-struct Merger {
-    y0: u32,
-    rows: [(u32, u32); MERGE_ROWS],
+/// One row of blocks (or coarse tiles) as pixel columns: `live` spans the blocks that
+/// are not rejected, `acc` those trivially accepted (`acc ⊆ live`), each clipped to the
+/// bounding box and empty when `start ≥ end`. Both are runs of whole blocks: per edge,
+/// rejection and acceptance are monotone along a row.
+#[derive(Debug, Clone, Copy)]
+struct RowClass {
+    live: (i64, i64),
+    acc: (i64, i64),
 }
 
-/// Rows a [`Merger`] holds: the tallest block.
-const MERGE_ROWS: usize = 32;
-const _: () = assert!(TILE_SIZES[0] as usize <= MERGE_ROWS && ZIGZAG_BLOCK as usize <= MERGE_ROWS);
+/// Pixels of a run of columns (0 when empty).
+#[inline(always)]
+fn width((a, b): (i64, i64)) -> i64 {
+    (b - a).max(0)
+}
 
-impl Merger {
-    fn new(y0: u32) -> Self {
+/// A grid of `2^shift`-pixel blocks anchored at the bounding box's top-left corner, as
+/// the tile and zigzag traversals lay theirs.
+#[derive(Debug, Clone, Copy)]
+struct Grid {
+    x0: i64,
+    x1: i64,
+    /// Rows inside the horizontal edge, if any (all rows otherwise).
+    rows: (u32, u32),
+    shift: u32,
+}
+
+impl Grid {
+    /// Blocks per row.
+    fn cols(&self) -> i64 {
+        ((self.x1 - 1 - self.x0) >> self.shift) + 1
+    }
+
+    /// Pixel run `r` as block columns `[l, h)` (`r` must start on a block and end on one
+    /// or at the box's edge).
+    fn blocks(&self, r: (i64, i64)) -> (i64, i64) {
+        if r.0 >= r.1 {
+            return (0, 0);
+        }
+        let m = (1 << self.shift) - 1;
+        (
+            (r.0 - self.x0) >> self.shift,
+            (r.1 - self.x0 + m) >> self.shift,
+        )
+    }
+
+    /// What [`classify`] says of every block of the pixel rows `[by, bye)`, from the
+    /// edge bounds at the first (`top`) and last (`bot`) of those rows. For an edge with
+    /// `a > 0`, all four corners are outside iff the block's right column is left of the
+    /// bound on every row, i.e. of its least value, and all are inside iff the left column
+    /// reaches its greatest; each bound is monotone in the row, so its extremes over the
+    /// block are at its first and last rows. Edges with `a < 0` mirror that, and the
+    /// horizontal edge rejects a block with no row in `rows` and accepts one with all.
+    #[inline(always)]
+    fn class(&self, top: &Bounds, bot: &Bounds, by: u32, bye: u32) -> RowClass {
+        let (x0, x1) = (self.x0, self.x1);
+        let m = (1 << self.shift) - 1;
+        let (ya, yb) = self.rows;
+        let live_lo = top[0].min(bot[0]).max(top[1].min(bot[1])).max(x0);
+        let acc_lo = top[0].max(bot[0]).max(top[1].max(bot[1])).max(x0);
+        let live_hi = top[2].max(bot[2]).min(top[3].max(bot[3])).min(x1);
+        let acc_hi = top[2].min(bot[2]).min(top[3].min(bot[3])).min(x1);
+        // Live: from the block holding live_lo to the one holding live_hi − 1.
+        let live = if by < yb && ya < bye && live_lo < x1 && live_hi > x0 {
+            (
+                x0 + ((live_lo - x0) & !m),
+                (x0 + ((live_hi - x0 + m) & !m)).min(x1),
+            )
+        } else {
+            (0, 0)
+        };
+        // Accepted: the whole blocks within [acc_lo, acc_hi) (the box's last, narrower
+        // block counts as whole when acc_hi reaches the box's edge).
+        let acc = if ya <= by && bye <= yb {
+            let h = if acc_hi >= x1 {
+                x1
+            } else {
+                x0 + ((acc_hi - x0).max(0) & !m)
+            };
+            (x0 + ((acc_lo - x0 + m) & !m), h)
+        } else {
+            (0, 0)
+        };
+        RowClass { live, acc }
+    }
+}
+
+/// Seed 004's zigzag over one block row whose live blocks are `[lo, hi)` of `bw`: the
+/// classifications it makes (including the rejected blocks it probes), with its column
+/// and direction carried to the next row. The same decisions as the pixel walk, taken on
+/// the interval instead of block by block.
+fn zigzag_row((lo, hi): (i64, i64), bw: i64, col: &mut i64, dir: &mut i64) -> u64 {
+    let live = |k: i64| lo <= k && k < hi;
+    let in_range = |k: i64| (0..bw).contains(&k);
+    // Blocks visited from `k` towards `d` up to and including the first live one.
+    let probe = |k: i64, d: i64| -> (u64, Option<i64>) {
+        if !in_range(k) {
+            return (0, None);
+        }
+        if live(k) {
+            return (1, Some(k));
+        }
+        if lo < hi && d > 0 && k < lo {
+            return ((lo - k + 1) as u64, Some(lo));
+        }
+        if lo < hi && d < 0 && k >= hi {
+            return ((k - hi + 2) as u64, Some(hi - 1));
+        }
+        // Nothing live ahead: every block up to the edge of the box is visited.
+        ((if d > 0 { bw - k } else { k + 1 }) as u64, None)
+    };
+    // Blocks visited from `m` towards `d` while live, plus the first one that is not (if
+    // in range); also where that walk stopped.
+    let extend = |m: i64, d: i64| -> (u64, i64) {
+        let end = match (live(m), d > 0) {
+            (false, _) => m,
+            (true, true) => hi,
+            (true, false) => lo - 1,
+        };
+        ((end - m).unsigned_abs() + in_range(end) as u64, end)
+    };
+    let (mut tests, found) = probe(*col, *dir);
+    match found {
+        None => {
+            let (t, back) = probe(*col - *dir, -*dir);
+            tests += t;
+            match back {
+                Some(k) => {
+                    // The run lies behind: walk it to its far end and keep the direction.
+                    let (t, end) = extend(k - *dir, -*dir);
+                    tests += t;
+                    *col = end + *dir;
+                }
+                None => *dir = -*dir,
+            }
+        }
+        Some(f) => {
+            let (t, end) = extend(f + *dir, *dir);
+            tests += t;
+            if f == *col {
+                tests += extend(f - *dir, -*dir).0;
+            }
+            *col = end - *dir;
+            *dir = -*dir;
+        }
+    }
+    tests
+}
+
+/// The counters of the block traversals, accumulated band by band from the edge walk's
+/// bounds. Tiles and zigzag test the same fine blocks per pixel and accept the same
+/// ones: a coarse tile is rejected only if all its fine tiles are and accepted exactly
+/// when all are, and the zigzag visits every live block of a row. Only their block
+/// classifications differ.
+struct BlockCost {
+    fine: Grid,
+    coarse: Grid,
+    /// Zigzag state (column, direction) when accounting that traversal, else tiles.
+    zigzag: Option<(i64, i64)>,
+    c: TravCounters,
+}
+
+impl BlockCost {
+    fn new(walk: &EdgeWalk, zigzag: bool) -> Self {
+        let fine = Grid {
+            x0: walk.x0,
+            x1: walk.x1,
+            rows: walk.rows,
+            shift: BLOCK_SHIFT,
+        };
         Self {
-            y0,
-            rows: [(0, 0); MERGE_ROWS],
+            fine,
+            coarse: Grid {
+                shift: TILE_SHIFT,
+                ..fine
+            },
+            zigzag: zigzag.then_some((0, 1)),
+            c: TravCounters::default(),
         }
     }
 
-    #[inline]
-    fn push<F: FnMut(u32, u32, u32)>(&mut self, y: u32, a: u32, b: u32, emit: &mut F) {
-        let Some(p) = self.rows.get_mut((y - self.y0) as usize) else {
-            emit(y, a, b);
+    /// Accounts the block rows of one band: `rows` are the bounds of the pixel rows from
+    /// `y` on, at most one coarse tile high.
+    fn band(&mut self, y: u32, rows: &[Bounds]) {
+        let (Some(first), Some(last)) = (rows.first(), rows.last()) else {
             return;
         };
-        if p.0 == p.1 {
-            *p = (a, b);
-        } else if p.1 == a {
-            p.1 = b;
-        } else if b == p.0 {
-            p.0 = a;
-        } else {
-            emit(y, p.0, p.1);
-            *p = (a, b);
-        }
-    }
-
-    fn flush<F: FnMut(u32, u32, u32)>(&mut self, emit: &mut F) {
-        for (k, p) in self.rows.iter_mut().enumerate() {
-            if p.0 == p.1 {
+        let bw = self.fine.cols();
+        for (k, blk) in rows.chunks(ZIGZAG_BLOCK as usize).enumerate() {
+            let by = y + k as u32 * ZIGZAG_BLOCK;
+            let bye = by + blk.len() as u32;
+            let (Some(top), Some(bot)) = (blk.first(), blk.last()) else {
                 continue;
+            };
+            let rc = self.fine.class(top, bot, by, bye);
+            let (live, acc) = (width(rc.live), width(rc.acc));
+            let h = (bye - by) as u64;
+            self.c.accepted += acc as u64 * h;
+            self.c.pixel_tests += (live - acc) as u64 * h;
+            if let Some((col, dir)) = &mut self.zigzag {
+                self.c.block_tests += zigzag_row(self.fine.blocks(rc.live), bw, col, dir);
             }
-            if p.0 < p.1 {
-                emit(self.y0 + k as u32, p.0, p.1);
-            }
-            *p = (0, 0);
+        }
+        if self.zigzag.is_none() {
+            // Every coarse tile is classified; partial ones classify their fine tiles.
+            let g = &self.coarse;
+            let rc = g.class(first, last, y, y + rows.len() as u32);
+            let fine_cols = |w: i64| (w as u64).div_ceil(ZIGZAG_BLOCK as u64);
+            let fine_rows = (rows.len() as u64).div_ceil(ZIGZAG_BLOCK as u64);
+            self.c.block_tests += g.cols() as u64
+                + fine_rows * (fine_cols(width(rc.live)) - fine_cols(width(rc.acc)));
         }
     }
 }
 
-/// Walks the triangle with `t`, calling `emit(y, x0, x1)` for runs of covered pixels.
-/// All traversals emit exactly the same pixel set (each pixel once); order differs.
+/// Emits the covered pixels of the triangle as runs `emit(y, x0, x1)`, top to bottom,
+/// and adds to `c` the work that traversal `t` does to find them. Coverage does not
+/// depend on the traversal, so every traversal is filled by the fastest exact walk (the
+/// scanline's edge bounds) and only the counters are the modelled traversal's: derived
+/// from the bounding box, the spans, or the block classes that the bounds determine,
+/// never by testing pixels. They equal what walking that traversal counts, which the
+/// tests check against the pixel walks kept as an oracle.
 pub fn traverse<F: FnMut(u32, u32, u32)>(
     s: &TriSetup,
     t: Traversal,
@@ -415,262 +586,60 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
     emit: &mut F,
 ) {
     let [x0, y0, x1, y1] = s.bbox;
+    let (w, h) = ((x1 - x0) as u64, (y1 - y0) as u64);
+    let mut walk = EdgeWalk::new(s);
+    let mut blocks = match t {
+        Traversal::Tiles => Some(BlockCost::new(&walk, false)),
+        Traversal::Zigzag => Some(BlockCost::new(&walk, true)),
+        _ => None,
+    };
+    let (ya, yb) = walk.rows;
+    let mut covered = 0;
+    // Bounds are computed a band of rows at a time with no call in the loop, so the
+    // walk's state stays in registers instead of being spilled around `emit`.
+    let mut band = [[0i64; 4]; SPAN_BAND];
+    let mut y = y0;
+    while y < y1 {
+        let n = ((y1 - y) as usize).min(SPAN_BAND);
+        for b in &mut band[..n] {
+            *b = walk.next_row();
+        }
+        // Rows trimmed by a horizontal edge are walked only for the accounting.
+        let (ra, rb) = (ya.clamp(y, y + n as u32), yb.clamp(y, y + n as u32));
+        for (j, b) in (ra..rb).zip(&band[(ra - y) as usize..]) {
+            let (a, b) = walk.span(b);
+            if a < b {
+                covered += (b - a) as u64;
+                emit(j, a as u32, b as u32);
+            }
+        }
+        if let Some(bc) = &mut blocks {
+            bc.band(y, &band[..n]);
+        }
+        y += n as u32;
+    }
     match t {
-        Traversal::BoundingBox => {
-            for j in y0..y1 {
-                test_row(s, j, x0, x1, emit);
-            }
-            c.pixel_tests += (x1 - x0) as u64 * (y1 - y0) as u64;
-        }
+        Traversal::BoundingBox => c.pixel_tests += w * h,
         Traversal::Scanline => {
-            // One span set-up per bounding-box row, as the hardware walks them all.
-            c.wide_steps += (y1 - y0) as u64;
-            let mut walk = EdgeWalk::new(s);
-            let (mut ya, yb) = walk.rows;
-            let mut accepted = 0;
-            // Spans are computed a band of rows at a time with no call in the loop, so
-            // the walk's state stays in registers instead of being spilled around `emit`.
-            let mut band = [(0i64, 0i64); SPAN_BAND];
-            while ya < yb {
-                let n = ((yb - ya) as usize).min(SPAN_BAND);
-                for sp in &mut band[..n] {
-                    *sp = walk.next_row();
-                }
-                for (j, &(a, b)) in (ya..).zip(&band[..n]) {
-                    if a < b {
-                        accepted += (b - a) as u64;
-                        emit(j, a as u32, b as u32);
-                    }
-                }
-                ya += n as u32;
-            }
-            c.accepted += accepted;
+            // One span set-up per bounding-box row, as the hardware walks them all; the
+            // spans' pixels need no test.
+            c.wide_steps += h;
+            c.accepted += covered;
         }
-        Traversal::Simd8 => simd8(s, c, emit),
-        Traversal::Tiles => tiles(s, c, emit),
-        Traversal::Zigzag => zigzag_merged(s, c, emit),
-    }
-}
-
-// Separate functions keep each traversal's state (the span merger) out of the others'
-// stack frames: inlined together, LLVM initialised it for every triangle.
-#[inline(never)]
-fn tiles<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
-    let [x0, y0, x1, y1] = s.bbox;
-    let t0 = TILE_SIZES[0];
-    let mut ty = y0;
-    let mut m = Merger::new(y0);
-    while ty < y1 {
-        m.y0 = ty;
-        let mut tx = x0;
-        while tx < x1 {
-            tile(s, tx, ty, 0, c, &mut |y, a, b| m.push(y, a, b, emit));
-            tx += t0;
-        }
-        m.flush(emit);
-        ty += t0;
-    }
-}
-
-#[inline(never)]
-fn zigzag_merged<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
-    let [_, y0, _, _] = s.bbox;
-    let mut m = Merger::new(y0);
-    zigzag(s, c, &mut |y, a, b| {
-        if y >= m.y0 + ZIGZAG_BLOCK {
-            m.flush(emit);
-            m.y0 = y - (y - y0) % ZIGZAG_BLOCK;
-        }
-        m.push(y, a, b, emit)
-    });
-    m.flush(emit);
-}
-
-fn simd8<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
-    let [x0, y0, x1, y1] = s.bbox;
-    let [e0, e1, e2] = s.edges;
-    // Lane offsets a·l, computed once: the eight units then only add and test signs.
-    let o0: [i64; 8] = core::array::from_fn(|l| e0.a * l as i64);
-    let o1: [i64; 8] = core::array::from_fn(|l| e1.a * l as i64);
-    let o2: [i64; 8] = core::array::from_fn(|l| e2.a * l as i64);
-    for j in y0..y1 {
-        let mut start: Option<u32> = None;
-        let mut x = x0;
-        let (mut v0, mut v1, mut v2) = (
-            e0.at(x0 as i64, j as i64),
-            e1.at(x0 as i64, j as i64),
-            e2.at(x0 as i64, j as i64),
-        );
-        while x < x1 {
-            let mut mask = 0u32;
-            for l in 0..8 {
-                let out = ((v0 + o0[l]) | (v1 + o1[l]) | (v2 + o2[l])) < 0;
-                mask |= (!out as u32) << l;
-            }
-            let lanes = (x1 - x).min(8);
-            let full = (1u32 << lanes) - 1;
-            mask &= full;
-            c.wide_steps += 1;
-            if mask == full {
-                if start.is_none() {
-                    start = Some(x);
-                }
-            } else if mask == 0 {
-                if let Some(s0) = start.take() {
-                    emit(j, s0, x);
-                }
-            } else {
-                for l in 0..lanes {
-                    let inside = mask >> l & 1 == 1;
-                    match (inside, start) {
-                        (true, None) => start = Some(x + l),
-                        (false, Some(s0)) => {
-                            emit(j, s0, x + l);
-                            start = None;
-                        }
-                        _ => {}
-                    }
-                }
-            }
-            x += lanes;
-            v0 += e0.a * 8;
-            v1 += e1.a * 8;
-            v2 += e2.a * 8;
-        }
-        if let Some(s0) = start {
-            emit(j, s0, x1);
-        }
-    }
-}
-
-fn emit_block<F: FnMut(u32, u32, u32)>(x: u32, y: u32, xe: u32, ye: u32, emit: &mut F) {
-    for j in y..ye {
-        emit(j, x, xe);
-    }
-}
-
-fn tile<F: FnMut(u32, u32, u32)>(
-    s: &TriSetup,
-    x: u32,
-    y: u32,
-    level: usize,
-    c: &mut TravCounters,
-    emit: &mut F,
-) {
-    let size = TILE_SIZES[level];
-    let xe = (x + size).min(s.bbox[2]);
-    let ye = (y + size).min(s.bbox[3]);
-    c.block_tests += 1;
-    match classify(&s.edges, x, y, xe - 1, ye - 1) {
-        Class::Reject => {}
-        Class::Accept => {
-            c.accepted += (xe - x) as u64 * (ye - y) as u64;
-            emit_block(x, y, xe, ye, emit);
-        }
-        Class::Partial => {
-            if level + 1 < TILE_SIZES.len() {
-                let sub = TILE_SIZES[level + 1];
-                let mut ty = y;
-                while ty < ye {
-                    let mut tx = x;
-                    while tx < xe {
-                        tile(s, tx, ty, level + 1, c, emit);
-                        tx += sub;
-                    }
-                    ty += sub;
-                }
-            } else {
-                c.pixel_tests += (xe - x) as u64 * (ye - y) as u64;
-                for j in y..ye {
-                    test_row(s, j, x, xe, emit);
-                }
+        // One 8-lane step per 8 columns of every row, testing in the lanes.
+        Traversal::Simd8 => c.wide_steps += h * w.div_ceil(8),
+        Traversal::Tiles | Traversal::Zigzag => {
+            if let Some(bc) = blocks {
+                c.pixel_tests += bc.c.pixel_tests;
+                c.block_tests += bc.c.block_tests;
+                c.accepted += bc.c.accepted;
             }
         }
     }
 }
 
-/// Seed 004's zigzag: block rows in alternating directions, each row walked from where
-/// the previous one ended. A row's non-rejected blocks are contiguous (the reject test of
-/// each edge is monotone along a row, and three intervals intersect in one), so a row
-/// ends at its first rejected block after the run — with the *correct* reject rule.
-fn zigzag<F: FnMut(u32, u32, u32)>(s: &TriSetup, c: &mut TravCounters, emit: &mut F) {
-    let [x0, y0, x1, y1] = s.bbox;
-    let bs = ZIGZAG_BLOCK;
-    let bw = (x1 - x0).div_ceil(bs) as i64;
-    let bh = (y1 - y0).div_ceil(bs);
-    let mut col: i64 = 0;
-    let mut dir: i64 = 1;
-    for row in 0..bh {
-        let by = y0 + row * bs;
-        let bye = (by + bs).min(y1);
-        let class = |cl: i64, c: &mut TravCounters| {
-            let bx = x0 + cl as u32 * bs;
-            let bxe = (bx + bs).min(x1);
-            c.block_tests += 1;
-            (classify(&s.edges, bx, by, bxe - 1, bye - 1), bx, bxe)
-        };
-        let visit = |cl: i64, c: &mut TravCounters, emit: &mut F| -> bool {
-            let (k, bx, bxe) = class(cl, c);
-            match k {
-                Class::Reject => false,
-                Class::Accept => {
-                    c.accepted += (bxe - bx) as u64 * (bye - by) as u64;
-                    emit_block(bx, by, bxe, bye, emit);
-                    true
-                }
-                Class::Partial => {
-                    c.pixel_tests += (bxe - bx) as u64 * (bye - by) as u64;
-                    for j in by..bye {
-                        test_row(s, j, bx, bxe, emit);
-                    }
-                    true
-                }
-            }
-        };
-        // Find a live block: forward from `col`, then backward.
-        let mut found = None;
-        let mut k = col;
-        while (0..bw).contains(&k) {
-            if visit(k, c, emit) {
-                found = Some(k);
-                break;
-            }
-            k += dir;
-        }
-        if found.is_none() {
-            let mut k = col - dir;
-            while (0..bw).contains(&k) {
-                if visit(k, c, emit) {
-                    found = Some(k);
-                    // Continue in this direction: the run lies on this side.
-                    let mut m = k - dir;
-                    while (0..bw).contains(&m) && visit(m, c, emit) {
-                        m -= dir;
-                    }
-                    col = m + dir;
-                    break;
-                }
-                k -= dir;
-            }
-            // Travel was -dir; the next row reverses it, i.e. goes +dir: keep `dir`.
-            if found.is_none() {
-                dir = -dir;
-            }
-            continue;
-        }
-        let Some(f) = found else { continue };
-        // Finish the run forward, then backward behind the start.
-        let mut m = f + dir;
-        let mut last = f;
-        while (0..bw).contains(&m) && visit(m, c, emit) {
-            last = m;
-            m += dir;
-        }
-        let mut m = f - dir;
-        while f == col && (0..bw).contains(&m) && visit(m, c, emit) {
-            m -= dir;
-        }
-        col = last;
-        dir = -dir;
-    }
-}
+#[cfg(test)]
+mod walk_oracle;
+
+#[cfg(test)]
+mod tests;
