@@ -4,8 +4,9 @@
 use proptest::prelude::*;
 use protocol::frame::{Cull, Point, Rgb, Traversal};
 
-use super::{setup, traverse, walk_oracle, TravCounters, COORD_LIMIT, MAX_SUBPIXEL_BITS};
+use super::{setup, traverse, walk_oracle, TravCounters, COORD_LIMIT};
 use crate::raster::Framebuffer;
+use protocol::frame::MAX_SUBPIXEL_BITS;
 
 const TRAVERSALS: [Traversal; 5] = [
     Traversal::BoundingBox,
