@@ -55,6 +55,15 @@ pub fn point(rng: &mut SmallRng, max_x: i32, max_y: i32) -> (i32, i32) {
     (rng.gen_range(0..=max_x), rng.gen_range(0..=max_y))
 }
 
+/// A coordinate that is the viewport's limit 0 or 511 two times in three, else anywhere.
+pub fn limit_coord(rng: &mut SmallRng) -> i32 {
+    match rng.gen_range(0..3) {
+        0 => 0,
+        1 => MAX_COORD,
+        _ => rng.gen_range(0..=MAX_COORD),
+    }
+}
+
 /// A point within `r` of `c`, clamped to the coordinate range.
 pub fn near(rng: &mut SmallRng, c: (i32, i32), r: i32) -> (i32, i32) {
     let k = |v: i32, rng: &mut SmallRng| (v + rng.gen_range(-r..=r)).clamp(0, MAX_COORD);

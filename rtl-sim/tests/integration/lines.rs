@@ -50,11 +50,7 @@ fn lines_match_the_model() {
         per_frame: 20,
         frame: &draw::full_frame,
         cmd: &|rng, s| {
-            let mut c = || match rng.gen_range(0..3) {
-                0 => 0,
-                1 => MAX_COORD,
-                _ => rng.gen_range(0..=MAX_COORD),
-            };
+            let mut c = || cases::limit_coord(rng);
             let (a, b) = ((c(), c()), (c(), c()));
             (
                 cases::line(a, b, cases::color_except(rng, s.background)),

@@ -83,11 +83,7 @@ fn triangles_match_the_model() {
         per_frame: 15,
         frame: &draw::full_frame,
         cmd: &|rng, s| {
-            let mut c = || match rng.gen_range(0..3) {
-                0 => 0,
-                1 => MAX_COORD,
-                _ => rng.gen_range(0..=MAX_COORD),
-            };
+            let mut c = || cases::limit_coord(rng);
             let v = [(c(), c()), (c(), c()), (c(), c())];
             (
                 cases::triangle(v, cases::color_except(rng, s.background)),
