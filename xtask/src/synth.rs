@@ -77,12 +77,12 @@ pub fn parse_stat(text: &str) -> Vec<Cells> {
     for line in text.lines() {
         let t = line.trim();
         if let Some(name) = t.strip_prefix("=== ").and_then(|s| s.strip_suffix(" ===")) {
-            // A parametrised instance is `$paramod$<hash>\name`; the name is what a
-            // reader looks for.
-            let name = match name.rsplit_once('\\') {
-                Some((_, base)) => base,
-                None => name,
-            };
+            // A parametrised instance is `$paramod$<hash>\name` or
+            // `$paramod\name\PARAM=value`; the name is what a reader looks for.
+            let name = name
+                .split('\\')
+                .find(|part| !part.starts_with('$') && !part.contains('='))
+                .unwrap_or(name);
             rows.retain(|r| r.module != name);
             rows.push(Cells {
                 module: name.to_string(),
@@ -228,6 +228,9 @@ mod tests {
             }
         );
         assert_eq!(rows[1].brams, 5);
+        let named =
+            parse_stat("=== $paramod\\tri_unit\\LANES=s32'00000000000000000000000000000001 ===\n");
+        assert_eq!(named[0].module, "tri_unit");
         assert_eq!(rows[1].luts, 10);
     }
 
