@@ -168,7 +168,10 @@ fn every_command_reaches_the_fifo_in_order_under_back_pressure() {
 
 #[test]
 fn refusals_name_the_command() {
-    // The FITkit layout has no circle command: the controller must refuse it by index.
+    // The FITkit layout has no circle command. The controller names its layout in its
+    // hello, so the host refuses the circle by its place in the file before sending
+    // anything (the controller would refuse it too, by index, but only after drawing the
+    // commands before it).
     let text = "size = [64, 64]\n[[cmd]]\nop = \"clear\"\ncolor = \"#000000\"\n[[cmd]]\nop = \"circle\"\ncenter = [5.0, 5.0]\nradius = 3.0\ncolor = \"#ffffff\"\n";
     let job = raster_file::parse(text, "c.toml").expect("valid");
     let mut session = Session::new(BuiltIn::new(
@@ -180,12 +183,18 @@ fn refusals_name_the_command() {
     let err =
         host_cli::raster::run(&mut session, &job, "c.toml").expect_err("FITkit has no circles");
     match &err {
-        SessionError::Refused { what, code, .. } => {
-            assert_eq!(*code, ErrorCode::Unsupported);
-            assert!(what.contains("c.toml: cmd[1] (circle)"), "{err}");
+        SessionError::Unsupported(what) => {
+            assert!(
+                what.contains("c.toml: cmd[1] (circle)") && what.contains("fitkit layout"),
+                "{err}"
+            );
         }
-        other => panic!("expected a refusal, got {other}"),
+        other => panic!("expected the host's refusal, got {other}"),
     }
+    assert!(
+        session.transport().bus().setup.is_none(),
+        "nothing may reach the FPGA"
+    );
 }
 
 #[test]
