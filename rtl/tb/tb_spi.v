@@ -50,16 +50,7 @@ module tb_spi;
 
     `include "spi_tasks.vh"
 
-    integer passed = 0, failed = 0;
-    task check(input ok, input [8*48-1:0] what);
-        begin
-            if (ok) passed = passed + 1;
-            else begin
-                failed = failed + 1;
-                $display("FAIL: %0s", what);
-            end
-        end
-    endtask
+    `include "check.vh"
 
     // Bytes the slave received, by the monitor.
     reg [7:0] got [0:255];

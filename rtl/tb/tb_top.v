@@ -37,16 +37,7 @@ module tb_top;
 
     `include "spi_tasks.vh"
 
-    integer passed = 0, failed = 0;
-    task check(input ok, input [8*48-1:0] what);
-        begin
-            if (ok) passed = passed + 1;
-            else begin
-                failed = failed + 1;
-                $display("FAIL: %0s", what);
-            end
-        end
-    endtask
+    `include "check.vh"
 
     // ---- Reference model -------------------------------------------------------------
     reg [7:0] refm [0:262143];
