@@ -158,6 +158,12 @@ pub enum FaultCode {
     Setup,
     /// A request that does not decode, or a part of a packet out of order.
     Malformed,
+    /// The block stayed busy (or its FIFO full) past the bound its driver waits: a stuck
+    /// RTL, reported instead of hanging the link.
+    Stuck,
+    /// The bus between the FPGA end of the link and the block failed (an SPI transfer,
+    /// or a status block that does not read back as one).
+    Bus,
 }
 
 /// A refused posted request: which one and why.

@@ -4,10 +4,15 @@
 use std::io::{self, Read, Write};
 use std::time::{Duration, Instant};
 
+use firmware::FpgaBus;
 use serialport::SerialPort;
-use sim_target::{Device, FpgaServer};
+use sim_target::Device;
 
+use crate::board::Fpga;
+use crate::fpga_server::{FpgaServer, Served};
+use crate::in_process::SimBus;
 use crate::pty::peer_gone;
+use crate::rtl::RtlTargetError;
 
 /// Why the FPGA stopped serving before its peer went away.
 #[derive(Debug, thiserror::Error)]
@@ -43,6 +48,9 @@ pub enum FpgaPortError {
     /// The port refused a read timeout.
     #[error(transparent)]
     Timeout(#[from] serialport::Error),
+    /// The RTL could not be built (no Verilated model in this build).
+    #[error(transparent)]
+    Rtl(#[from] RtlTargetError),
 }
 
 /// An open port the FPGA will be served on.
@@ -67,13 +75,35 @@ impl FpgaPort {
         })
     }
 
-    /// Serves the FPGA model (WIDE bus layout) until the peer closes the port (QEMU
-    /// exited): then `Ok`, as nothing is left to serve. Each fault the FPGA flags to the
-    /// controller is also handed to `on_fault` as text.
-    pub fn serve(mut self, mut on_fault: impl FnMut(&str)) -> Result<(), FpgaPortError> {
+    /// Serves `fpga` (the model in the WIDE bus layout, or the RTL in the FITkit's) until
+    /// the peer closes the port (QEMU exited): then `Ok`, as nothing is left to serve.
+    /// Each fault the FPGA flags to the controller is also handed to `on_fault` as text.
+    pub fn serve(self, fpga: Fpga, on_fault: impl FnMut(&str)) -> Result<(), FpgaPortError> {
+        match fpga {
+            Fpga::Model => {
+                let layout = &protocol::bus::WIDE;
+                let device = Device::new(layout);
+                let caps = device.caps();
+                self.serve_on(FpgaServer::new(SimBus(device), caps, layout), on_fault)
+            }
+            Fpga::Rtl => {
+                let rtl = rtl_sim::Rtl::shared().map_err(RtlTargetError::from)?;
+                let bus = crate::rtl::bus_on(&rtl, rtl_sim::SpiConfig::default())?;
+                let server = FpgaServer::new(bus, crate::rtl::caps(), &protocol::bus::FITKIT);
+                self.serve_on(server, on_fault)
+            }
+        }
+    }
+
+    fn serve_on<B: FpgaBus>(
+        mut self,
+        mut server: FpgaServer<B>,
+        mut on_fault: impl FnMut(&str),
+    ) -> Result<(), FpgaPortError>
+    where
+        B::Error: Served,
+    {
         let path = self.path;
-        let layout = &protocol::bus::WIDE;
-        let mut server = FpgaServer::new(Device::new(layout));
         let epoch = Instant::now();
         let mut buf = [0u8; 4096];
         let mut out = [0u8; protocol::link::MAX_FRAME];

@@ -257,7 +257,9 @@ pub fn sim_target_via_fpga_link() -> Result<BuiltIn<LinkBus>, firmware::FpgaLink
 /// Runs an emulated FPGA on `end` until the other end is dropped.
 fn serve_fpga(mut end: PipeEnd, layout: &'static BusLayout) {
     use embedded_io::{Read, Write};
-    let mut server = sim_target::FpgaServer::new(sim_target::Device::new(layout));
+    let device = sim_target::Device::new(layout);
+    let caps = device.caps();
+    let mut server = crate::FpgaServer::new(SimBus(device), caps, layout);
     let epoch = Instant::now();
     let mut buf = [0u8; 512];
     let mut out = [0u8; protocol::link::MAX_FRAME];

@@ -12,8 +12,9 @@
 //!   rate, so `fpgfx --port` is exercised over a tty;
 //! * with the FITkit block's RTL, Verilated, for the FPGA ([`rtl`]): the controller's
 //!   SPI driver on the block's pins (`--port rtl`, `fpgfx-sim --fpga rtl`);
-//! * the FPGA alone on a serial port ([`FpgaPort`]), for a controller elsewhere: the
-//!   QEMU board's second UART;
+//! * the FPGA alone on a serial port ([`FpgaPort`], speaking the serial FPGA link through
+//!   [`FpgaServer`]), for a controller elsewhere: the QEMU board's second UART, with the
+//!   model or the RTL behind it;
 //! * the STM32's ROM bootloader ([`bootloader`], on a pty through [`bootloader_pty`]),
 //!   what the chip does with BOOT0 high, for `fpgfx flash`.
 //!
@@ -36,9 +37,11 @@ pub mod pty;
 pub mod rtl;
 
 mod fpga_port;
+mod fpga_server;
 mod host_link;
 mod paced;
 mod socket;
 
 pub use fpga_port::{FpgaPort, FpgaPortError};
+pub use fpga_server::{FpgaServer, Served};
 pub use host_link::Pending;

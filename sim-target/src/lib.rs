@@ -4,8 +4,7 @@
 //! What is where:
 //!
 //! * at the root: [`Device`], the FPGA as the controller's bus sees it (FIFO, blocks,
-//!   read-back), and [`FpgaServer`], the same device behind the serial FPGA link,
-//!   sans-I/O;
+//!   read-back);
 //! * [`raster`] and [`rt`]: the two blocks' golden models;
 //! * [`num`]: the number formats the ray tracer runs in;
 //! * [`scene_regs`]: a ray-tracer scene to and from its register image.
@@ -13,14 +12,14 @@
 //! This crate is the FPGA and nothing else: the rest of an emulated board (the
 //! firmware's controller, the line to the host, the STM32's ROM bootloader) is the
 //! `sim-board` crate, because it runs the firmware and the model must not depend on it.
+//! So is the FPGA end of the serial FPGA link (`sim_board::FpgaServer`), which serves
+//! any of the firmware's FPGA buses, this model or the Verilated RTL.
 #![warn(missing_docs)]
 
 mod device;
-mod fpga_link;
 pub mod num;
 pub mod raster;
 pub mod rt;
 pub mod scene_regs;
 
 pub use device::{Device, DeviceError, FIFO_RECORDS};
-pub use fpga_link::FpgaServer;

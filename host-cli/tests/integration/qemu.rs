@@ -158,17 +158,39 @@ fn render(port: Option<&str>, out: &str) -> String {
     ok(&args).stdout
 }
 
-#[test]
-fn qemu_board_draws_and_renders_like_built_in() {
-    let elf = firmware_elf();
-    let (qemu, host_pty, fpga_pty) = Qemu::start(&elf);
-    let _fpga = KillOnDrop(
+/// The board in QEMU with `fpgfx-sim --fpga-link` and `fpga_args` on its USART2: QEMU,
+/// the host link's pty, and the FPGA's process (both killed on drop).
+fn board(elf: &Path, fpga_args: &[&str]) -> (Qemu, String, KillOnDrop) {
+    let (qemu, host_pty, fpga_pty) = Qemu::start(elf);
+    let fpga = KillOnDrop(
         sim_command()
             .args(["--fpga-link", &fpga_pty])
+            .args(fpga_args)
             .stderr(Stdio::inherit())
             .spawn()
             .expect("fpgfx-sim starts"),
     );
+    (qemu, host_pty, fpga)
+}
+
+/// Asserts that the board booted, reached its FPGA and a host, and did not panic.
+fn assert_board_log(qemu: &Qemu, elf: &Path) {
+    let log = qemu.log(elf);
+    println!("--- board log (defmt over semihosting) ---");
+    for line in &log {
+        println!("{line}");
+    }
+    let has = |s: &str| log.iter().any(|l| l.contains(s));
+    assert!(has("fpgfx-firmware"), "no boot line in the board log");
+    assert!(has("FPGA up"), "the board never reached the FPGA");
+    assert!(has("host session"), "the board never saw a host session");
+    assert!(!has("panic"), "the board panicked");
+}
+
+#[test]
+fn qemu_board_draws_and_renders_like_built_in() {
+    let elf = firmware_elf();
+    let (qemu, host_pty, _fpga) = board(&elf, &[]);
 
     // A raster job with every primitive, small enough that its read-back (QEMU delivers
     // UART bytes one per main-loop turn, ~6 KB/s) takes a few seconds.
@@ -197,15 +219,77 @@ fn qemu_board_draws_and_renders_like_built_in() {
     render(None, &built_in);
     assert_eq!(rgb(&board), rgb(&built_in), "render differs from built-in");
     println!("render over QEMU in {render_time:?}:\n{stats}");
+    assert_board_log(&qemu, &elf);
+}
 
-    let log = qemu.log(&elf);
-    println!("--- board log (defmt over semihosting) ---");
-    for line in &log {
-        println!("{line}");
-    }
-    let has = |s: &str| log.iter().any(|l| l.contains(s));
-    assert!(has("fpgfx-firmware"), "no boot line in the board log");
-    assert!(has("FPGA up"), "the board never reached the FPGA");
-    assert!(has("host session"), "the board never saw a host session");
-    assert!(!has("panic"), "the board panicked");
+/// The QEMU board with the FITkit block's RTL on its FPGA link: `fpgfx-sim --fpga-link
+/// --fpga rtl` answers the link through the same SPI driver a FITkit MCU runs, so the
+/// board identifies a FITkit-layout FPGA, packs FITkit records, and its frame must equal
+/// the RTL's in process (`--port rtl`) and the golden model's (`--port builtin`).
+#[test]
+fn qemu_board_draws_on_the_rtl() {
+    let elf = firmware_elf();
+    let (qemu, host_pty, _fpga) = board(&elf, &["--fpga", "rtl"]);
+    // Small (QEMU moves ~6 KB/s of read-back) and within what the FITkit draws: whole
+    // pixels, flat colours in RGB332, a clear, lines in every direction.
+    let file = tmp("fitkit-small.toml");
+    let job = r##"size = [64, 48]
+background = "#000000"
+subpixel_bits = 0
+[[cmd]]
+op = "clear"
+color = "#2449aa"
+[[cmd]]
+op = "triangle"
+v = [[2.0, 3.0], [60.0, 10.0], [14.0, 45.0]]
+color = "#dbb655"
+[[cmd]]
+op = "line"
+from = [0.0, 47.0]
+to = [63.0, 0.0]
+color = "#ffffff"
+[[cmd]]
+op = "line"
+from = [63.0, 47.0]
+to = [5.0, 1.0]
+color = "#00ff00"
+"##;
+    std::fs::write(&file, job).expect("temp file");
+    let (board, in_process, built_in) = (tmp("rtl-board.png"), tmp("rtl.png"), tmp("model.png"));
+    let started = Instant::now();
+    let stats = ok(&[
+        "--port", &host_pty, "raster", &file, "-o", &board, "--stats",
+    ])
+    .stdout;
+    println!(
+        "raster over QEMU onto the RTL in {:?}:\n{stats}",
+        started.elapsed()
+    );
+    ok(&["--port", "rtl", "raster", &file, "-o", &in_process]);
+    ok(&["--port", "builtin", "raster", &file, "-o", &built_in]);
+    assert_eq!(
+        rgb(&board),
+        rgb(&in_process),
+        "board frame differs from --port rtl"
+    );
+    assert_eq!(
+        rgb(&board),
+        rgb(&built_in),
+        "board frame differs from the model"
+    );
+    // The board learnt the FITkit layout from the FPGA's identity: what it cannot carry
+    // is refused by name before anything is sent.
+    let err = crate::common::fails(&[
+        "--port",
+        &host_pty,
+        "raster",
+        &example("raster/gallery.toml"),
+        "-o",
+        &tmp("never.png"),
+    ]);
+    assert!(
+        err.contains("gallery.toml: cmd[0] (clear)") && err.contains("fitkit layout"),
+        "{err}"
+    );
+    assert_board_log(&qemu, &elf);
 }

@@ -49,8 +49,9 @@ struct Cli {
     /// throughput figures through a pty or TCP mean something.
     #[arg(long)]
     pace: bool,
-    /// The board's FPGA with --pty or --tcp: the golden model, or the FITkit raster
-    /// block's RTL (Verilated rtl/) behind the controller's SPI driver.
+    /// The FPGA: the golden model, or the FITkit raster block's RTL (Verilated rtl/)
+    /// behind the controller's SPI driver. With --fpga-link the RTL answers the serial
+    /// FPGA link through that same driver, so a QEMU board reaches it too.
     #[arg(long, value_enum, default_value_t = Fpga::Model)]
     fpga: Fpga,
 }
@@ -72,7 +73,7 @@ fn run(cli: Cli) -> Result<()> {
     if let Some(path) = &cli.fpga_link {
         let port = FpgaPort::open(path, cli.baud)?;
         eprintln!("fpgfx-sim: FPGA link on {path}");
-        port.serve(|text| eprintln!("fpgfx-sim: FPGA fault: {text}"))?;
+        port.serve(cli.fpga, |text| eprintln!("fpgfx-sim: FPGA fault: {text}"))?;
         // The board went away (QEMU exited): nothing left to serve.
         eprintln!("fpgfx-sim: FPGA-link peer closed {path}");
         return Ok(());
