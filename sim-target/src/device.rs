@@ -18,8 +18,8 @@ use crate::raster::{Raster, RasterError};
 use crate::rt::RenderOptions;
 use crate::scene_regs::{from_regs, Regs, SceneRegsError};
 
-/// Records in the input FIFO: seed 000's RAMB16_S36_S36, 512 × 36 bits.
-pub const FIFO_RECORDS: usize = 512;
+/// Records in the input FIFO, as the raster model counts them.
+const FIFO_RECORDS: usize = crate::raster::FIFO_DEPTH as usize;
 
 /// Packets the model executes per [`Device::wait`]: how far the FPGA gets while the
 /// controller waits once. Small, so back-pressure is exercised in every run.

@@ -22,4 +22,4 @@ pub mod raster;
 pub mod rt;
 pub mod scene_regs;
 
-pub use device::{Device, DeviceError, FIFO_RECORDS};
+pub use device::{Device, DeviceError};

@@ -3,10 +3,11 @@
 
 use std::collections::VecDeque;
 
-/// Records in the input FIFO (RAMB16_S36_S36, seed 000).
-pub const FIFO_DEPTH: u32 = 512;
+/// Records in the input FIFO: seed 000's RAMB16_S36_S36, whatever the bus layout, so the
+/// FITkit's figure (its home is the SPI contract) is the model's too.
+pub const FIFO_DEPTH: u32 = protocol::fitkit_spi::FIFO_RECORDS as u32;
 /// Bits per input FIFO record.
-pub const RECORD_BITS: u32 = 36;
+pub const RECORD_BITS: u32 = protocol::fitkit_spi::RECORD_BITS;
 /// Fragment FIFO between the raster units and the SDRAM writer.
 pub const FRAG_FIFO_DEPTH: u64 = 16;
 /// Clock of seed 000's line block, used for the board-time estimate.
