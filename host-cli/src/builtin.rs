@@ -11,7 +11,10 @@ use sim_board::in_process::BuiltIn;
 
 use crate::session::Transport;
 
-impl<B: FpgaBus> Transport for BuiltIn<B> {
+impl<B: FpgaBus> Transport for BuiltIn<B>
+where
+    B::Error: core::fmt::Display,
+{
     fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
         BuiltIn::write_all(self, bytes)
     }

@@ -350,3 +350,26 @@ where
         self.bus.push_packet(ch, &buf)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The controller decides whether to reset the FPGA from the code alone, so a stuck
+    /// block and a broken bus must not read as a refused packet.
+    #[test]
+    fn fitkit_errors_keep_their_kind_over_the_link() {
+        type E = FitkitSpiError<()>;
+        let stuck = E::Timeout {
+            waiting_for: "busy low",
+            polls: 3,
+        };
+        assert_eq!(stuck.fault_code(), FaultCode::Stuck);
+        assert_eq!(E::Spi(()).fault_code(), FaultCode::Bus);
+        assert_eq!(E::NoSetup.fault_code(), FaultCode::Setup);
+        assert_eq!(
+            E::Unsupported("circle unit").fault_code(),
+            FaultCode::Packet
+        );
+    }
+}

@@ -94,7 +94,10 @@ pub struct BuiltIn<B: FpgaBus> {
     epoch: Instant,
 }
 
-impl<B: FpgaBus> BuiltIn<B> {
+impl<B: FpgaBus> BuiltIn<B>
+where
+    B::Error: core::fmt::Display,
+{
     /// A controller with `caps` over `bus`, reading raster records in `layout`.
     pub fn new(bus: B, caps: Caps, layout: &'static BusLayout) -> Self {
         Self::named(bus, caps, layout, "fpgfx built-in target")
@@ -126,7 +129,7 @@ impl<B: FpgaBus> BuiltIn<B> {
         let now = self.epoch.elapsed().as_millis() as u64;
         self.controller.poll(now).map_err(|e| match e {
             ControllerError::Host(never) => match never {},
-            ControllerError::Fpga(e) => io::Error::other(format!("FPGA bus: {e:?}")),
+            ControllerError::Fpga(e) => io::Error::other(format!("FPGA bus: {e}")),
         })
     }
 
