@@ -9,9 +9,11 @@
 //! Everything a caller needs is at the crate root; the modules are private.
 //! [`FpgaLink`] is the [`FpgaBus`] of a board whose FPGA sits behind a second UART;
 //! [`FitkitSpi`] is the FITkit raster block's, on any embedded-hal 1.0 SPI device.
+//! [`Canvas`] puts embedded-graphics on any of them, a command per primitive.
 #![no_std]
 #![warn(missing_docs)]
 
+mod canvas;
 mod controller;
 mod engine;
 mod fitkit_spi;
@@ -19,6 +21,7 @@ mod fpga;
 mod fpga_link;
 mod log;
 
+pub use canvas::{Accelerated, Canvas, CanvasCounters, CanvasError};
 pub use controller::{Controller, ControllerError, INBOX};
 pub use engine::Engine;
 pub use fitkit_spi::{FitkitSpi, FitkitSpiError};
