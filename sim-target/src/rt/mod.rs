@@ -25,6 +25,7 @@
 //! [`scene_file::parse`].
 
 pub mod cull;
+pub mod range;
 pub mod scene_file;
 pub mod shade;
 pub mod shapes;
