@@ -1,5 +1,5 @@
-//! Output packing (RGB888 and the KCU116 16-bit mode), read-back reconstruction, PFM
-//! writer for the AOVs and PSNR for comparing formats.
+//! Output packing (RGB888 and the KCU116 16-bit mode), read-back reconstruction and the
+//! PFM writer for the AOVs.
 
 use std::io::{self, Write};
 
@@ -95,21 +95,3 @@ pub fn write_pfm(
     Ok(())
 }
 
-/// PSNR in dB of an 8-bit image against a reference (∞ if identical).
-pub fn psnr(reference: &[u8], test: &[u8]) -> f64 {
-    let n = reference.len().min(test.len()).max(1);
-    let mse: f64 = reference
-        .iter()
-        .zip(test)
-        .map(|(a, b)| {
-            let d = *a as f64 - *b as f64;
-            d * d
-        })
-        .sum::<f64>()
-        / n as f64;
-    if mse == 0.0 {
-        f64::INFINITY
-    } else {
-        10.0 * (255.0 * 255.0 / mse).log10()
-    }
-}
