@@ -40,7 +40,9 @@ mod wire;
 /// PSNR for comparing formats: the comparison crate's, so that `fpgfx compare` and the
 /// numerics study measure with one definition.
 pub use compare::psnr;
-pub use output::{pack_kcu116, pack_rgb888, unpack_kcu116, unpack_rgb888, write_pfm};
+pub use output::{
+    pack_kcu116, pack_rgb888, read_pfm, unpack_kcu116, unpack_rgb888, write_pfm, Pfm, PfmError,
+};
 pub use protocol::frame::Numeric;
 pub use scene::{
     Camera, DiffuseModel, Filter, Light, Mapping, Material, Object, Reflection, Scene, Shape,
