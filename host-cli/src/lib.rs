@@ -18,6 +18,7 @@ pub mod animate;
 pub mod bench;
 pub mod connect;
 pub mod flash;
+pub mod frames;
 pub mod ports;
 pub mod raster;
 pub mod raster_file;

@@ -4,6 +4,7 @@
 
 pub mod animate;
 pub mod bench;
+pub mod compare;
 pub mod flash;
 pub mod ports;
 pub mod raster;

@@ -17,6 +17,7 @@ mod hostile_text;
 mod animate;
 mod bench;
 mod cli;
+mod compare;
 mod flash;
 mod fpga_link;
 mod gallery;
