@@ -11,7 +11,7 @@
 //! * the files the user writes: [`raster_file`] (raster commands) and, through
 //!   `sim_target::rt::scene_file`, ray-tracer scenes;
 //! * one module per command that has a library side: [`raster`], [`render`],
-//!   [`animate`], [`bench`](mod@bench), [`stress`], [`flash`].
+//!   [`animate`], [`bench`](mod@bench), [`stress`], [`flash`], [`vectors`].
 #![warn(missing_docs)]
 
 pub mod animate;
@@ -25,6 +25,7 @@ pub mod raster_file;
 pub mod render;
 pub mod session;
 pub mod stress;
+pub mod vectors;
 
 mod builtin;
 mod serial;

@@ -50,6 +50,8 @@ enum Command {
     ///
     /// Exit status: 0 within tolerance, 1 beyond it, 2 on unusable input (docs/compare.md).
     Compare(cmd::compare::Args),
+    /// Write test vectors and a self-checking testbench for a hardware design.
+    Vectors(cmd::vectors::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -64,6 +66,7 @@ fn main() -> std::process::ExitCode {
         Command::Flash(a) => cmd::flash::run(t, a),
         Command::Bench(a) => cmd::bench::run(a),
         Command::Compare(a) => return cmd::compare::run(a),
+        Command::Vectors(a) => cmd::vectors::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
