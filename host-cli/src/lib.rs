@@ -24,6 +24,7 @@ pub mod raster_file;
 pub mod render;
 pub mod session;
 pub mod stress;
+pub mod vectors;
 
 mod builtin;
 mod serial;

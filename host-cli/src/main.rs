@@ -46,6 +46,8 @@ enum Command {
     /// Sweep number formats × approximations (ray tracer) and sub-pixel bits × AA
     /// (rasterizer): error, host time and hardware cost, with Pareto plots.
     Bench(cmd::bench::Args),
+    /// Write test vectors for a hardware block from the golden model.
+    Vectors(cmd::vectors::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -59,6 +61,7 @@ fn main() -> std::process::ExitCode {
         Command::Ports(a) => cmd::ports::run(a),
         Command::Flash(a) => cmd::flash::run(t, a),
         Command::Bench(a) => cmd::bench::run(a),
+        Command::Vectors(a) => cmd::vectors::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

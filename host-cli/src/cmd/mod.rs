@@ -9,6 +9,7 @@ pub mod ports;
 pub mod raster;
 pub mod render;
 pub mod stress;
+pub mod vectors;
 
 use anyhow::Result;
 use host_cli::connect::{self, Config, Settings};

@@ -27,3 +27,4 @@ mod qemu;
 mod raster_file_props;
 mod rtl;
 mod stress;
+mod vectors_render;
