@@ -11,6 +11,9 @@
 //! [`memh`] is the `$readmemh` text format the test vectors are written in; it lives here
 //! because both the writer (`fpgfx vectors`) and the readers (`fpgfx compare`, the C test)
 //! depend on this crate, which keeps the format in one place.
+//!
+//! [`exact`] counts the pixels of two RGB888 frames that differ beyond a tolerance, on
+//! borrowed buffers: the C library's comparison.
 #![warn(missing_docs)]
 
 mod edge;

@@ -18,7 +18,8 @@
 //!   (the FITkit raster block and richer layouts), [`fitkit_spi`] — the SPI transactions
 //!   that carry them to the FITkit block with its set-up, status and read-back, and
 //!   [`scene`] — the ray tracer's
-//!   32-bit AXI4-Lite register image.
+//!   32-bit AXI4-Lite register image, and [`axi_lite`] — where that image and the start
+//!   of a frame sit on the block's AXI4-Lite bus.
 //! * [`bootloader`] — the STM32 ROM bootloader's UART protocol (ST AN3155) that
 //!   `fpgfx flash` speaks to the board and `fpgfx-sim --bootloader` emulates.
 //! * [`fpga`] — the same bus operations as messages, for an FPGA reached over a serial
@@ -31,6 +32,7 @@
 #![no_std]
 #![deny(missing_docs)]
 
+pub mod axi_lite;
 pub mod bootloader;
 pub mod bus;
 pub mod fitkit_spi;

@@ -68,6 +68,16 @@ struct Package {
 /// The Debian packages the tests drive.
 const PACKAGES: &[Package] = &[
     Package {
+        program: "cc",
+        package: "gcc",
+        why: "compiles the C library's C test against libfpgfx.a (capi/tests/c_test.rs)",
+    },
+    Package {
+        program: "c++",
+        package: "g++",
+        why: "compiles the C library's Vitis HLS testbench around its stand-in DUT (capi/tests/c_test.rs)",
+    },
+    Package {
         program: "qemu-system-arm",
         package: "qemu-system-arm",
         why: "runs the STM32F405 board binary end to end (host-cli/tests/integration/qemu.rs)",

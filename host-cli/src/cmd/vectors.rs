@@ -3,7 +3,11 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
+use host_cli::vectors::{render, VectorSet};
 use protocol::fpga::LayoutId;
+use protocol::frame::Numeric;
+
+use super::parse_size;
 
 /// Arguments of `fpgfx vectors`.
 #[derive(clap::Args)]
@@ -18,6 +22,9 @@ enum What {
     /// memory write stream and the final framebuffer, a manifest and (FITkit) a
     /// self-checking Verilog testbench with run-iverilog.sh / run-verilator.sh RTL_DIR.
     Raster(RasterArgs),
+    /// A scene as vectors for the ray-trace block: AXI4-Lite writes, register image,
+    /// texture memory, and the expected frame (RGB888, KCU116), depth and normal planes.
+    Render(RenderArgs),
 }
 
 /// Arguments of `fpgfx vectors raster`.
@@ -32,6 +39,22 @@ struct RasterArgs {
     /// here, so only it gets the testbench.
     #[arg(long, value_enum, default_value_t = Layout::Fitkit)]
     layout: Layout,
+}
+
+/// Arguments of `fpgfx vectors render`.
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// Directory to write the vectors into (created if missing).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Number format of the frame (the block's NUMERIC register).
+    #[arg(long, default_value_t = Numeric::F32, ignore_case = true)]
+    numeric: Numeric,
+    /// Frame size WxH (overrides the scene; the field of view is kept).
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u32, u32)>,
 }
 
 /// `--layout`'s spellings, as `protocol::bus`'s layout names.
@@ -56,6 +79,7 @@ impl From<Layout> for LayoutId {
 pub fn run(a: &Args) -> Result<()> {
     match &a.what {
         What::Raster(r) => raster(r),
+        What::Render(r) => render(r),
     }
 }
 
@@ -65,6 +89,35 @@ fn raster(a: &RasterArgs) -> Result<()> {
     let text = std::fs::read_to_string(&a.file).with_context(|| format!("cannot read {name}"))?;
     let set = host_cli::vectors::raster::raster(&text, &name, a.layout.into())?;
     set.write_to(&a.output)?;
+    list(&set);
+    eprintln!("wrote {}", a.output.display());
+    Ok(())
+}
+
+/// Renders the scene on the golden model and writes its vectors.
+fn render(a: &RenderArgs) -> Result<()> {
+    let name = a.scene.display().to_string();
+    let text = std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read {name}"))?;
+    let scene = sim_target::rt::scene_file::parse(&text, &name)?;
+    let opts = render::Options {
+        numeric: a.numeric,
+        size: a.size,
+    };
+    let vectors = render::render(&scene, &opts).with_context(|| name.clone())?;
+    let set = vectors.set(&name)?;
+    set.write_to(&a.output)?;
+    list(&set);
+    eprintln!(
+        "wrote a {}x{} frame's vectors to {}",
+        vectors.width,
+        vectors.height,
+        a.output.display()
+    );
+    Ok(())
+}
+
+/// One line per file written, with its word count where the set lists one.
+fn list(set: &VectorSet) {
     for f in &set.files {
         match &f.entry {
             Some(e) => println!(
@@ -74,6 +127,4 @@ fn raster(a: &RasterArgs) -> Result<()> {
             None => println!("{}", f.name),
         }
     }
-    eprintln!("wrote {}", a.output.display());
-    Ok(())
 }

@@ -2,13 +2,15 @@
 //! that an RTL (this repository's or a user's) can be held to the model in its own
 //! simulator without Rust in the loop. docs/vectors.md describes every file.
 //!
-//! A vector set is a directory of text files: `$readmemh` data ([`compare::memh`]), a copy
-//! of the job, a manifest, and for the FITkit a self-checking Verilog testbench with its
-//! run scripts. Generation is pure ([`raster::raster`] returns a [`VectorSet`]); only
+//! A vector set is a directory of files: `$readmemh` data ([`compare::memh`]), for the
+//! ray tracer the same data as raw little-endian bytes, a manifest, and for the FITkit a
+//! copy of the job and a self-checking Verilog testbench with its run scripts. Generation
+//! is pure ([`raster::raster`] and [`render::render`] return a [`VectorSet`]); only
 //! [`VectorSet::write_to`] touches the disk, so tests and other front ends can inspect the
 //! files before (or instead of) writing them.
 
 pub mod raster;
+pub mod render;
 
 use std::path::{Path, PathBuf};
 
@@ -24,6 +26,21 @@ pub enum VectorsError {
     /// A command the layout cannot carry, named by its index.
     #[error(transparent)]
     Layout(#[from] crate::raster::LayoutError),
+    /// The scene does not fit the ray tracer's register image.
+    #[error("the scene does not fit the ray tracer's registers: {0}")]
+    Registers(#[from] sim_target::scene_regs::SceneRegsError),
+    /// The emulated device refused the scene's registers or its frame.
+    #[error("the golden model refused the frame: {0}")]
+    Device(#[from] sim_target::DeviceError),
+    /// A frame side the read-back cannot address (sides are 16-bit on the wire).
+    #[error("frame size {0}x{1} is larger than a read-back can address")]
+    Size(u32, u32),
+    /// The device rendered the frame but has no such plane: a bug in the model.
+    #[error("the golden model has no {0} plane for this frame")]
+    Plane(&'static str),
+    /// The manifest could not be written as TOML.
+    #[error("manifest: {0}")]
+    Manifest(#[from] toml::ser::Error),
     /// The controller's driver refuses the job on this layout (anti-aliasing, sub-pixel
     /// coordinates or a background outside RGB332 on the FITkit).
     #[error("{file}: the FITkit controller refuses the job: {message}")]
@@ -57,8 +74,9 @@ pub enum VectorsError {
 pub struct VectorFile {
     /// File name inside the set's directory.
     pub name: &'static str,
-    /// The whole text.
-    pub text: String,
+    /// The whole file: text for `$readmemh` data, scripts and manifests, little-endian
+    /// words for the raw `.bin` copies.
+    pub bytes: Vec<u8>,
     /// Whether the file is a script (written executable).
     pub executable: bool,
     /// What the manifest lists for it: data files have a word count and width.
@@ -86,6 +104,14 @@ pub struct VectorSet {
     pub files: Vec<VectorFile>,
 }
 
+impl VectorFile {
+    /// The file as text: empty for a binary file that is not UTF-8, which only the raw
+    /// `.bin` copies are (and nobody reads those as text).
+    pub fn text(&self) -> &str {
+        std::str::from_utf8(&self.bytes).unwrap_or_default()
+    }
+}
+
 impl VectorSet {
     /// The file called `name`, if the set has one.
     pub fn file(&self, name: &str) -> Option<&VectorFile> {
@@ -102,7 +128,7 @@ impl VectorSet {
         std::fs::create_dir_all(dir).map_err(err(dir))?;
         for f in &self.files {
             let path = dir.join(f.name);
-            std::fs::write(&path, &f.text).map_err(err(&path))?;
+            std::fs::write(&path, &f.bytes).map_err(err(&path))?;
             if f.executable {
                 make_executable(&path).map_err(err(&path))?;
             }

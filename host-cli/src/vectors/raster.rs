@@ -153,7 +153,7 @@ pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet,
     ));
     files.push(VectorFile {
         name: JOB,
-        text: job_text.to_string(),
+        bytes: job_text.as_bytes().to_vec(),
         executable: false,
         entry: None,
     });
@@ -187,7 +187,7 @@ pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet,
         ] {
             files.push(VectorFile {
                 name,
-                text: fill(template, &values),
+                bytes: fill(template, &values).into_bytes(),
                 executable,
                 entry: None,
             });
@@ -218,7 +218,7 @@ pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet,
     })?;
     files.push(VectorFile {
         name: MANIFEST,
-        text: format!("# {origin}\n# Every file and its format: docs/vectors.md.\n{text}"),
+        bytes: format!("# {origin}\n# Every file and its format: docs/vectors.md.\n{text}").into_bytes(),
         executable: false,
         entry: None,
     });
@@ -261,7 +261,7 @@ fn files_words(files: &[VectorFile], name: &str) -> usize {
 fn data_file(text: String, entry: FileEntry) -> VectorFile {
     VectorFile {
         name: entry.name,
-        text,
+        bytes: text.into_bytes(),
         executable: false,
         entry: Some(entry),
     }
@@ -618,7 +618,7 @@ color = "#ff0000"
     #[test]
     fn fragments_start_with_the_set_up_clear_and_count_the_model() {
         let set = raster(JOB_TEXT, "t.toml", LayoutId::Fitkit).expect("vectors");
-        let frags = memh::parse(&set.file(FRAGMENTS).expect("fragments").text).expect("memh");
+        let frags = memh::parse(&set.file(FRAGMENTS).expect("fragments").text()).expect("memh");
         // Set-up clear, line, triangle, clear packet; words K YYY XXX CC.
         let word = |k: u64, x: u64, y: u64, c: u64| k << 32 | y << 20 | x << 8 | c;
         assert_eq!(
@@ -634,19 +634,19 @@ color = "#ff0000"
         let drawn = frags.words.iter().filter(|w| *w >> 32 == 1).count();
         assert_eq!(frags.words.len(), 2 * 64 * 48 + drawn);
         let (header, frame) =
-            memh::parse_frame(&set.file(FRAMEBUFFER).expect("frame").text).expect("frame");
+            memh::parse_frame(&set.file(FRAMEBUFFER).expect("frame").text()).expect("frame");
         assert_eq!((header.width, header.height), (64, 48));
         assert!(
             frame.iter().all(|&p| p == 0xe0),
             "the clear packet came last"
         );
-        let manifest = &set.file(MANIFEST).expect("manifest").text;
+        let manifest = &set.file(MANIFEST).expect("manifest").text();
         assert!(
             manifest.contains(&format!("fragments = {drawn}")),
             "{manifest}"
         );
         for name in [TESTBENCH_FILE, RUN_IVERILOG_FILE, RUN_VERILATOR_FILE] {
-            let text = &set.file(name).expect("a FITkit set has the testbench").text;
+            let text = &set.file(name).expect("a FITkit set has the testbench").text();
             // A placeholder is an upper-case name between two `@` (Verilog's `@(` and
             // the shell's `$@` never enclose one).
             let parts: Vec<&str> = text.split('@').collect();
@@ -663,9 +663,9 @@ color = "#ff0000"
         let set = raster(JOB_TEXT, "t.toml", LayoutId::Wide).expect("vectors");
         assert!(set.file(SPI_BYTES).is_none() && set.file(TESTBENCH_FILE).is_none());
         let (header, _) =
-            memh::parse_frame(&set.file(FRAMEBUFFER).expect("frame").text).expect("frame");
+            memh::parse_frame(&set.file(FRAMEBUFFER).expect("frame").text()).expect("frame");
         assert_eq!(header.format, PixelFormat::Rgb888);
-        let fifo = &set.file(FIFO_RECORDS_FILE).expect("records").text;
+        let fifo = &set.file(FIFO_RECORDS_FILE).expect("records").text();
         // 64-bit records: a flag digit and 16 record digits.
         assert!(fifo
             .lines()

@@ -30,3 +30,4 @@ mod raster_file_props;
 mod rtl;
 mod stress;
 mod vectors;
+mod vectors_render;

@@ -589,7 +589,7 @@ fn prepare<S: Scalar>(
         })
         .collect();
     let side = plan.texture_side;
-    let mut texmem = vec![0u32; texture::TEXTURE_WORDS];
+    let texmem = texture::memory(scene);
     let mut next_slot = 0usize;
     let mats = scene
         .materials
@@ -617,15 +617,8 @@ fn prepare<S: Scalar>(
                 Reflection::Glass { eta } => PRefl::Glass(S::from_f64(eta)),
             };
             let tex = mat.texture.as_ref().map(|t| {
-                let base = next_slot * side * side;
+                let base = texture::slot_base(next_slot, side);
                 next_slot += 1;
-                for y in 0..side {
-                    for x in 0..side {
-                        if let Some(w) = texmem.get_mut(base + y * side + x) {
-                            *w = texture::texel(t.kind, x, y, side);
-                        }
-                    }
-                }
                 (
                     TexSlot::new(
                         base,

@@ -2,7 +2,7 @@
 //! filtering. Generation runs once per scene in f64 (the seed fills the memory from the
 //! MicroBlaze); only mapping and sampling run in the target format.
 
-use super::scene::{Filter, Mapping, TextureKind};
+use super::scene::{Filter, Mapping, Scene, TextureKind};
 use super::vec::V3;
 use super::Math;
 use crate::num::{self, Scalar};
@@ -19,6 +19,32 @@ pub fn side_for(n: usize) -> usize {
         side /= 2;
     }
     side
+}
+
+/// Word index of texture slot `slot`'s first texel when every slot is `side`² words.
+pub fn slot_base(slot: usize, side: usize) -> usize {
+    slot * side * side
+}
+
+/// The texture memory the block samples for `scene`: each textured material's texture in
+/// its slot, in material order, the rest zero. The kernel renders from this, and it is
+/// public because it is an input of the hardware block (the seed's MicroBlaze fills it
+/// before a frame): test vectors carry it so that a testbench can load it into its DUT.
+pub fn memory(scene: &Scene) -> Vec<u32> {
+    let side = super::plan(scene).texture_side;
+    let mut mem = vec![0u32; TEXTURE_WORDS];
+    let textures = scene.materials.iter().filter_map(|m| m.texture.as_ref());
+    for (slot, t) in textures.enumerate() {
+        let base = slot_base(slot, side);
+        for y in 0..side {
+            for x in 0..side {
+                if let Some(w) = mem.get_mut(base + y * side + x) {
+                    *w = texel(t.kind, x, y, side);
+                }
+            }
+        }
+    }
+    mem
 }
 
 /// Whether a texture's texels are a grey mix factor (true) or a colour (false).
@@ -292,4 +318,32 @@ pub fn sample_grey<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> S {
         let w = mem.get(slot.addr(x, y)).copied().unwrap_or(0);
         slot.levels[((w >> 16) & 255) as usize]
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn memory_holds_each_texture_in_its_slot_in_material_order() {
+        let text = include_str!("../../../examples/rt/textures.toml");
+        let scene = super::super::scene_file::parse(text, "textures.toml").unwrap();
+        let kinds: Vec<TextureKind> = scene
+            .materials
+            .iter()
+            .filter_map(|m| m.texture.as_ref().map(|t| t.kind))
+            .collect();
+        assert_eq!(kinds.len(), 5);
+        let side = side_for(kinds.len());
+        assert_eq!(side, 64);
+        let mem = memory(&scene);
+        assert_eq!(mem.len(), TEXTURE_WORDS);
+        for (slot, &kind) in kinds.iter().enumerate() {
+            let base = slot_base(slot, side);
+            for (x, y) in [(0, 0), (5, 3), (side - 1, side - 1)] {
+                assert_eq!(mem[base + y * side + x], texel(kind, x, y, side));
+            }
+        }
+        assert!(mem[slot_base(kinds.len(), side)..].iter().all(|&w| w == 0));
+    }
 }

@@ -1,0 +1,404 @@
+//! libfpgfx from C: `tests/c/test_fpgfx.c` is compiled with the system C compiler against
+//! `include/fpgfx.h` and linked with the staticlib cargo built next to this test, then run
+//! on vectors written the way `fpgfx vectors render` writes them and on raster jobs
+//! packed into FIFO records here, whose expected frames come from the built-in target.
+//! The C program prints `N passed, M failed`; any failure, a missing compiler or a
+//! compile error fails the test.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::OnceLock;
+
+use host_cli::vectors::render as vectors;
+use protocol::bus::{Kind, PackOptions};
+use protocol::fpga::LayoutId;
+use protocol::frame::Numeric;
+
+/// The package root (`capi/`).
+fn capi() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A scratch directory for this process: concurrent runs never collide, and after a
+/// failure the vectors are left for a look.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir()
+        .join(format!("fpgfx-capi-{}", std::process::id()))
+        .join(name);
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    dir
+}
+
+/// `libfpgfx.a` as cargo built it for this test run. The library's two crate types come
+/// from one compilation, but cargo copies the staticlib up to `target/<profile>/` only
+/// when the package itself is built (`cargo build -p fpgfx-capi`); for a test it stays in
+/// `deps/` under a hashed name. So: the newest `libfpgfx*.a` of the test binary's
+/// profile, which must be newer than every source of the crate.
+fn staticlib() -> PathBuf {
+    let exe = std::env::current_exe().expect("the test binary has a path");
+    let deps = exe
+        .parent()
+        .expect("the test binary sits in target/<profile>/deps");
+    let profile = deps.parent().expect("deps sits in a profile directory");
+    let modified = |p: &Path| p.metadata().and_then(|m| m.modified()).ok();
+    let candidates = std::fs::read_dir(deps)
+        .expect("the deps directory")
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("libfpgfx-") && n.ends_with(".a"))
+        })
+        .chain(Some(profile.join("libfpgfx.a")).filter(|p| p.is_file()));
+    let lib = candidates
+        .filter_map(|p| Some((modified(&p)?, p)))
+        .max()
+        .map(|(_, p)| p)
+        .unwrap_or_else(|| {
+            panic!(
+                "no libfpgfx*.a in {}: crate-type staticlib is missing from capi/Cargo.toml?",
+                deps.display()
+            )
+        });
+    let built = modified(&lib).expect("the staticlib has a time");
+    for src in [
+        "src/lib.rs",
+        "src/render.rs",
+        "src/raster.rs",
+        "src/compare.rs",
+    ] {
+        let src = capi().join(src);
+        assert!(
+            modified(&src).is_some_and(|t| t <= built),
+            "{} is older than {}: run the test through cargo, which rebuilds it",
+            lib.display(),
+            src.display()
+        );
+    }
+    lib
+}
+
+/// The C test program, compiled once per run.
+fn c_program() -> &'static Path {
+    static PROGRAM: OnceLock<PathBuf> = OnceLock::new();
+    PROGRAM.get_or_init(|| build("cc", &["-std=c99"], &["tests/c/test_fpgfx.c"], "test_fpgfx"))
+}
+
+/// Compiles `sources` (relative to `capi/`) with `compiler` against the header and the
+/// staticlib into `scratch(name)`; a missing compiler names the package to install.
+fn build(compiler: &str, flags: &[&str], sources: &[&str], name: &str) -> PathBuf {
+    let out = scratch("bin").join(name);
+    let mut cmd = Command::new(compiler);
+    cmd.args(flags)
+        // -s: the staticlib's debug info would make each program ~200 MB of scratch.
+        .args(["-Wall", "-Wextra", "-Werror", "-O1", "-s", "-I"])
+        .arg(capi().join("include"));
+    for s in sources {
+        cmd.arg(capi().join(s));
+    }
+    // What a Rust staticlib needs from the C runtime on Linux: threads, dlopen/dladdr for
+    // the unwinder and backtraces, libm.
+    let result = cmd
+        .arg(staticlib())
+        .args(["-lpthread", "-ldl", "-lm", "-o"])
+        .arg(&out)
+        .output();
+    let result = match result {
+        Ok(r) => r,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => panic!(
+            "no `{compiler}` on the PATH: install build-essential (Debian: gcc, g++ and \
+             libc6-dev) or run `cargo xtask setup`"
+        ),
+        Err(e) => panic!("cannot run {compiler}: {e}"),
+    };
+    assert!(
+        result.status.success(),
+        "{compiler} failed to build {sources:?}:\n{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    out
+}
+
+/// Runs the C program on `args`.
+fn run_c(args: &[String]) -> Output {
+    Command::new(c_program())
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", c_program().display()))
+}
+
+/// The C program's closing summary, `N passed, M failed`, as (N, M).
+fn summary(out: &Output) -> (u32, u32) {
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text
+        .lines()
+        .rev()
+        .find(|l| l.ends_with(" failed"))
+        .unwrap_or_else(|| panic!("no `N passed, M failed` line in:\n{text}"));
+    let mut nums = line
+        .split(|c: char| !c.is_ascii_digit())
+        .filter(|s| !s.is_empty());
+    let mut next = || {
+        nums.next()
+            .and_then(|n| n.parse().ok())
+            .expect("two counts")
+    };
+    (next(), next())
+}
+
+/// `fpgfx vectors render SCENE --size WxH --numeric N` into a fresh directory.
+fn render_vectors(name: &str, scene: &str, size: (u32, u32), numeric: Numeric) -> PathBuf {
+    let file = capi().join("../examples/rt").join(scene);
+    let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    let scene = sim_target::rt::scene_file::parse(&text, scene).expect("example scenes parse");
+    let opts = vectors::Options {
+        numeric,
+        size: Some(size),
+    };
+    let dir = scratch(name);
+    vectors::render(&scene, &opts)
+        .and_then(|v| v.set(&file.display().to_string()))
+        .and_then(|set| set.write_to(&dir))
+        .unwrap_or_else(|e| panic!("vectors for {name}: {e}"));
+    dir
+}
+
+/// A raster job as the C test reads it: the set-up, the job's commands packed into FIFO
+/// packets for `layout` here (as the controller packs them), and the frame the built-in
+/// target draws from the same file, which went through the firmware's own packing.
+fn raster_vectors(name: &str, job_file: &str, layout: LayoutId) -> PathBuf {
+    let file = capi().join("../examples/raster").join(job_file);
+    let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    let job = host_cli::raster_file::parse(&text, job_file).expect("example jobs parse");
+    let c = fpgfx::raster::c_setup(&job.setup);
+    let setup = [
+        fpgfx::raster::layout_code(layout),
+        u32::from(c.width),
+        u32::from(c.height),
+        u32::from(c.subpixel_bits),
+        u32::from(c.background[0]),
+        u32::from(c.background[1]),
+        u32::from(c.background[2]),
+        c.aa_pattern,
+        u32::from(c.aa_samples),
+        c.cull,
+        c.traversal,
+    ]
+    .map(u64::from);
+    let opts = PackOptions {
+        subpixel_bits: job.setup.subpixel_bits,
+        clear: false,
+    };
+    let layout = layout.layout();
+    let mut packets = Vec::new();
+    for (i, cmd) in job.cmds.iter().enumerate() {
+        let channel = protocol::bus::channel(layout, Kind::of(cmd))
+            .unwrap_or_else(|e| panic!("{job_file}: cmd[{i}]: {e}"));
+        let records = protocol::bus::pack(layout, cmd, opts)
+            .unwrap_or_else(|e| panic!("{job_file}: cmd[{i}]: {e}"));
+        packets.push(u64::from(channel) << 32 | records.len() as u64);
+        packets.extend_from_slice(&records);
+    }
+    let mut session =
+        host_cli::session::Session::new(sim_board::in_process::sim_target_with(layout));
+    session.handshake().expect("the built-in target answers");
+    let out = host_cli::raster::run(&mut session, &job, job_file)
+        .unwrap_or_else(|e| panic!("{job_file} on the built-in target: {e}"));
+    let header = compare::memh::FrameHeader {
+        width: out.image.width(),
+        height: out.image.height(),
+        format: compare::memh::PixelFormat::Rgb888,
+    };
+    let pixels = out
+        .image
+        .pixels()
+        .map(|p| u64::from(p[0]) << 16 | u64::from(p[1]) << 8 | u64::from(p[2]));
+    let dir = scratch(name);
+    let files = [
+        (
+            "raster_setup.hex",
+            compare::memh::format(
+                &["layout width height subpixel_bits bg_r bg_g bg_b aa_pattern aa_samples cull traversal"],
+                setup,
+                8,
+            ),
+        ),
+        (
+            "raster_packets.hex",
+            compare::memh::format(&["per packet: channel << 32 | records, then the records"], packets, 16),
+        ),
+        ("expected_rgb888.hex", compare::memh::format_frame(&header, pixels)),
+    ];
+    for (name, text) in files {
+        std::fs::write(dir.join(name), text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+    dir
+}
+
+/// The vectors every test runs on, written once per run.
+fn all_vectors() -> &'static [String] {
+    static ARGS: OnceLock<Vec<String>> = OnceLock::new();
+    ARGS.get_or_init(|| {
+        let dirs = [
+            (
+                "--render",
+                render_vectors("shapes-f32", "shapes.toml", (64, 36), Numeric::F32),
+            ),
+            (
+                "--render",
+                render_vectors("textures-q16", "textures.toml", (48, 27), Numeric::Q16_16),
+            ),
+            (
+                "--raster",
+                raster_vectors("fitkit", "fitkit.toml", LayoutId::Fitkit),
+            ),
+            (
+                "--raster",
+                raster_vectors("gallery", "gallery.toml", LayoutId::Wide),
+            ),
+        ];
+        dirs.into_iter()
+            .flat_map(|(flag, dir)| [flag.to_string(), dir.display().to_string()])
+            .collect()
+    })
+}
+
+#[test]
+fn the_c_test_passes_on_render_and_raster_vectors() {
+    let out = run_c(all_vectors());
+    let (passed, failed) = summary(&out);
+    assert!(
+        out.status.success() && failed == 0 && passed > 40,
+        "the C test failed ({passed} passed, {failed} failed):\n{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+}
+
+/// Copies a vector directory so that it can be damaged without touching the others.
+fn copy_dir(from: &Path, name: &str) -> PathBuf {
+    let to = scratch(name);
+    for entry in std::fs::read_dir(from).expect("vector dir") {
+        let path = entry.expect("dir entry").path();
+        std::fs::copy(&path, to.join(path.file_name().expect("a file name"))).expect("copy");
+    }
+    to
+}
+
+/// Changes one byte of `file` in `dir` by `f`, at the first offset `pick` accepts.
+fn damage(dir: &Path, file: &str, pick: impl Fn(&[u8], usize) -> bool, f: impl Fn(u8) -> u8) {
+    let path = dir.join(file);
+    let mut bytes = std::fs::read(&path).expect("vector file");
+    let at = (0..bytes.len())
+        .find(|&i| pick(&bytes, i))
+        .unwrap_or_else(|| panic!("nothing to damage in {file}"));
+    bytes[at] = f(bytes[at]);
+    std::fs::write(&path, bytes).expect("write back");
+}
+
+#[test]
+fn one_flipped_byte_in_a_vector_file_fails_the_c_test() {
+    let args = all_vectors();
+    let render_dir = Path::new(&args[1]);
+    let raster_dir = Path::new(&args[5]);
+    // A hex digit of the first pixel line (after the header comment) of the expected frame:
+    // a digit stays a digit, so the file still parses and the pixel is what differs.
+    let first_pixel = |b: &[u8], i: usize| i > 0 && b[i - 1] == b'\n' && b[i] != b'/';
+    let flip_digit = |c: u8| if c == b'0' { b'1' } else { b'0' };
+    let cases: [(&str, &Path, &str, &str); 3] = [
+        ("rgb", render_dir, "expected_rgb888.hex", "pixels differ"),
+        (
+            "depth-bin",
+            render_dir,
+            "expected_depth.bin",
+            "expected_depth.bin",
+        ),
+        ("raster", raster_dir, "expected_rgb888.hex", "pixels differ"),
+    ];
+    for (name, dir, file, complaint) in cases {
+        let damaged = copy_dir(dir, &format!("damaged-{name}"));
+        if file.ends_with(".bin") {
+            damage(&damaged, file, |_, i| i == 5, |b| b ^ 0x10);
+        } else {
+            damage(&damaged, file, first_pixel, flip_digit);
+        }
+        let flag = if dir == raster_dir {
+            "--raster"
+        } else {
+            "--render"
+        };
+        let mut run = vec![flag.to_string(), damaged.display().to_string()];
+        if flag == "--raster" {
+            // The error checks need a register image.
+            run.extend(["--render".to_string(), args[1].clone()]);
+        }
+        let out = run_c(&run);
+        let (_, failed) = summary(&out);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            !out.status.success() && failed >= 1 && text.contains(complaint),
+            "one flipped byte in {file} went unnoticed ({failed} failed):\n{text}"
+        );
+    }
+}
+
+/// docs/hls-testbench.md's testbench (`hls/tb_viray.cpp`), built with g++ around the
+/// stand-in DUT (`hls/viray_model.cpp`): it passes the model, passes a DUT off by one
+/// level here and there, and fails one off by more.
+#[test]
+fn the_hls_testbench_holds_a_dut_to_its_tolerances() {
+    let tb = build(
+        "c++",
+        &[
+            "-std=c++11",
+            "-I",
+            &capi().join("hls").display().to_string(),
+        ],
+        &["hls/tb_viray.cpp", "hls/viray_model.cpp"],
+        "tb_viray",
+    );
+    let vectors = &all_vectors()[3];
+    let run = |error: Option<(&str, &str)>| {
+        let mut cmd = Command::new(&tb);
+        cmd.arg(vectors)
+            .env_remove("VIRAY_MODEL_ERROR")
+            .env_remove("VIRAY_MODEL_LEVELS");
+        if let Some((every, levels)) = error {
+            cmd.env("VIRAY_MODEL_ERROR", every)
+                .env("VIRAY_MODEL_LEVELS", levels);
+        }
+        let out = cmd.output().expect("tb_viray runs");
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+        )
+    };
+    let (code, text) = run(None);
+    assert!(
+        code == Some(0) && text.contains("colour: 0 pixels") && text.ends_with("PASS\n"),
+        "{text}"
+    );
+    let (code, text) = run(Some(("7", "1")));
+    assert!(
+        code == Some(0) && text.contains("largest difference 1") && text.ends_with("PASS\n"),
+        "one level off must pass:\n{text}"
+    );
+    let (code, text) = run(Some(("7", "2")));
+    assert!(
+        code == Some(1) && text.ends_with("FAIL\n"),
+        "two levels off must fail:\n{text}"
+    );
+    let (code, text) = run(Some(("0", "1")));
+    assert!(
+        code == Some(0),
+        "VIRAY_MODEL_ERROR=0 changes nothing:\n{text}"
+    );
+    let (code, _) = {
+        let out = Command::new(&tb)
+            .arg(scratch("empty"))
+            .output()
+            .expect("tb_viray runs");
+        (out.status.code(), ())
+    };
+    assert_eq!(code, Some(2), "no vectors is exit status 2");
+}

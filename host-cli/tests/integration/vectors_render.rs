@@ -1,0 +1,165 @@
+//! `fpgfx vectors render` over the real binary: its expected frame, planes and KCU116
+//! packing are what `fpgfx render --port builtin` produces for the same scene, size and
+//! number format, and its files agree with each other and with the manifest.
+
+use compare::memh;
+
+use crate::common::{example, fails, ok, rgb, tmp};
+
+/// Reads a PFM as `sim_target::rt::write_pfm` writes it (little-endian, bottom row
+/// first) into row-major floats.
+fn pfm(path: &str) -> (u32, u32, usize, Vec<f32>) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let mut lines = bytes.splitn(4, |&b| b == b'\n');
+    let tag = lines.next().expect("PFM tag");
+    let channels = if tag == b"PF" { 3 } else { 1 };
+    let size = std::str::from_utf8(lines.next().expect("PFM size")).expect("text");
+    let (w, h) = size.split_once(' ').expect("W H");
+    let (w, h): (u32, u32) = (w.parse().expect("W"), h.parse().expect("H"));
+    let scale = std::str::from_utf8(lines.next().expect("PFM scale")).expect("text");
+    assert!(scale.starts_with('-'), "little-endian PFM");
+    let data: Vec<f32> = lines
+        .next()
+        .expect("PFM data")
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let row = w as usize * channels;
+    let rows: Vec<&[f32]> = data.chunks(row).rev().collect();
+    (w, h, channels, rows.concat())
+}
+
+/// A `.hex` file of f32 bit patterns as floats.
+fn floats(path: &str) -> Vec<f32> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    memh::parse(&text)
+        .unwrap_or_else(|e| panic!("{path}: {e}"))
+        .words
+        .into_iter()
+        .map(|w| f32::from_bits(w as u32))
+        .collect()
+}
+
+fn same_bits(a: &[f32], b: &[f32]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+#[test]
+fn vectors_are_what_the_built_in_target_renders() {
+    for (scene, size, numeric) in [
+        ("rt/textures.toml", "48x27", "q16.16"),
+        ("rt/fresnel.toml", "40x30", "f32"),
+    ] {
+        let name = scene.replace(['/', '.'], "-");
+        let dir = tmp(&format!("{name}-{numeric}"));
+        let file = example(scene);
+        let run = ok(&[
+            "vectors",
+            "render",
+            &file,
+            "-o",
+            &dir,
+            "--size",
+            size,
+            "--numeric",
+            numeric,
+        ]);
+        assert!(run.stderr.contains("frame's vectors to"), "{}", run.stderr);
+        assert_eq!(run.stdout.lines().count(), 13, "one line per file: {}", run.stdout);
+        let png = tmp(&format!("{name}-{numeric}.png"));
+        let kcu = tmp(&format!("{name}-{numeric}-kcu116.png"));
+        let (depth, normal) = (tmp(&format!("{name}-d.pfm")), tmp(&format!("{name}-n.pfm")));
+        let aov = format!("depth={depth},normal={normal}");
+        let common = [
+            "--port",
+            "builtin",
+            "render",
+            &file,
+            "--size",
+            size,
+            "--numeric",
+            numeric,
+        ];
+        ok(&[&common[..], &["-o", &png, "--aov", &aov]].concat());
+        ok(&[&common[..], &["-o", &kcu, "--packing", "kcu116"]].concat());
+
+        let text = std::fs::read_to_string(format!("{dir}/expected_rgb888.hex")).expect("rgb hex");
+        let (header, pixels) = memh::parse_frame(&text).expect("a framebuffer file");
+        let image = rgb(&png);
+        assert_eq!((header.width, header.height), image.dimensions(), "{scene}");
+        assert_eq!(header.format, memh::PixelFormat::Rgb888);
+        let expected: Vec<u8> = pixels
+            .iter()
+            .flat_map(|&w| memh::PixelFormat::Rgb888.to_rgb8(w))
+            .collect();
+        assert!(
+            expected == image.as_raw().as_slice(),
+            "{scene}: expected_rgb888.hex differs from `fpgfx render --port builtin`"
+        );
+        let bin = std::fs::read(format!("{dir}/expected_rgb888.bin")).expect("rgb bin");
+        assert_eq!(bin, expected, "{scene}: .bin and .hex differ");
+
+        // The KCU116 words, reconstructed as the host does, are the kcu116 read-back.
+        let kcu_text = std::fs::read_to_string(format!("{dir}/expected_kcu116.hex")).expect("kcu");
+        let words: Vec<u16> = memh::parse(&kcu_text)
+            .expect("kcu116 hex")
+            .words
+            .into_iter()
+            .map(|w| w as u16)
+            .collect();
+        let rebuilt = sim_target::rt::unpack_kcu116(&words, header.width);
+        assert!(
+            rebuilt == rgb(&kcu).as_raw().as_slice(),
+            "{scene}: kcu116 packing"
+        );
+
+        let (w, h, ch, d) = pfm(&depth);
+        assert_eq!((w, h, ch), (header.width, header.height, 1));
+        assert!(
+            same_bits(&floats(&format!("{dir}/expected_depth.hex")), &d),
+            "{scene}: depth"
+        );
+        let (_, _, ch, n) = pfm(&normal);
+        assert_eq!(ch, 3);
+        assert!(
+            same_bits(&floats(&format!("{dir}/expected_normal.hex")), &n),
+            "{scene}: normal"
+        );
+
+        let manifest = std::fs::read_to_string(format!("{dir}/manifest.toml")).expect("manifest");
+        let m: toml::Value = toml::from_str(&manifest).expect("manifest is TOML");
+        assert_eq!(m["width"].as_integer(), Some(i64::from(header.width)));
+        assert_eq!(m["numeric"].as_str(), Some(numeric));
+        assert_eq!(
+            m["counts"]["pixels"].as_integer(),
+            Some(pixels.len() as i64)
+        );
+        assert_eq!(m["fpgfx_version"].as_str(), Some(env!("CARGO_PKG_VERSION")));
+    }
+}
+
+#[test]
+fn bad_input_names_the_file() {
+    let err = fails(&[
+        "vectors",
+        "render",
+        "no-such-scene.toml",
+        "-o",
+        &tmp("none"),
+    ]);
+    assert!(err.contains("no-such-scene.toml"), "{err}");
+    // A directory that cannot be made: its parent is a file.
+    let file = tmp("a-file");
+    std::fs::write(&file, "").expect("write");
+    let out = format!("{file}/vectors");
+    let err = fails(&[
+        "vectors",
+        "render",
+        &example("rt/shapes.toml"),
+        "-o",
+        &out,
+        "--size",
+        "8x8",
+    ]);
+    assert!(err.contains(&out), "{err}");
+}
