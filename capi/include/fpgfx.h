@@ -21,6 +21,19 @@
 // Bus layout code: the 64-bit FIFO with 16.8 coordinates (the built-in target's).
 #define FPGFX_LAYOUT_WIDE 2
 
+// Bus channel of FITkit line packets (its SPI address for the line unit's FIFO).
+#define FPGFX_CHANNEL_LINE 1
+
+// Bus channel of FITkit triangle packets.
+#define FPGFX_CHANNEL_TRIANGLE 2
+
+// Bus channel of FITkit clear (command) packets.
+#define FPGFX_CHANNEL_COMMAND 3
+
+// The one bus channel of the layouts with an opcode (extended, wide): their FIFO tag in
+// `fifo_records.hex` is 0, their packets go to this channel.
+#define FPGFX_CHANNEL_STREAM 4
+
 // Anti-aliasing pattern code: one sample at the pixel centre.
 #define FPGFX_AA_NONE 0
 

@@ -17,6 +17,22 @@ pub const FPGFX_LAYOUT_EXTENDED: u32 = 1;
 /// Bus layout code: the 64-bit FIFO with 16.8 coordinates (the built-in target's).
 pub const FPGFX_LAYOUT_WIDE: u32 = 2;
 
+/// Bus channel of FITkit line packets (its SPI address for the line unit's FIFO).
+pub const FPGFX_CHANNEL_LINE: u8 = 0x01;
+/// Bus channel of FITkit triangle packets.
+pub const FPGFX_CHANNEL_TRIANGLE: u8 = 0x02;
+/// Bus channel of FITkit clear (command) packets.
+pub const FPGFX_CHANNEL_COMMAND: u8 = 0x03;
+/// The one bus channel of the layouts with an opcode (extended, wide): their FIFO tag in
+/// `fifo_records.hex` is 0, their packets go to this channel.
+pub const FPGFX_CHANNEL_STREAM: u8 = 0x04;
+const _: () = assert!(
+    FPGFX_CHANNEL_LINE == protocol::bus::CHANNEL_LINE
+        && FPGFX_CHANNEL_TRIANGLE == protocol::bus::CHANNEL_TRIANGLE
+        && FPGFX_CHANNEL_COMMAND == protocol::bus::CHANNEL_COMMAND
+        && FPGFX_CHANNEL_STREAM == protocol::bus::CHANNEL_STREAM
+);
+
 /// Anti-aliasing pattern code: one sample at the pixel centre.
 pub const FPGFX_AA_NONE: u32 = 0;
 /// Anti-aliasing pattern code: an n × n regular grid.
@@ -54,16 +70,11 @@ pub const FPGFX_PIXEL_RGB888: u32 = 0;
 pub const FPGFX_PIXEL_RGB332: u32 = 1;
 
 /// Each code's meaning, indexed by code: the C numbers are positions in these tables.
-const LAYOUTS: [LayoutId; 3] = [LayoutId::Fitkit, LayoutId::Extended, LayoutId::Wide];
-const PATTERNS: [AaPattern; 6] = [
-    AaPattern::None,
-    AaPattern::Regular,
-    AaPattern::Jitter,
-    AaPattern::Rotated,
-    AaPattern::Poisson,
-    AaPattern::Coverage,
-];
-const CULLS: [Cull; 3] = [Cull::None, Cull::Clockwise, Cull::CounterClockwise];
+/// protocol's `ALL` tables, so that raster test vectors (`fpgfx vectors raster`'s
+/// `raster_setup.hex`) and this library number them alike.
+const LAYOUTS: [LayoutId; 3] = LayoutId::ALL;
+const PATTERNS: [AaPattern; 6] = AaPattern::ALL;
+const CULLS: [Cull; 3] = Cull::ALL;
 /// The raster files' order, so a traversal's code is its index there too.
 const TRAVERSALS: [Traversal; 5] = Traversal::ALL;
 const FORMATS: [(PixelFormat, usize); 2] = [(PixelFormat::Rgb888, 3), (PixelFormat::Rgb332, 1)];

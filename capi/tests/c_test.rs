@@ -10,7 +10,6 @@ use std::process::{Command, Output};
 use std::sync::OnceLock;
 
 use host_cli::vectors::render as vectors;
-use protocol::bus::{Kind, PackOptions};
 use protocol::fpga::LayoutId;
 use protocol::frame::Numeric;
 
@@ -164,75 +163,15 @@ fn render_vectors(name: &str, scene: &str, size: (u32, u32), numeric: Numeric) -
     dir
 }
 
-/// A raster job as the C test reads it: the set-up, the job's commands packed into FIFO
-/// packets for `layout` here (as the controller packs them), and the frame the built-in
-/// target draws from the same file, which went through the firmware's own packing.
+/// `fpgfx vectors raster JOB --layout L` into a fresh directory: the C test reads its
+/// set-up, FIFO records and expected framebuffer.
 fn raster_vectors(name: &str, job_file: &str, layout: LayoutId) -> PathBuf {
     let file = capi().join("../examples/raster").join(job_file);
     let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-    let job = host_cli::raster_file::parse(&text, job_file).expect("example jobs parse");
-    let c = fpgfx::raster::c_setup(&job.setup);
-    let setup = [
-        fpgfx::raster::layout_code(layout),
-        u32::from(c.width),
-        u32::from(c.height),
-        u32::from(c.subpixel_bits),
-        u32::from(c.background[0]),
-        u32::from(c.background[1]),
-        u32::from(c.background[2]),
-        c.aa_pattern,
-        u32::from(c.aa_samples),
-        c.cull,
-        c.traversal,
-    ]
-    .map(u64::from);
-    let opts = PackOptions {
-        subpixel_bits: job.setup.subpixel_bits,
-        clear: false,
-    };
-    let layout = layout.layout();
-    let mut packets = Vec::new();
-    for (i, cmd) in job.cmds.iter().enumerate() {
-        let channel = protocol::bus::channel(layout, Kind::of(cmd))
-            .unwrap_or_else(|e| panic!("{job_file}: cmd[{i}]: {e}"));
-        let records = protocol::bus::pack(layout, cmd, opts)
-            .unwrap_or_else(|e| panic!("{job_file}: cmd[{i}]: {e}"));
-        packets.push(u64::from(channel) << 32 | records.len() as u64);
-        packets.extend_from_slice(&records);
-    }
-    let mut session =
-        host_cli::session::Session::new(sim_board::in_process::sim_target_with(layout));
-    session.handshake().expect("the built-in target answers");
-    let out = host_cli::raster::run(&mut session, &job, job_file)
-        .unwrap_or_else(|e| panic!("{job_file} on the built-in target: {e}"));
-    let header = compare::memh::FrameHeader {
-        width: out.image.width(),
-        height: out.image.height(),
-        format: compare::memh::PixelFormat::Rgb888,
-    };
-    let pixels = out
-        .image
-        .pixels()
-        .map(|p| u64::from(p[0]) << 16 | u64::from(p[1]) << 8 | u64::from(p[2]));
     let dir = scratch(name);
-    let files = [
-        (
-            "raster_setup.hex",
-            compare::memh::format(
-                &["layout width height subpixel_bits bg_r bg_g bg_b aa_pattern aa_samples cull traversal"],
-                setup,
-                8,
-            ),
-        ),
-        (
-            "raster_packets.hex",
-            compare::memh::format(&["per packet: channel << 32 | records, then the records"], packets, 16),
-        ),
-        ("expected_rgb888.hex", compare::memh::format_frame(&header, pixels)),
-    ];
-    for (name, text) in files {
-        std::fs::write(dir.join(name), text).unwrap_or_else(|e| panic!("{name}: {e}"));
-    }
+    host_cli::vectors::raster::raster(&text, job_file, layout)
+        .and_then(|set| set.write_to(&dir))
+        .unwrap_or_else(|e| panic!("raster vectors for {name}: {e}"));
     dir
 }
 
@@ -305,7 +244,7 @@ fn one_flipped_byte_in_a_vector_file_fails_the_c_test() {
     // a digit stays a digit, so the file still parses and the pixel is what differs.
     let first_pixel = |b: &[u8], i: usize| i > 0 && b[i - 1] == b'\n' && b[i] != b'/';
     let flip_digit = |c: u8| if c == b'0' { b'1' } else { b'0' };
-    let cases: [(&str, &Path, &str, &str); 3] = [
+    let cases: [(&str, &Path, &str, &str); 5] = [
         ("rgb", render_dir, "expected_rgb888.hex", "pixels differ"),
         (
             "depth-bin",
@@ -313,7 +252,21 @@ fn one_flipped_byte_in_a_vector_file_fails_the_c_test() {
             "expected_depth.bin",
             "expected_depth.bin",
         ),
-        ("raster", raster_dir, "expected_rgb888.hex", "pixels differ"),
+        (
+            "raster",
+            raster_dir,
+            "expected_framebuffer.hex",
+            "pixels differ",
+        ),
+        (
+            "raster-wide",
+            Path::new(&args[7]),
+            "expected_framebuffer.hex",
+            "pixels differ",
+        ),
+        // A record's flag digit: the packet it ends is cut short, so the block refuses
+        // a packet or draws another frame.
+        ("records", raster_dir, "fifo_records.hex", "raster"),
     ];
     for (name, dir, file, complaint) in cases {
         let damaged = copy_dir(dir, &format!("damaged-{name}"));
@@ -322,7 +275,7 @@ fn one_flipped_byte_in_a_vector_file_fails_the_c_test() {
         } else {
             damage(&damaged, file, first_pixel, flip_digit);
         }
-        let flag = if dir == raster_dir {
+        let flag = if dir != render_dir {
             "--raster"
         } else {
             "--render"

@@ -55,6 +55,10 @@ pub enum LayoutId {
 }
 
 impl LayoutId {
+    /// Every layout this crate defines, in declaration order: the numbering of the C
+    /// library's `FPGFX_LAYOUT_*` codes and of raster test vectors' set-up words.
+    pub const ALL: [LayoutId; 3] = [LayoutId::Fitkit, LayoutId::Extended, LayoutId::Wide];
+
     /// The layout this id names.
     pub fn layout(self) -> &'static crate::bus::BusLayout {
         match self {
@@ -67,7 +71,7 @@ impl LayoutId {
     /// The id of one of this crate's layouts (compared by name, since layouts are consts
     /// and have no stable address), or `None` for a layout defined elsewhere.
     pub fn of(layout: &crate::bus::BusLayout) -> Option<Self> {
-        [LayoutId::Fitkit, LayoutId::Extended, LayoutId::Wide]
+        LayoutId::ALL
             .into_iter()
             .find(|id| id.layout().name == layout.name)
     }

@@ -364,6 +364,19 @@ pub enum AaPattern {
     Coverage,
 }
 
+impl AaPattern {
+    /// Every pattern, in declaration order: the numbering of the C library's
+    /// `FPGFX_AA_*` codes and of raster test vectors' set-up words.
+    pub const ALL: [AaPattern; 6] = [
+        AaPattern::None,
+        AaPattern::Regular,
+        AaPattern::Jitter,
+        AaPattern::Rotated,
+        AaPattern::Poisson,
+        AaPattern::Coverage,
+    ];
+}
+
 /// Anti-aliasing settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
 pub struct Aa {
@@ -383,6 +396,12 @@ pub enum Cull {
     Clockwise,
     /// Discard triangles that are counter-clockwise on screen (y down).
     CounterClockwise,
+}
+
+impl Cull {
+    /// Every mode, in declaration order: the numbering of the C library's `FPGFX_CULL_*`
+    /// codes and of raster test vectors' set-up words.
+    pub const ALL: [Cull; 3] = [Cull::None, Cull::Clockwise, Cull::CounterClockwise];
 }
 
 /// How the triangle block walks the pixels of a triangle. All strategies must give

@@ -19,7 +19,7 @@ use firmware::{FitkitSpi, FitkitSpiError, FpgaBus};
 use protocol::bus::{rgb332_encode, BusLayout};
 use protocol::fitkit_spi::{Status, ADDR_STATUS, FIFO_RECORDS, FLAG_FIFO_EMPTY, RECORD_BITS};
 use protocol::fpga::LayoutId;
-use protocol::frame::{RasterSetup, Rgb, Traversal};
+use protocol::frame::{AaPattern, Cull, RasterSetup, Rgb, Traversal};
 use serde::Serialize;
 use sim_target::raster::{FbWrite, Stats};
 
@@ -78,7 +78,7 @@ pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet,
     let hash = job_hash(job_text.as_bytes());
     let origin = format!("fpgfx {} vectors raster of {file} ({hash})", version());
 
-    let mut files = Vec::new();
+    let mut files = vec![setup_file(&job.setup, layout, &origin)];
     if let Some(t) = &transactions {
         files.extend(spi_files(t, &origin));
     }
@@ -218,13 +218,17 @@ pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet,
     })?;
     files.push(VectorFile {
         name: MANIFEST,
-        bytes: format!("# {origin}\n# Every file and its format: docs/vectors.md.\n{text}").into_bytes(),
+        bytes: format!("# {origin}\n# Every file and its format: docs/vectors.md.\n{text}")
+            .into_bytes(),
         executable: false,
         entry: None,
     });
     Ok(VectorSet { files })
 }
 
+/// `raster_setup.hex`: the frame-wide set-up the model ran, for a testbench whose DUT
+/// takes it as parameters rather than over SPI (a C model, an HLS block).
+pub const SETUP: &str = "raster_setup.hex";
 /// `spi_bytes.hex`: the MOSI bytes.
 pub const SPI_BYTES: &str = "spi_bytes.hex";
 /// `spi_frames.hex`: where each CS_n-low transaction starts and how long it is.
@@ -256,6 +260,52 @@ fn files_words(files: &[VectorFile], name: &str) -> usize {
         .find(|f| f.name == name)
         .and_then(|f| f.entry.as_ref())
         .map_or(0, |e| e.words)
+}
+
+/// `raster_setup.hex`: one word per field, in the order of the C library's
+/// `fpgfx_raster_setup` after the layout; each enum is its index in protocol's `ALL`
+/// table, which is how `FPGFX_LAYOUT_*`, `FPGFX_AA_*`, `FPGFX_CULL_*` and
+/// `FPGFX_TRAVERSAL_*` are numbered.
+fn setup_file(setup: &RasterSetup, layout: LayoutId, origin: &str) -> VectorFile {
+    fn code<T: PartialEq>(all: &[T], v: &T) -> u64 {
+        // Every value is in its `ALL` table (protocol's tests list the variants).
+        all.iter().position(|a| a == v).unwrap_or(0) as u64
+    }
+    let bg = setup.background;
+    let words = [
+        code(&LayoutId::ALL, &layout),
+        u64::from(setup.width),
+        u64::from(setup.height),
+        u64::from(setup.subpixel_bits),
+        u64::from(bg.r),
+        u64::from(bg.g),
+        u64::from(bg.b),
+        code(&AaPattern::ALL, &setup.aa.pattern),
+        u64::from(setup.aa.samples),
+        code(&Cull::ALL, &setup.cull),
+        code(&Traversal::ALL, &setup.traversal),
+    ];
+    data_file(
+        memh::format(
+            &[
+                origin,
+                &format!(
+                    "{SETUP}: layout width height subpixel_bits bg_r bg_g bg_b aa_pattern \
+                     aa_samples cull traversal, one per line (docs/vectors.md)"
+                ),
+            ],
+            words,
+            8,
+        ),
+        FileEntry {
+            name: SETUP,
+            words: words.len(),
+            word_bits: 32,
+            content: "the set-up the model ran: layout, width, height, subpixel_bits, \
+                      background r g b, aa pattern, aa samples, cull, traversal \
+                      (the C library's codes)",
+        },
+    )
 }
 
 fn data_file(text: String, entry: FileEntry) -> VectorFile {
@@ -646,7 +696,10 @@ color = "#ff0000"
             "{manifest}"
         );
         for name in [TESTBENCH_FILE, RUN_IVERILOG_FILE, RUN_VERILATOR_FILE] {
-            let text = &set.file(name).expect("a FITkit set has the testbench").text();
+            let text = &set
+                .file(name)
+                .expect("a FITkit set has the testbench")
+                .text();
             // A placeholder is an upper-case name between two `@` (Verilog's `@(` and
             // the shell's `$@` never enclose one).
             let parts: Vec<&str> = text.split('@').collect();

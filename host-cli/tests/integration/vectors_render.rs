@@ -65,7 +65,12 @@ fn vectors_are_what_the_built_in_target_renders() {
             numeric,
         ]);
         assert!(run.stderr.contains("frame's vectors to"), "{}", run.stderr);
-        assert_eq!(run.stdout.lines().count(), 13, "one line per file: {}", run.stdout);
+        assert_eq!(
+            run.stdout.lines().count(),
+            13,
+            "one line per file: {}",
+            run.stdout
+        );
         let png = tmp(&format!("{name}-{numeric}.png"));
         let kcu = tmp(&format!("{name}-{numeric}-kcu116.png"));
         let (depth, normal) = (tmp(&format!("{name}-d.pfm")), tmp(&format!("{name}-n.pfm")));
