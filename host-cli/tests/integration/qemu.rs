@@ -20,7 +20,7 @@ fn firmware_elf() -> PathBuf {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let status = Command::new(cargo)
         .current_dir(workspace())
-        .args(["build", "-q", "-p", "firmware", "--features", "board"])
+        .args(["build", "-q", "-p", "firmware", "--features", "board-stm32"])
         .args(["--target", TARGET, "--profile", "firmware"])
         .status()
         .expect("cargo runs");
