@@ -101,6 +101,19 @@ pub struct Memh {
     pub words: Vec<u64>,
 }
 
+/// Refuses an address past [`ADDRESS_LIMIT`], whether an `@addr` named it or the words
+/// counted up to it.
+fn within_limit(line: usize, addr: u64) -> Result<(), MemhError> {
+    if addr > ADDRESS_LIMIT {
+        return Err(MemhError::AddressTooLarge {
+            line,
+            addr,
+            limit: ADDRESS_LIMIT,
+        });
+    }
+    Ok(())
+}
+
 /// Parses `$readmemh` text. Underscores inside words are ignored as Verilog does; `/* */`
 /// block comments are not supported (fpgfx never writes them and `$writememh` neither).
 pub fn parse(text: &str) -> Result<Memh, MemhError> {
@@ -121,13 +134,7 @@ pub fn parse(text: &str) -> Result<Memh, MemhError> {
                     line,
                     text: tok.to_string(),
                 })?;
-                if addr > ADDRESS_LIMIT {
-                    return Err(MemhError::AddressTooLarge {
-                        line,
-                        addr,
-                        limit: ADDRESS_LIMIT,
-                    });
-                }
+                within_limit(line, addr)?;
                 continue;
             }
             let digits: String = tok.chars().filter(|&c| c != '_').collect();
@@ -141,13 +148,7 @@ pub fn parse(text: &str) -> Result<Memh, MemhError> {
                 line,
                 text: tok.to_string(),
             })?;
-            if addr > ADDRESS_LIMIT {
-                return Err(MemhError::AddressTooLarge {
-                    line,
-                    addr,
-                    limit: ADDRESS_LIMIT,
-                });
-            }
+            within_limit(line, addr)?;
             let a = addr as usize;
             if m.words.len() <= a {
                 m.words.resize(a + 1, 0);

@@ -7,14 +7,14 @@
 use crc::{Crc, Digest, CRC_32_ISO_HDLC};
 use heapless::{Deque, Vec};
 
-use protocol::bus::{BusError, BusLayout, Kind, PackOptions};
+use protocol::bus::{BusError, BusLayout, PackOptions};
 use protocol::frame::{
     Animation, Block, Caps, DeviceCounters, DeviceFrame, ErrorCode, ErrorReport, Hello, HostFrame,
     LinkCounters, RasterCmd, RasterSetup, ReadChunk, ReadDone, ReadRequest, StartFrame, Stats,
     READ_CHUNK,
 };
 
-use crate::fpga::FpgaBus;
+use crate::fpga::{push_command, FpgaBus, PushError};
 
 static CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
 
@@ -349,11 +349,10 @@ impl<B: FpgaBus> Engine<B> {
                 subpixel_bits: setup.subpixel_bits,
                 clear: false,
             };
-            let packed = protocol::bus::channel(self.layout, Kind::of(cmd))
-                .and_then(|ch| Ok((ch, protocol::bus::pack(self.layout, cmd, opts)?)));
-            let (channel, records) = match packed {
-                Ok(p) => p,
-                Err(e) => {
+            let (records, stalls) = match push_command(&mut self.bus, self.layout, cmd, opts) {
+                Ok(pushed) => pushed,
+                Err(PushError::Bus(e)) => return Err(e),
+                Err(PushError::Pack(e)) => {
                     let code = match e {
                         BusError::UnsupportedCommand { .. }
                         | BusError::UnsupportedFeature { .. } => ErrorCode::Unsupported,
@@ -363,14 +362,9 @@ impl<B: FpgaBus> Engine<B> {
                     return Ok(());
                 }
             };
-            // Back-pressure: wait for the FIFO_FREE count to cover the whole packet.
-            while self.bus.fifo_free()? < records.len() {
-                self.counters.fifo_stalls += 1;
-                self.bus.wait()?;
-            }
-            self.bus.push_packet(channel, &records)?;
+            self.counters.fifo_stalls += stalls;
             self.counters.commands += 1;
-            self.counters.bus_words += records.len() as u32;
+            self.counters.bus_words += records as u32;
         }
         Ok(())
     }

@@ -61,3 +61,34 @@ pub trait FpgaBus {
     /// Returns the FPGA to its power-on state.
     fn reset(&mut self) -> Result<(), Self::Error>;
 }
+
+/// Why a raster command did not reach the FIFO.
+#[derive(Debug)]
+pub(crate) enum PushError<E> {
+    /// The layout cannot carry the command (or its channel does not exist).
+    Pack(protocol::bus::BusError),
+    /// The bus failed.
+    Bus(E),
+}
+
+/// Packs `cmd` in `layout` and pushes it once FIFO_FREE covers the whole packet (a packet
+/// is never split), returning the records pushed and the waits it took. The engine's
+/// host commands and the embedded-graphics canvas both draw through this, so the two
+/// cannot disagree on packing or back-pressure.
+pub(crate) fn push_command<B: FpgaBus>(
+    bus: &mut B,
+    layout: &protocol::bus::BusLayout,
+    cmd: &protocol::frame::RasterCmd,
+    opts: protocol::bus::PackOptions,
+) -> Result<(usize, u64), PushError<B::Error>> {
+    let kind = protocol::bus::Kind::of(cmd);
+    let channel = protocol::bus::channel(layout, kind).map_err(PushError::Pack)?;
+    let records = protocol::bus::pack(layout, cmd, opts).map_err(PushError::Pack)?;
+    let mut stalls = 0;
+    while bus.fifo_free().map_err(PushError::Bus)? < records.len() {
+        stalls += 1;
+        bus.wait().map_err(PushError::Bus)?;
+    }
+    bus.push_packet(channel, &records).map_err(PushError::Bus)?;
+    Ok((records.len(), stalls))
+}

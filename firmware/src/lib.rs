@@ -11,11 +11,13 @@
 //! binaries share, public because those binaries are its only callers.
 //! [`FpgaLink`] is the [`FpgaBus`] of a board whose FPGA sits behind a second UART;
 //! [`FitkitSpi`] is the FITkit raster block's, on any embedded-hal 1.0 SPI device.
+//! [`Canvas`] puts embedded-graphics on any of them, a command per primitive.
 #![no_std]
 #![warn(missing_docs)]
 
 #[cfg(feature = "board-common")]
 pub mod board;
+mod canvas;
 mod controller;
 mod engine;
 mod fitkit_spi;
@@ -23,6 +25,7 @@ mod fpga;
 mod fpga_link;
 mod log;
 
+pub use canvas::{Accelerated, Canvas, CanvasCounters, CanvasError};
 pub use controller::{Controller, ControllerError, INBOX};
 pub use engine::Engine;
 pub use fitkit_spi::{FitkitSpi, FitkitSpiError};

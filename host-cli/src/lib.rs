@@ -11,19 +11,21 @@
 //! * the files the user writes: [`raster_file`] (raster commands) and, through
 //!   `sim_target::rt::scene_file`, ray-tracer scenes;
 //! * one module per command that has a library side: [`raster`], [`render`],
-//!   [`animate`], [`bench`](mod@bench), [`stress`], [`flash`].
+//!   [`animate`], [`bench`](mod@bench), [`stress`], [`flash`], [`vectors`].
 #![warn(missing_docs)]
 
 pub mod animate;
 pub mod bench;
 pub mod connect;
 pub mod flash;
+pub mod frames;
 pub mod ports;
 pub mod raster;
 pub mod raster_file;
 pub mod render;
 pub mod session;
 pub mod stress;
+pub mod vectors;
 
 mod builtin;
 mod serial;

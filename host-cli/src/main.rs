@@ -46,6 +46,12 @@ enum Command {
     /// Sweep number formats × approximations (ray tracer) and sub-pixel bits × AA
     /// (rasterizer): error, host time and hardware cost, with Pareto plots.
     Bench(cmd::bench::Args),
+    /// Compare a frame (PNG, PFM or $readmemh framebuffer) with a reference.
+    ///
+    /// Exit status: 0 within tolerance, 1 beyond it, 2 on unusable input (docs/compare.md).
+    Compare(cmd::compare::Args),
+    /// Write test vectors and a self-checking testbench for a hardware design.
+    Vectors(cmd::vectors::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -59,6 +65,8 @@ fn main() -> std::process::ExitCode {
         Command::Ports(a) => cmd::ports::run(a),
         Command::Flash(a) => cmd::flash::run(t, a),
         Command::Bench(a) => cmd::bench::run(a),
+        Command::Compare(a) => return cmd::compare::run(a),
+        Command::Vectors(a) => cmd::vectors::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -155,6 +155,13 @@ impl Device {
         self.raster.as_ref()
     }
 
+    /// The raster block, mutable, once set up: for callers that instrument the block
+    /// between set-up and packets (recording its framebuffer writes for test vectors)
+    /// while the packets still go through this device's FIFO and decoder.
+    pub fn raster_mut(&mut self) -> Option<&mut Raster> {
+        self.raster.as_mut()
+    }
+
     /// FIFO_FREE: records the input FIFO can take.
     pub fn fifo_free(&self) -> usize {
         FIFO_RECORDS - self.fifo_records

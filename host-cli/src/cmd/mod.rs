@@ -4,11 +4,13 @@
 
 pub mod animate;
 pub mod bench;
+pub mod compare;
 pub mod flash;
 pub mod ports;
 pub mod raster;
 pub mod render;
 pub mod stress;
+pub mod vectors;
 
 use anyhow::Result;
 use host_cli::connect::{self, Config, Settings};

@@ -52,6 +52,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
         scene.spp = spp;
     }
     let numeric = a.numeric;
+    warn_out_of_range(&name, &scene, numeric);
     let aov_files = match &a.aov {
         Some(spec) => spec
             .parse::<AovFiles>()
@@ -115,4 +116,23 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
     }
     eprintln!("wrote {}", a.output.display());
     Ok(())
+}
+
+/// Says, before rendering, which scene fields make magnitudes `numeric` cannot hold: a
+/// fixed-point datapath saturates and a float one overflows, either way silently, so the
+/// user hears it here, field by field, largest first.
+fn warn_out_of_range(name: &str, scene: &sim_target::rt::Scene, numeric: Numeric) {
+    use protocol::names::Named;
+    use sim_target::rt::range::{format_max, out_of_range};
+    let format = numeric.spellings()[0];
+    for d in out_of_range(scene, numeric) {
+        eprintln!(
+            "fpgfx: warning: {name}: {}: the {} reaches {:.1}, beyond {format}'s range of \
+             ±{}: that part of the frame will saturate; render in a wider format",
+            d.field,
+            d.what,
+            d.value,
+            format_max(numeric)
+        );
+    }
 }

@@ -10,6 +10,7 @@ use rand::Rng;
 use sim_target::num::instrumented::{self, Probe};
 use sim_target::num::{Q16_16, Q24_8, Q32_32, Q8_24};
 use sim_target::rt::f;
+use sim_target::rt::range::{format_max, range_demand};
 use sim_target::rt::{
     self, Camera, DiffuseModel, Filter as TexFilter, Frame, Light, Mapping, Material, Object,
     Reflection, RenderOptions, Scene, Shape, Specular, SpecularModel, Spot, Term, Texture,
@@ -312,45 +313,6 @@ fn render_probed(scene: &Scene, opts: &RenderOptions, n: Numeric) -> Result<Fram
         Numeric::Q24_8 => rt::render_instrumented::<Probe<Q24_8>>(scene, opts),
         Numeric::Q32_32 => rt::render_instrumented::<Probe<Q32_32>>(scene, opts),
     }
-}
-
-/// Largest finite magnitude of a format.
-fn format_max(n: Numeric) -> f64 {
-    match n {
-        Numeric::F64 => f64::MAX,
-        Numeric::F32 => f32::MAX as f64,
-        Numeric::F16 => 65504.0,
-        Numeric::Q16_16 => 32768.0,
-        Numeric::Q8_24 => 128.0,
-        Numeric::Q24_8 => 8_388_608.0,
-        Numeric::Q32_32 => 2_147_483_648.0,
-    }
-}
-
-/// The largest magnitude the kernel must represent for a scene: the quadratic
-/// coefficients of every object (|d′|² = 1/s², |o′|² = (|eye − T| + |T|… )²/s²), distances
-/// squared, light intensities. A format whose range is below this cannot hold the scene:
-/// a fixed format saturates (counted), a float one overflows to ∞ and may produce NaN,
-/// which `stress` reports apart from NaN in scenes that fit.
-pub fn range_demand(scene: &Scene) -> f64 {
-    // MAX_DISTANCE is not a demand: the kernel clips it to the format's largest value.
-    let mut m: f64 = 1.0;
-    let eye = scene.camera.position;
-    let len = f::length;
-    let mut far = len(eye);
-    for l in &scene.lights {
-        far = far.max(len(l.position));
-        m = m.max(l.color.iter().fold(0.0f64, |a, c| a.max(c.abs())));
-    }
-    for o in &scene.objects {
-        far = far.max(len(o.translate));
-        let smin = o.scale.iter().fold(f64::INFINITY, |a, s| a.min(*s));
-        let smax = o.scale.iter().fold(0.0f64, |a, s| a.max(*s));
-        // The unit ray direction becomes d/s in object space: 1/s must fit as well.
-        let reach = (2.0 * far + smax).max(1.0) / smin;
-        m = m.max(reach * reach).max(smax);
-    }
-    m.max(4.0 * far * far)
 }
 
 /// Light intensity that makes n·ωᵢ ≥ 0.25 saturate white at distance `d` (Lambert 1/π).

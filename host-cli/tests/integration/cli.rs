@@ -77,3 +77,40 @@ fn enum_flags_take_the_library_spellings() {
     let png = image::open(&out).expect("a PNG was written").to_rgb8();
     assert_eq!(png.dimensions(), (16, 9));
 }
+
+/// A scene beyond a format's range is said out loud before rendering, field by field; a
+/// format that holds it says nothing.
+#[test]
+fn render_warns_of_fields_beyond_the_formats_range() {
+    let scene = example("reference.toml");
+    let out = tmp("range.png");
+    let args = |n| {
+        [
+            "render",
+            &scene,
+            "--size",
+            "16x9",
+            "--numeric",
+            n,
+            "-o",
+            &out,
+        ]
+    };
+    let narrow = ok(&args("q8.24"));
+    for field in ["lights[0].color", "objects[6].scale", "camera.position"] {
+        assert!(
+            narrow
+                .stderr
+                .contains(&format!("reference.toml: {field}: the ")),
+            "{field} not named:\n{}",
+            narrow.stderr
+        );
+    }
+    assert!(
+        narrow.stderr.contains("beyond q8.24's range of ±128"),
+        "{}",
+        narrow.stderr
+    );
+    let wide = ok(&args("q16.16"));
+    assert!(!wide.stderr.contains("warning"), "{}", wide.stderr);
+}

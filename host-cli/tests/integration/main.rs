@@ -1,8 +1,9 @@
 //! host-cli's integration tests, one module per area: the `fpgfx` binary on good and bad
 //! input, the built-in pipeline (recording bus, gallery goldens, FPGA link), the
 //! emulated board over a pty and TCP, flashing through the ROM bootloader, the real
-//! board binary under QEMU, target selection, `animate`, `bench`, `stress` and the
-//! raster file parser's property tests. One binary rather than one per file: each test
+//! board binary under QEMU, target selection, `animate`, `bench`, `stress`, the
+//! raster file parser's property tests and `vectors` (its testbench under Icarus and
+//! Verilator). One binary rather than one per file: each test
 //! binary links the whole stack again, so a single one is built and linked once.
 //!
 //! The tests share one process and run on parallel threads: scratch files go to a
@@ -17,6 +18,7 @@ mod hostile_text;
 mod animate;
 mod bench;
 mod cli;
+mod compare;
 mod flash;
 mod fpga_link;
 mod gallery;
@@ -28,3 +30,4 @@ mod qemu_riscv;
 mod raster_file_props;
 mod rtl;
 mod stress;
+mod vectors;

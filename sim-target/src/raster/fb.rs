@@ -5,6 +5,25 @@ use protocol::frame::Rgb;
 /// Depth value of a cleared z-buffer ("far"): the largest unorm24.
 pub const Z_FAR: u32 = (1 << 24) - 1;
 
+/// One write to the colour plane, in the order the model made it: what a hardware
+/// block's memory port would issue, so test vectors can hold a design to the model's
+/// write stream and not only to its final frame ([`Framebuffer::record_writes`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FbWrite {
+    /// The whole frame set to one colour, row by row from the top, left to right: the
+    /// clear unit's order, kept as one entry rather than width × height of them.
+    Clear(Rgb),
+    /// One pixel, with the colour it holds after the write (a blend's result).
+    Pixel {
+        /// Column.
+        x: u32,
+        /// Row.
+        y: u32,
+        /// The colour written.
+        color: Rgb,
+    },
+}
+
 /// Colour plane (RGB888, row-major, no padding) plus depth and bookkeeping.
 ///
 /// The write counters exist for the watertightness tests: a mesh drawn with the top-left
@@ -16,6 +35,7 @@ pub struct Framebuffer {
     rgb: Vec<u8>,
     depth: Vec<u32>,
     writes: Option<Vec<u8>>,
+    log: Option<Vec<FbWrite>>,
     fragments: u64,
     overdraw: u64,
     pat: [u8; PAT_BYTES],
@@ -65,6 +85,7 @@ impl Framebuffer {
             rgb: vec![0; n * 3],
             depth: vec![Z_FAR; n],
             writes: None,
+            log: None,
             fragments: 0,
             overdraw: 0,
             pat: [0; PAT_BYTES],
@@ -126,8 +147,24 @@ impl Framebuffer {
         self.overdraw = 0;
     }
 
+    /// Starts (or, with `false`, stops and drops) a log of every colour write in order,
+    /// which [`Self::take_writes`] hands over. Off by default: it costs an entry per
+    /// fragment, and only test-vector generation needs the order.
+    pub fn record_writes(&mut self, on: bool) {
+        self.log = on.then(Vec::new);
+    }
+
+    /// The writes logged since recording started or since the last call; recording
+    /// continues. Empty when recording is off.
+    pub fn take_writes(&mut self) -> Vec<FbWrite> {
+        self.log.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+
     /// Clears colour, depth and write counts.
     pub fn clear(&mut self, c: Rgb) {
+        if let Some(log) = &mut self.log {
+            log.push(FbWrite::Clear(c));
+        }
         for px in self.rgb.chunks_exact_mut(3) {
             px[0] = c.r;
             px[1] = c.g;
@@ -140,9 +177,22 @@ impl Framebuffer {
         self.overdraw = 0;
     }
 
+    /// Books `n` pixels from `idx` just written: fragments, write counts and, when
+    /// recording, the log (read back from the plane, so every writer is logged alike).
     #[inline]
     fn count(&mut self, idx: usize, n: usize) {
         self.fragments += n as u64;
+        if let Some(log) = &mut self.log {
+            let w = self.width as usize;
+            for i in idx..idx + n {
+                let o = 3 * i;
+                log.push(FbWrite::Pixel {
+                    x: (i % w) as u32,
+                    y: (i / w) as u32,
+                    color: Rgb::new(self.rgb[o], self.rgb[o + 1], self.rgb[o + 2]),
+                });
+            }
+        }
         if let Some(w) = &mut self.writes {
             for c in &mut w[idx..idx + n] {
                 if *c > 0 {
@@ -202,9 +252,10 @@ impl Framebuffer {
         self.count(idx, n);
     }
 
-    /// Whether per-pixel write counts are kept (fast paths must then go through `put`).
+    /// Whether writes are counted per pixel or recorded: fast paths that write the plane
+    /// directly must then go through `put`.
     pub fn tracking(&self) -> bool {
-        self.writes.is_some()
+        self.writes.is_some() || self.log.is_some()
     }
 
     /// Raw RGB bytes for the fast line path, which counts its fragments itself.

@@ -26,7 +26,7 @@ mod fb;
 mod fill;
 mod hw;
 
-pub use fb::{Framebuffer, Z_FAR};
+pub use fb::{FbWrite, Framebuffer, Z_FAR};
 pub use hw::{BlockCycles, Stats, CLOCK_HZ, FIFO_DEPTH};
 pub use tri::COORD_LIMIT;
 

@@ -25,6 +25,7 @@
 //! [`scene_file::parse`].
 
 pub mod cull;
+pub mod range;
 pub mod scene_file;
 pub mod shade;
 pub mod shapes;
@@ -37,7 +38,12 @@ mod subset;
 mod vec;
 mod wire;
 
-pub use output::{pack_kcu116, pack_rgb888, psnr, unpack_kcu116, unpack_rgb888, write_pfm};
+/// PSNR for comparing formats: the comparison crate's, so that `fpgfx compare` and the
+/// numerics study measure with one definition.
+pub use compare::psnr;
+pub use output::{
+    pack_kcu116, pack_rgb888, read_pfm, unpack_kcu116, unpack_rgb888, write_pfm, Pfm, PfmError,
+};
 pub use protocol::frame::Numeric;
 pub use scene::{
     Camera, DiffuseModel, Filter, Light, Mapping, Material, Object, Reflection, Scene, Shape,
