@@ -202,12 +202,16 @@ fn install_packages() -> Result<()> {
     // the newer QEMU a probe may ask for (bookworm's 7.2 has no MicroBlaze V machine).
     let names: Vec<&str> = missing.iter().map(|p| p.package).collect();
     let codename = release_codename()
-        .with_context(|| format!("cannot install {names:?} without removing a package (apt's message is above), and /etc/os-release names no release to take backports from"))?;
+        .with_context(|| format!("the release cannot give {names:?} without removing a package or with what the tests need (apt's message is above), and /etc/os-release names no release to take backports from"))?;
     let suite = format!("{codename}-backports");
     let source = std::path::Path::new("/etc/apt/sources.list.d/fpgfx-backports.sources");
-    if !source.exists() {
+    // Written once and never rewritten or deleted: an earlier setup's file (or a suite the
+    // machine already lists elsewhere, which `apt-cache policy` shows after the update
+    // above) is used as it is, so a second run changes nothing and adds no duplicate.
+    let listed = prints("apt-cache", &["policy"], &format!("n={suite},"));
+    if !source.exists() && !listed {
         eprintln!(
-            "xtask setup: {names:?} would remove an installed package; adding Debian's {suite} suite ({}) to install versions that fit instead",
+            "xtask setup: {codename} alone cannot give {names:?} (apt would remove a package, or a version is too old); adding Debian's {suite} suite ({}) to install versions that fit instead",
             source.display()
         );
         let text = format!(
@@ -234,7 +238,8 @@ fn install_packages() -> Result<()> {
         "-t",
         &suite,
     ];
-    from_backports.extend(missing.iter().map(|p| p.package));
+    // Only what the release could not provide: what it did install stays its version.
+    from_backports.extend(missing.iter().filter(|p| !p.present()).map(|p| p.package));
     apt(&from_backports).with_context(|| {
         format!("cannot install {names:?} from Debian ({codename} or {suite}) without removing a package (apt's message is above)")
     })?;
