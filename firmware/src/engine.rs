@@ -4,7 +4,6 @@
 //! FPGA, so a job the board cannot do is refused up front with an error frame naming the
 //! request and the position inside it, never half-drawn.
 
-use crc::{Crc, Digest, CRC_32_ISO_HDLC};
 use heapless::{Deque, Vec};
 
 use protocol::bus::{BusError, BusLayout, PackOptions};
@@ -13,10 +12,9 @@ use protocol::frame::{
     LinkCounters, RasterCmd, RasterSetup, ReadChunk, ReadDone, ReadRequest, StartFrame, Stats,
     READ_CHUNK,
 };
+use protocol::link::{Crc32Digest, CRC32};
 
 use crate::fpga::{push_command, FpgaBus, PushError};
-
-static CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
 
 /// Answers waiting for the link. Each request produces at most two (an error, or a hello,
 /// a stats or a synced answer), so four never overflow between two polls.
@@ -30,7 +28,7 @@ struct ReadJob {
     req: ReadRequest,
     offset: u32,
     len: u32,
-    crc: Digest<'static, u32>,
+    crc: Crc32Digest,
 }
 
 /// The controller's message semantics over an [`FpgaBus`]. Only the [`crate::Controller`]

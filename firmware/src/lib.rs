@@ -3,16 +3,20 @@
 //! The seeds' controllers (the FITkit's MSP430 over SPI, ViRAY's MicroBlaze over
 //! AXI4-Lite) are one program here: [`Controller`] runs the host link and a bounded inbox,
 //! [`Engine`] turns each request into bus records or register writes for an [`FpgaBus`].
-//! The library is `no_std` without alloc so the board binary and the host (built-in mode,
+//! The library is `no_std` without alloc so the board binaries and the host (built-in mode,
 //! `fpgfx-sim`, tests) run the same code.
 //!
-//! Everything a caller needs is at the crate root; the modules are private.
+//! Everything a caller needs is at the crate root; the modules are private, except
+//! `board` (with the `board-stm32` or `board-riscv` feature): the part the board
+//! binaries share, public because those binaries are its only callers.
 //! [`FpgaLink`] is the [`FpgaBus`] of a board whose FPGA sits behind a second UART;
 //! [`FitkitSpi`] is the FITkit raster block's, on any embedded-hal 1.0 SPI device.
 //! [`Canvas`] puts embedded-graphics on any of them, a command per primitive.
 #![no_std]
 #![warn(missing_docs)]
 
+#[cfg(feature = "board-common")]
+pub mod board;
 mod canvas;
 mod controller;
 mod engine;

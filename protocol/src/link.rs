@@ -97,12 +97,20 @@ const MAX_ENCODED: usize = cobs::max_encoding_length(MAX_RAW);
 /// size of the buffer to hand to [`Link::poll_transmit`] and [`encode_frame`].
 pub const MAX_FRAME: usize = MAX_ENCODED + 1;
 
-/// The frame CRC. On a host the slice-by-16 table (16 KiB) triples CRC throughput; on the
-/// MCU, where flash is the budget, the 1 KiB byte-wise table. Both give identical values.
+/// On a host the slice-by-16 table (16 KiB) triples CRC throughput; on the MCU, where
+/// flash is the budget, the 1 KiB byte-wise table. Both give identical values.
 #[cfg(not(target_os = "none"))]
-static CRC32: Crc<u32, crc::Table<16>> = Crc::<u32, crc::Table<16>>::new(&CRC_32_ISO_HDLC);
+type CrcTable = crc::Table<16>;
 #[cfg(target_os = "none")]
-static CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
+type CrcTable = crc::Table<1>;
+
+/// The link's CRC-32 (ISO-HDLC): every frame's trailer, and the read-back's checksum
+/// ([`crate::frame::ReadDone::crc32`]) too, so that a board carries one table, not two.
+pub static CRC32: Crc<u32, CrcTable> = Crc::<u32, CrcTable>::new(&CRC_32_ISO_HDLC);
+
+/// A [`CRC32`] over bytes that arrive in pieces (a read-back's chunks): what
+/// `CRC32.digest()` returns, nameable so that a struct can hold one.
+pub type Crc32Digest = crc::Digest<'static, u32, CrcTable>;
 
 /// Why the link refused an operation or a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]

@@ -1,8 +1,8 @@
 //! `cargo xtask test` — the README's test command and the only thing `.ci/run` calls.
 //!
-//! It installs what the checks need (the Cortex-M target; from Debian, QEMU for the
-//! firmware's end-to-end test, the third-party `stm32flash` the bootloader test drives,
-//! and Verilator, Icarus, Yosys and nextpnr for the RTL)
+//! It installs what the checks need (the Cortex-M and RISC-V targets; from Debian, QEMU
+//! for the board binaries' end-to-end tests, the third-party `stm32flash` the bootloader
+//! test drives, and Verilator, Icarus, Yosys and nextpnr for the RTL)
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
@@ -13,8 +13,28 @@ use anyhow::{bail, Context, Result};
 
 mod synth;
 
-/// The MCU target the protocol crate (and later the firmware) must build for.
+/// The MCU target the protocol crate must build for on its own (the board binaries below
+/// build it for theirs too).
 const MCU_TARGET: &str = "thumbv7em-none-eabihf";
+
+/// A board binary: the Rust target it is built for and the firmware feature that selects
+/// it. Each is linted and built before the tests, which then find it up to date.
+struct BoardBinary {
+    target: &'static str,
+    feature: &'static str,
+}
+
+/// The board binaries (docs/firmware.md): the STM32F405 and the MicroBlaze V (RV32IMAC).
+const BOARDS: &[BoardBinary] = &[
+    BoardBinary {
+        target: MCU_TARGET,
+        feature: "board-stm32",
+    },
+    BoardBinary {
+        target: "riscv32imac-unknown-none-elf",
+        feature: "board-riscv",
+    },
+];
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -23,7 +43,7 @@ fn main() -> Result<()> {
         Some("setup") => setup(),
         Some("synth") => synth::synth(&workspace_root()),
         _ => {
-            eprintln!("usage: cargo xtask <test|setup|synth>\n  setup  install the Rust target and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr-ice40 on rtl/: LUT/FF/BRAM/DSP per module and Fmax");
+            eprintln!("usage: cargo xtask <test|setup|synth>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr-ice40 on rtl/: LUT/FF/BRAM/DSP per module and Fmax");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
@@ -63,6 +83,20 @@ struct Package {
     program: &'static str,
     package: &'static str,
     why: &'static str,
+    /// Arguments to `program` whose output must contain the given text, for a check that
+    /// needs more than the program existing (a release too old fails it, and `setup`
+    /// installs a newer one from backports); `None` when being on the PATH is enough.
+    needs: Option<(&'static [&'static str], &'static str)>,
+}
+
+impl Package {
+    /// Whether the program is on the PATH and, if it has one, passes its `needs` probe.
+    fn present(&self) -> bool {
+        on_path(self.program)
+            && self
+                .needs
+                .is_none_or(|(args, text)| prints(self.program, args, text))
+    }
 }
 
 /// The Debian packages the tests drive.
@@ -81,31 +115,44 @@ const PACKAGES: &[Package] = &[
         program: "qemu-system-arm",
         package: "qemu-system-arm",
         why: "runs the STM32F405 board binary end to end (host-cli/tests/integration/qemu.rs)",
+        needs: None,
+    },
+    Package {
+        program: "qemu-system-riscv32",
+        package: "qemu-system-misc",
+        why: "runs the MicroBlaze V (RISC-V) board binary end to end (host-cli/tests/integration/qemu_riscv.rs)",
+        // The machine arrived in QEMU in 2024: bookworm's own 7.2 lacks it.
+        needs: Some((&["-M", "help"], "amd-microblaze-v-generic")),
     },
     Package {
         program: "stm32flash",
         package: "stm32flash",
         why: "the third-party AN3155 client `fpgfx-sim --bootloader` is checked against (host-cli/tests/integration/flash.rs)",
+        needs: None,
     },
     Package {
         program: "verilator",
         package: "verilator",
         why: "lints rtl/ and builds the cycle-accurate model of the FITkit block that rtl-sim and `--port rtl` drive",
+        needs: None,
     },
     Package {
         program: "iverilog",
         package: "iverilog",
         why: "runs rtl/'s self-checking testbenches (a second simulator beside Verilator)",
+        needs: None,
     },
     Package {
         program: "yosys",
         package: "yosys",
         why: "synthesises rtl/ for iCE40 (`cargo xtask synth`; the test command checks it still maps)",
+        needs: None,
     },
     Package {
         program: "nextpnr-ice40",
         package: "nextpnr-ice40",
         why: "places and routes rtl/ on an iCE40 HX8K for the Fmax that `cargo xtask synth` reports",
+        needs: None,
     },
 ];
 
@@ -116,7 +163,7 @@ fn on_path(program: &str) -> bool {
         .unwrap_or(false)
 }
 
-/// Installs the missing Debian packages.
+/// Installs the Debian packages that are missing or too old (their `needs` probe fails).
 ///
 /// `--no-remove`: apt may otherwise resolve a conflict by removing an installed package
 /// (it once removed qemu-utils to make room for qemu-system-arm), and a test command must
@@ -124,7 +171,7 @@ fn on_path(program: &str) -> bool {
 /// message says why. `apt-get update` runs only if the first try fails (a fresh image may
 /// have no package lists). Through sudo when not root.
 fn install_packages() -> Result<()> {
-    let missing: Vec<&Package> = PACKAGES.iter().filter(|p| !on_path(p.program)).collect();
+    let missing: Vec<&Package> = PACKAGES.iter().filter(|p| !p.present()).collect();
     if missing.is_empty() {
         return Ok(());
     }
@@ -148,25 +195,33 @@ fn install_packages() -> Result<()> {
     };
     let mut install = vec!["install", "-y", "--no-install-recommends", "--no-remove"];
     install.extend(missing.iter().map(|p| p.package));
-    if apt(&install).is_ok() {
+    // apt succeeds without upgrading a package that is installed but too old for its
+    // probe, so success here means every probe now passes.
+    let installed = || missing.iter().all(|p| p.present());
+    if apt(&install).is_ok() && installed() {
         return Ok(());
     }
     apt(&["update"])?;
-    if apt(&install).is_ok() {
+    if apt(&install).is_ok() && installed() {
         return Ok(());
     }
     // The image may carry a package from Debian's backports (this machine's qemu-utils
     // is 10.0 from bookworm-backports), and the release's own qemu-system-arm (7.2)
     // breaks it: apt would remove it. The same release's backports suite has matching
-    // versions, so install from there instead of removing anything.
+    // versions, so install from there instead of removing anything. The same suite has
+    // the newer QEMU a probe may ask for (bookworm's 7.2 has no MicroBlaze V machine).
     let names: Vec<&str> = missing.iter().map(|p| p.package).collect();
     let codename = release_codename()
-        .with_context(|| format!("cannot install {names:?} without removing a package (apt's message is above), and /etc/os-release names no release to take backports from"))?;
+        .with_context(|| format!("the release cannot give {names:?} without removing a package or with what the tests need (apt's message is above), and /etc/os-release names no release to take backports from"))?;
     let suite = format!("{codename}-backports");
     let source = std::path::Path::new("/etc/apt/sources.list.d/fpgfx-backports.sources");
-    if !source.exists() {
+    // Written once and never rewritten or deleted: an earlier setup's file (or a suite the
+    // machine already lists elsewhere, which `apt-cache policy` shows after the update
+    // above) is used as it is, so a second run changes nothing and adds no duplicate.
+    let listed = prints("apt-cache", &["policy"], &format!("n={suite},"));
+    if !source.exists() && !listed {
         eprintln!(
-            "xtask setup: {names:?} would remove an installed package; adding Debian's {suite} suite ({}) to install versions that fit instead",
+            "xtask setup: {codename} alone cannot give {names:?} (apt would remove a package, or a version is too old); adding Debian's {suite} suite ({}) to install versions that fit instead",
             source.display()
         );
         let text = format!(
@@ -193,10 +248,20 @@ fn install_packages() -> Result<()> {
         "-t",
         &suite,
     ];
-    from_backports.extend(missing.iter().map(|p| p.package));
+    // Only what the release could not provide: what it did install stays its version.
+    from_backports.extend(missing.iter().filter(|p| !p.present()).map(|p| p.package));
     apt(&from_backports).with_context(|| {
         format!("cannot install {names:?} from Debian ({codename} or {suite}) without removing a package (apt's message is above)")
-    })
+    })?;
+    let short: Vec<&str> = missing
+        .iter()
+        .filter(|p| !p.present())
+        .map(|p| p.program)
+        .collect();
+    if !short.is_empty() {
+        bail!("after installing {names:?}, {short:?} still lack what the tests need (see the `needs` probes in xtask/src/main.rs)");
+    }
+    Ok(())
 }
 
 /// The RTL's own checks: Verilator's lint on the synthesisable files (warnings are
@@ -225,9 +290,14 @@ fn release_codename() -> Option<String> {
 }
 
 fn setup() -> Result<()> {
-    if !prints("rustup", &["target", "list", "--installed"], MCU_TARGET) {
-        eprintln!("xtask setup: adding the Rust target {MCU_TARGET} (protocol and the board firmware build for it)");
-        run("rustup", &["target", "add", MCU_TARGET])?;
+    for board in BOARDS {
+        if !prints("rustup", &["target", "list", "--installed"], board.target) {
+            eprintln!(
+                "xtask setup: adding the Rust target {} (the firmware's `{}` binary builds for it)",
+                board.target, board.feature
+            );
+            run("rustup", &["target", "add", board.target])?;
+        }
     }
     install_packages()
 }
@@ -248,39 +318,27 @@ fn test() -> Result<()> {
         ],
     )?;
     run(&cargo, &["build", "-p", "protocol", "--target", MCU_TARGET])?;
-    // The board binary is behind a feature and a target, so the workspace clippy run
-    // above does not see it.
-    run(
-        &cargo,
-        &[
-            "clippy",
+    // The board binaries are behind a feature and a target each, so the workspace clippy
+    // run above does not see them; built here, the QEMU tests find them up to date.
+    for board in BOARDS {
+        let common = [
             "-p",
             "firmware",
             "--features",
-            "board",
+            board.feature,
             "--target",
-            MCU_TARGET,
+            board.target,
             "--profile",
             "firmware",
-            "--",
-            "-D",
-            "warnings",
-        ],
-    )?;
-    run(
-        &cargo,
-        &[
-            "build",
-            "-p",
-            "firmware",
-            "--features",
-            "board",
-            "--target",
-            MCU_TARGET,
-            "--profile",
-            "firmware",
-        ],
-    )?;
+        ];
+        let mut clippy = vec!["clippy"];
+        clippy.extend(common);
+        clippy.extend(["--", "-D", "warnings"]);
+        run(&cargo, &clippy)?;
+        let mut build = vec!["build"];
+        build.extend(common);
+        run(&cargo, &build)?;
+    }
     rtl_checks()?;
     run(&cargo, &["test", "--workspace"])?;
     eprintln!("xtask test: all checks passed");

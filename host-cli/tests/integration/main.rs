@@ -26,6 +26,7 @@ mod pipeline;
 mod ports;
 mod pty;
 mod qemu;
+mod qemu_riscv;
 mod raster_file_props;
 mod rtl;
 mod stress;

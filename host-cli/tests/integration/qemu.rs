@@ -1,9 +1,12 @@
-//! The real board binary in QEMU (`netduinoplus2`, STM32F405): USART1 is the host link,
-//! USART2 the FPGA link served by `fpgfx-sim --fpga-link`. `fpgfx raster` and `fpgfx
-//! render` against USART1 must give images identical to built-in mode, and the board's
-//! defmt log (semihosting, decoded with the ELF's format table) is printed into the test
-//! log. `cargo test qemu` runs just this. QEMU comes from Debian (`cargo xtask setup`).
+//! The real board binaries in QEMU. Here the STM32F405 (`netduinoplus2`): USART1 is the
+//! host link, USART2 the FPGA link served by `fpgfx-sim --fpga-link`. `fpgfx raster` and
+//! `fpgfx render` against USART1 must give images identical to built-in mode, and the
+//! board's defmt log (semihosting, decoded with the ELF's format table) is printed into
+//! the test log. What every board shares ([`Board`], [`draws_and_renders_like_built_in`])
+//! lives here too; `qemu_riscv.rs` runs the MicroBlaze V through it. `cargo test qemu`
+//! runs both. QEMU comes from Debian (`cargo xtask setup`).
 
+use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
@@ -13,25 +16,91 @@ use crate::common::{
     collect, every_primitive, example, ok, rgb, sim_command, tmp, workspace, KillOnDrop,
 };
 
-const TARGET: &str = "thumbv7em-none-eabihf";
+/// A board binary and the QEMU machine that runs it.
+pub struct Board {
+    /// The Rust target the binary is built for.
+    pub target: &'static str,
+    /// The firmware feature that selects the binary.
+    pub feature: &'static str,
+    /// The binary's name.
+    pub bin: &'static str,
+    /// The QEMU program.
+    pub qemu: &'static str,
+    /// The Debian package that installs it (`cargo xtask setup` does).
+    pub package: &'static str,
+    /// The `-M` machine: it must have two UARTs, the host link first.
+    pub machine: &'static str,
+    /// How the machine takes the ELF.
+    pub load: Load,
+}
 
-/// Builds the board binary (a no-op when `cargo xtask test` already did) and returns it.
-fn firmware_elf() -> PathBuf {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let status = Command::new(cargo)
-        .current_dir(workspace())
-        .args(["build", "-q", "-p", "firmware", "--features", "board"])
-        .args(["--target", TARGET, "--profile", "firmware"])
-        .status()
-        .expect("cargo runs");
-    assert!(status.success(), "building the board binary failed");
-    let target_dir = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| workspace().join("target"));
-    target_dir
-        .join(TARGET)
-        .join("firmware")
-        .join("fpgfx-firmware")
+/// How QEMU is handed the board's ELF.
+pub enum Load {
+    /// `-kernel ELF`: the Arm boards boot it like a firmware image.
+    Kernel,
+    /// `-device loader,file=ELF,cpu-num=0`: loads the segments and starts CPU 0 at the
+    /// entry point, for machines that have no firmware loader of their own.
+    Loader,
+}
+
+/// The STM32F405 board binary on QEMU's Netduino Plus 2.
+const STM32: Board = Board {
+    target: "thumbv7em-none-eabihf",
+    feature: "board-stm32",
+    bin: "fpgfx-firmware",
+    qemu: "qemu-system-arm",
+    package: "qemu-system-arm",
+    machine: "netduinoplus2",
+    load: Load::Kernel,
+};
+
+impl Board {
+    /// Builds the board binary (a no-op when `cargo xtask test` already did) and returns
+    /// it. A missing Rust target fails here with the command that installs it, rather than
+    /// with cargo's "can't find crate for `core`".
+    fn elf(&self) -> PathBuf {
+        let libdir = Command::new("rustc")
+            .current_dir(workspace())
+            .args(["--print", "target-libdir", "--target", self.target])
+            .output();
+        let installed = libdir.is_ok_and(|o| {
+            o.status.success() && Path::new(String::from_utf8_lossy(&o.stdout).trim()).is_dir()
+        });
+        assert!(
+            installed,
+            "the Rust target {} is not installed: run `cargo xtask setup`",
+            self.target
+        );
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let status = Command::new(cargo)
+            .current_dir(workspace())
+            .args(["build", "-q", "-p", "firmware", "--features", self.feature])
+            .args(["--target", self.target, "--profile", "firmware"])
+            .status()
+            .expect("cargo runs");
+        assert!(
+            status.success(),
+            "building the board binary {} failed",
+            self.bin
+        );
+        let target_dir = std::env::var_os("CARGO_TARGET_DIR")
+            .map(PathBuf::from)
+            .unwrap_or_else(|| workspace().join("target"));
+        target_dir.join(self.target).join("firmware").join(self.bin)
+    }
+
+    /// The arguments that hand QEMU `elf`.
+    fn load_args(&self, elf: &Path) -> Vec<OsString> {
+        match self.load {
+            Load::Kernel => vec!["-kernel".into(), elf.into()],
+            Load::Loader => {
+                let mut device = OsString::from("loader,file=");
+                device.push(elf);
+                device.push(",cpu-num=0");
+                vec!["-device".into(), device]
+            }
+        }
+    }
 }
 
 /// QEMU's stdout: first its "char device redirected to /dev/pts/N (label serialK)"
@@ -42,29 +111,28 @@ struct Qemu {
 }
 
 impl Qemu {
-    fn start(elf: &Path) -> (Self, String, String) {
-        let found = Command::new("qemu-system-arm").arg("--version").output();
+    fn start(board: &Board, elf: &Path) -> (Self, String, String) {
+        let machines = Command::new(board.qemu).args(["-M", "help"]).output();
         assert!(
-            found.is_ok_and(|o| o.status.success()),
-            "qemu-system-arm is not installed: run `cargo xtask setup` (Debian package \
-             qemu-system-arm)"
+            machines.is_ok_and(|o| o.status.success()
+                && String::from_utf8_lossy(&o.stdout)
+                    .lines()
+                    .any(|l| l.split_whitespace().next() == Some(board.machine))),
+            "{} is not installed or has no `{}` machine: run `cargo xtask setup` (Debian \
+             package {})",
+            board.qemu,
+            board.machine,
+            board.package
         );
-        let mut child = Command::new("qemu-system-arm")
-            .args([
-                "-M",
-                "netduinoplus2",
-                "-display",
-                "none",
-                "-monitor",
-                "none",
-            ])
+        let mut child = Command::new(board.qemu)
+            .args(["-M", board.machine, "-display", "none", "-monitor", "none"])
             .args(["-semihosting-config", "enable=on,target=native"])
-            .args(["-serial", "pty", "-serial", "pty", "-kernel"])
-            .arg(elf)
+            .args(["-serial", "pty", "-serial", "pty"])
+            .args(board.load_args(elf))
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
-            .expect("qemu-system-arm starts");
+            .unwrap_or_else(|e| panic!("{} starts: {e}", board.qemu));
         let stdout = child.stdout.take().expect("piped");
         let (out, _reader) = collect(stdout);
         let qemu = Qemu {
@@ -158,10 +226,10 @@ fn render(port: Option<&str>, out: &str) -> String {
     ok(&args).stdout
 }
 
-/// The board in QEMU with `fpgfx-sim --fpga-link` and `fpga_args` on its USART2: QEMU,
-/// the host link's pty, and the FPGA's process (both killed on drop).
-fn board(elf: &Path, fpga_args: &[&str]) -> (Qemu, String, KillOnDrop) {
-    let (qemu, host_pty, fpga_pty) = Qemu::start(elf);
+/// `board` in QEMU with `fpgfx-sim --fpga-link` and `fpga_args` on its second UART:
+/// QEMU, the host link's pty, and the FPGA's process (both killed on drop).
+fn start(board: &Board, elf: &Path, fpga_args: &[&str]) -> (Qemu, String, KillOnDrop) {
+    let (qemu, host_pty, fpga_pty) = Qemu::start(board, elf);
     let fpga = KillOnDrop(
         sim_command()
             .args(["--fpga-link", &fpga_pty])
@@ -187,39 +255,62 @@ fn assert_board_log(qemu: &Qemu, elf: &Path) {
     assert!(!has("panic"), "the board panicked");
 }
 
-#[test]
-fn qemu_board_draws_and_renders_like_built_in() {
-    let elf = firmware_elf();
-    let (qemu, host_pty, _fpga) = board(&elf, &[]);
+/// The end-to-end check every board passes: `fpgfx raster` (every primitive, 4× AA) and
+/// `fpgfx render` (the reference scene, 48 × 27, Q16.16) over its host link give images
+/// identical to built-in mode's, and its log shows boot, FPGA and host session.
+pub fn draws_and_renders_like_built_in(board: &Board) {
+    let elf = board.elf();
+    let (qemu, host_pty, _fpga) = start(board, &elf, &[]);
 
     // A raster job with every primitive, small enough that its read-back (QEMU delivers
     // UART bytes one per main-loop turn, ~6 KB/s) takes a few seconds.
-    let file = tmp("raster.toml");
+    let file = tmp(&format!("raster-{}.toml", board.bin));
     let aa = "[aa]\npattern = \"rotated\"\nsamples = 4";
     std::fs::write(&file, every_primitive(96, 64, aa)).expect("temp file");
-    let (board, built_in) = (tmp("board.png"), tmp("built-in.png"));
+    let (on_board, built_in) = (
+        tmp(&format!("{}.png", board.bin)),
+        tmp(&format!("built-in-{}.png", board.bin)),
+    );
     let started = Instant::now();
     let stats = ok(&[
-        "--port", &host_pty, "raster", &file, "-o", &board, "--stats",
+        "--port", &host_pty, "raster", &file, "-o", &on_board, "--stats",
     ])
     .stdout;
     let raster_time = started.elapsed();
     ok(&["--port", "builtin", "raster", &file, "-o", &built_in]);
     assert_eq!(
-        rgb(&board),
+        rgb(&on_board),
         rgb(&built_in),
         "raster image differs from built-in"
     );
-    println!("raster over QEMU in {raster_time:?}:\n{stats}");
+    println!(
+        "raster over QEMU ({}) in {raster_time:?}:\n{stats}",
+        board.machine
+    );
 
-    let (board, built_in) = (tmp("board-rt.png"), tmp("built-in-rt.png"));
+    let (on_board, built_in) = (
+        tmp(&format!("{}-rt.png", board.bin)),
+        tmp(&format!("built-in-rt-{}.png", board.bin)),
+    );
     let started = Instant::now();
-    let stats = render(Some(&host_pty), &board);
+    let stats = render(Some(&host_pty), &on_board);
     let render_time = started.elapsed();
     render(None, &built_in);
-    assert_eq!(rgb(&board), rgb(&built_in), "render differs from built-in");
-    println!("render over QEMU in {render_time:?}:\n{stats}");
+    assert_eq!(
+        rgb(&on_board),
+        rgb(&built_in),
+        "render differs from built-in"
+    );
+    println!(
+        "render over QEMU ({}) in {render_time:?}:\n{stats}",
+        board.machine
+    );
     assert_board_log(&qemu, &elf);
+}
+
+#[test]
+fn qemu_board_draws_and_renders_like_built_in() {
+    draws_and_renders_like_built_in(&STM32);
 }
 
 /// The QEMU board with the FITkit block's RTL on its FPGA link: `fpgfx-sim --fpga-link
@@ -228,8 +319,8 @@ fn qemu_board_draws_and_renders_like_built_in() {
 /// the RTL's in process (`--port rtl`) and the golden model's (`--port builtin`).
 #[test]
 fn qemu_board_draws_on_the_rtl() {
-    let elf = firmware_elf();
-    let (qemu, host_pty, _fpga) = board(&elf, &["--fpga", "rtl"]);
+    let elf = STM32.elf();
+    let (qemu, host_pty, _fpga) = start(&STM32, &elf, &["--fpga", "rtl"]);
     // Small (QEMU moves ~6 KB/s of read-back) and within what the FITkit draws: whole
     // pixels, flat colours in RGB332, a clear, lines in every direction.
     let file = tmp("fitkit-small.toml");
