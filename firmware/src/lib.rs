@@ -9,6 +9,7 @@
 //! Everything a caller needs is at the crate root; the modules are private.
 //! [`FpgaLink`] is the [`FpgaBus`] of a board whose FPGA sits behind a second UART;
 //! [`FitkitSpi`] is the FITkit raster block's, on any embedded-hal 1.0 SPI device.
+//! [`MmioBus`] is a soft core's beside the FPGA's blocks, on their AXI4-Lite registers.
 //! [`Canvas`] puts embedded-graphics on any of them, a command per primitive.
 #![no_std]
 #![warn(missing_docs)]
@@ -20,6 +21,7 @@ mod fitkit_spi;
 mod fpga;
 mod fpga_link;
 mod log;
+mod mmio;
 
 pub use canvas::{Accelerated, Canvas, CanvasCounters, CanvasError};
 pub use controller::{Controller, ControllerError, INBOX};
@@ -27,3 +29,4 @@ pub use engine::Engine;
 pub use fitkit_spi::{FitkitSpi, FitkitSpiError};
 pub use fpga::FpgaBus;
 pub use fpga_link::{Clock, FpgaLink, FpgaLinkError};
+pub use mmio::{Accesses, MmioBus, MmioError, Registers, VolatileRegisters, DEFAULT_POLL_LIMIT};
