@@ -361,7 +361,7 @@ impl<R: Registers> FpgaBus for MmioBus<R> {
     }
 
     fn write_texels(&mut self, offset: u32, bytes: &[u8]) -> Result<(), Self::Error> {
-        if bytes.len() % 4 != 0 {
+        if !bytes.len().is_multiple_of(4) {
             return Err(MmioError::Texels(bytes.len()));
         }
         for (i, t) in bytes.chunks_exact(4).enumerate() {

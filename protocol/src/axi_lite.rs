@@ -519,7 +519,7 @@ impl core::fmt::Display for Location {
 /// access is a whole word). Scene words past the image are outside too, though inside
 /// the window: HLS backs only the array's words.
 pub fn locate(addr: u32) -> Option<Location> {
-    if addr % 4 != 0 {
+    if !addr.is_multiple_of(4) {
         return None;
     }
     if (SCENE_BASE..SCENE_BASE + SCENE_WINDOW).contains(&addr) {

@@ -497,11 +497,16 @@ impl RegisterFile {
         }
         // An auto-restarted block never goes idle: the next frame starts with the end.
         let restart = finished && c.start;
-        let value = u32::from(c.start) * ctrl::AP_START
-            | u32::from(c.done) * ctrl::AP_DONE
-            | u32::from(c.idle() && !restart) * ctrl::AP_IDLE
-            | u32::from(c.ready) * ctrl::AP_READY
-            | u32::from(c.auto_restart) * ctrl::AUTO_RESTART;
+        let value = [
+            (c.start, ctrl::AP_START),
+            (c.done, ctrl::AP_DONE),
+            (c.idle() && !restart, ctrl::AP_IDLE),
+            (c.ready, ctrl::AP_READY),
+            (c.auto_restart, ctrl::AUTO_RESTART),
+        ]
+        .iter()
+        .filter(|(set, _)| *set)
+        .fold(0, |word, (_, bit)| word | bit);
         (c.done, c.ready) = (false, false);
         if finished && block == Block::RayTrace {
             self.s.isr |= self.s.ier & (irq::DONE | irq::READY);

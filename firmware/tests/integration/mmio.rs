@@ -57,7 +57,7 @@ impl Registers for Fake {
             sys::RT_WORK => 7,
             a if (sys::COUNTERS..sys::COUNTERS + 0x100).contains(&a) => {
                 let off = a - sys::COUNTERS;
-                if off % 8 == 0 {
+                if off.is_multiple_of(8) {
                     10 + off / 8
                 } else {
                     0
