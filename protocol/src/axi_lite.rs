@@ -276,7 +276,7 @@ pub mod raster {
     pub const WORK: u32 = BASE + 0x48;
 }
 
-/// The read-back slave: which buffer, rectangle and format [`super::READ_BASE`] shows.
+/// The read-back slave: which buffer, rectangle and format [`READ_BASE`] shows.
 pub mod readback {
     /// First byte of the slave.
     pub const BASE: u32 = 3 * super::SLAVE_SPAN;
