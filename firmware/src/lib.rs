@@ -11,6 +11,7 @@
 //! binaries share, public because those binaries are its only callers.
 //! [`FpgaLink`] is the [`FpgaBus`] of a board whose FPGA sits behind a second UART;
 //! [`FitkitSpi`] is the FITkit raster block's, on any embedded-hal 1.0 SPI device.
+//! [`MmioBus`] is a soft core's beside the FPGA's blocks, on their AXI4-Lite registers.
 //! [`Canvas`] puts embedded-graphics on any of them, a command per primitive.
 #![no_std]
 #![warn(missing_docs)]
@@ -24,6 +25,7 @@ mod fitkit_spi;
 mod fpga;
 mod fpga_link;
 mod log;
+mod mmio;
 
 pub use canvas::{Accelerated, Canvas, CanvasCounters, CanvasError};
 pub use controller::{Controller, ControllerError, INBOX};
@@ -31,3 +33,4 @@ pub use engine::Engine;
 pub use fitkit_spi::{FitkitSpi, FitkitSpiError};
 pub use fpga::FpgaBus;
 pub use fpga_link::{Clock, FpgaLink, FpgaLinkError};
+pub use mmio::{Accesses, MmioBus, MmioError, Registers, VolatileRegisters, DEFAULT_POLL_LIMIT};

@@ -124,6 +124,9 @@ pub fn resolve(flags: Config) -> Result<Settings, ConfigError> {
 pub enum Target {
     /// The controller and FPGA model in this process.
     BuiltIn,
+    /// The same with the controller's register-bus driver (`firmware::MmioBus`) on the
+    /// model's AXI4-Lite registers (written `builtin:mmio`).
+    BuiltInMmio,
     /// The controller in this process driving the FITkit block's RTL (Verilated) over its
     /// SPI pins.
     Rtl,
@@ -139,11 +142,13 @@ pub enum Target {
 }
 
 impl Target {
-    /// Parses a `--port` value: `builtin`, `rtl`, `tcp:HOST:PORT` (or `tcp://HOST:PORT`),
-    /// or a serial device path.
+    /// Parses a `--port` value: `builtin`, `builtin:mmio`, `rtl`, `tcp:HOST:PORT` (or
+    /// `tcp://HOST:PORT`), or a serial device path.
     pub fn parse(port: &str, baud: u32) -> Target {
         if port == "builtin" {
             Target::BuiltIn
+        } else if port == "builtin:mmio" {
+            Target::BuiltInMmio
         } else if port == "rtl" {
             Target::Rtl
         } else if let Some(addr) = port
@@ -208,6 +213,9 @@ pub enum ConnectError {
     /// The RTL target is not in this build (no verilator when it was built).
     #[error("--port rtl")]
     Rtl(#[from] sim_board::rtl::RtlTargetError),
+    /// The register-bus driver did not find the model's device (a broken build).
+    #[error("--port builtin:mmio: {0}")]
+    Mmio(firmware::MmioError<sim_target::mmio::RegisterError>),
     /// TCP connection failed.
     #[error("cannot connect to {addr}: {source}")]
     Tcp {
@@ -248,6 +256,9 @@ impl ConnectError {
 pub fn open(target: &Target) -> Result<Box<dyn Transport>, ConnectError> {
     match target {
         Target::BuiltIn => Ok(Box::new(sim_board::in_process::sim_target())),
+        Target::BuiltInMmio => sim_board::in_process::sim_target_mmio()
+            .map(|t| Box::new(t) as Box<dyn Transport>)
+            .map_err(ConnectError::Mmio),
         Target::Rtl => Ok(Box::new(sim_board::rtl::rtl_target()?)),
         Target::Serial { path, baud } => crate::serial::SerialTransport::open(path, *baud)
             .map(|t| Box::new(t) as Box<dyn Transport>)
@@ -325,6 +336,16 @@ mod tests {
         );
         let none = Settings::merge(Config::default(), Config::default());
         assert_eq!((none.port, none.baud), (None, DEFAULT_BAUD));
+    }
+
+    #[test]
+    fn builtin_mmio_is_a_target_of_its_own() {
+        assert_eq!(Target::parse("builtin:mmio", 9600), Target::BuiltInMmio);
+        assert_eq!(Target::parse("builtin", 9600), Target::BuiltIn);
+        assert!(matches!(
+            Target::parse("builtin:mmi", 9600),
+            Target::Serial { .. }
+        ));
     }
 
     /// The errors serialport 4 gives on Linux for the ways an open fails, as its posix

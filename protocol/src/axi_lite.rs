@@ -39,8 +39,70 @@
 //!
 //! Interrupts ([`GIE`], [`IER`], [`ISR`]) are the driver's choice between polling
 //! `ap_done` and waiting for the interrupt line, so [`write_sequence`] leaves them alone.
+//!
+//! # The whole device
+//!
+//! A soft core beside ViRAY-style IP (a MicroBlaze, a RISC-V) drives everything the
+//! controller's `FpgaBus` needs over the same AXI4-Lite interconnect, so the rest of the
+//! device sits beside the ray tracer as further slaves, each in its own 4 KiB
+//! ([`SLAVE_SPAN`], the smallest range Vivado's address editor assigns) or, for a memory,
+//! in a power-of-two window aligned to its size, the way HLS places one. Every access is
+//! one aligned 32-bit word; anything not listed here is outside the map.
+//!
+//! | address | register | access | meaning |
+//! |---|---|---|---|
+//! | `0x0000`–`0x0FFF` | the ray tracer, above | | |
+//! | `0x1000` | [`sys::ID`] | R | [`DEVICE_ID`], "FPGX": a driver checks it before anything else |
+//! | `0x1004` | [`sys::VERSION`] | R | [`MAP_VERSION`], bumped on any change of this map |
+//! | `0x1008` | [`sys::RESET`] | W | any value: back to the power-on state |
+//! | `0x1010`, `0x1014` | [`sys::RT_CYCLES`] lo, hi | R | FPGA cycles of the ray tracer's last frame |
+//! | `0x1018`, `0x101C` | [`sys::RT_WORK`] lo, hi | R | rays of the ray tracer's last frame |
+//! | `0x1100` + 8·i | [`COUNTERS`]`[i]` lo, hi | R | device counter i (table below) |
+//! | `0x2000` | [`raster::CTRL`] | R/W | the raster block's frame: [`ctrl`] bits as at `0x00` |
+//! | `0x2004` | [`raster::FIFO_FREE`] | R | records the input FIFO can take |
+//! | `0x2008` | [`raster::IDLE`] | R | 1 when every committed record has executed |
+//! | `0x2010`, `0x2014` | [`raster::PUSH_LO`], [`raster::PUSH_HI`] | W | a record's low and high word; writing the high word stages the record |
+//! | `0x2018` | [`raster::COMMIT`] | W | the channel: the staged records enter the FIFO as one packet |
+//! | `0x2020` | [`raster::SIZE`] | R/W | width \| height << 16 |
+//! | `0x2024` | [`raster::SUBPIXEL`] | R/W | sub-pixel bits |
+//! | `0x2028` | [`raster::BACKGROUND`] | R/W | `0x00RRGGBB` |
+//! | `0x202C` | [`raster::AA`] | R/W | [`aa_pattern_code`] \| samples << 8 |
+//! | `0x2030` | [`raster::MODE`] | R/W | [`cull_code`] \| [`traversal_code`] << 8 |
+//! | `0x2034` | [`raster::SETUP`] | W | any value: apply `0x2020`–`0x2030` and clear the framebuffer |
+//! | `0x2040`, `0x2044` | [`raster::CYCLES`] lo, hi | R | FPGA cycles up to the raster frame's end |
+//! | `0x2048`, `0x204C` | [`raster::WORK`] lo, hi | R | fragments up to the raster frame's end |
+//! | `0x3000` | [`readback::PLANE`] | R/W | [`plane_code`] |
+//! | `0x3004` | [`readback::FORMAT`] | R/W | [`format_code`] |
+//! | `0x3008` | [`readback::RECT_XY`] | R/W | x \| y << 16 |
+//! | `0x300C` | [`readback::RECT_WH`] | R/W | w \| h << 16 |
+//! | `0x3010` | [`readback::LEN`] | R | bytes of the read-back, or [`readback::NONE`] |
+//! | `0x3014` | [`readback::PAGE`] | R/W | which [`READ_WINDOW`] bytes the window shows |
+//! | `0x4000`–`0x7FFF` | [`READ_BASE`] | R | read-back bytes `PAGE·0x4000 + a`, little-endian words |
+//! | `0x10_0000`–`0x1F_FFFF` | [`TEXTURE_BASE`] | W | texture memory, texel `i` at `0x10_0000 + 4·i` |
+//!
+//! Device counters, 64 bits each as a low and a high word ([`COUNTERS`] is the table;
+//! adding one is a line there):
+//!
+//! | i | counter |
+//! |---|---|
+//! | 0 | fragments written to the framebuffer |
+//! | 1 | FPGA cycles spent by the blocks |
+//! | 2 | frames completed |
+//!
+//! A 64-bit value is read low word first: that read latches the high word, so a value
+//! that changes between the two reads still reads whole; a high word read without its
+//! low word just before is refused by the model.
+//!
+//! The raster block's packet is atomic: records are staged by `PUSH_LO`/`PUSH_HI`
+//! and enter the FIFO only at `COMMIT`, so the decoder never sees half a packet, as the
+//! FITkit's SPI frames guarantee on that board. A read-back is programmed by its four
+//! request registers, sized by `LEN` and then read through the window, a page at a time
+//! when it is larger than the window.
 
-use crate::frame::{Numeric, StartFrame};
+use crate::frame::{
+    Aa, AaPattern, Block, Cull, DeviceCounters, Numeric, PixelFormat, Plane, RasterSetup,
+    ReadRequest, Rect, Rgb, StartFrame, Traversal,
+};
 use crate::scene::SceneRegs;
 
 /// Block-level control: `ap_start`, `ap_done`, `ap_idle`, `ap_ready`, `auto_restart`
@@ -150,9 +212,492 @@ pub fn write_sequence<'a>(
         .chain(start_writes(start))
 }
 
+/// Bytes of address space of each register slave beside the ray tracer.
+pub const SLAVE_SPAN: u32 = 0x1000;
+/// What [`sys::ID`] reads: "FPGX".
+pub const DEVICE_ID: u32 = 0x4650_4758;
+/// What [`sys::VERSION`] reads: bumped on any change of this map, so that a driver
+/// refuses a bitstream laid out for another one instead of writing the wrong registers.
+pub const MAP_VERSION: u32 = 1;
+
+/// The system slave: identity, reset, the ray tracer's frame results (the HLS block
+/// itself has no output registers for them) and the device counters.
+pub mod sys {
+    /// First byte of the slave.
+    pub const BASE: u32 = super::SLAVE_SPAN;
+    /// Reads [`super::DEVICE_ID`].
+    pub const ID: u32 = BASE;
+    /// Reads [`super::MAP_VERSION`].
+    pub const VERSION: u32 = BASE + 0x04;
+    /// Any write returns the device to its power-on state.
+    pub const RESET: u32 = BASE + 0x08;
+    /// Low word of the ray tracer's last frame's cycles (high word at +4).
+    pub const RT_CYCLES: u32 = BASE + 0x10;
+    /// Low word of the rays the ray tracer's last frame traced (high word at +4).
+    pub const RT_WORK: u32 = BASE + 0x18;
+    /// Counter 0's low word; counter i at `COUNTERS + 8·i` ([`super::COUNTERS`]).
+    pub const COUNTERS: u32 = BASE + 0x100;
+}
+
+/// The raster slave: its frame control, the input FIFO and the set-up registers.
+pub mod raster {
+    /// First byte of the slave.
+    pub const BASE: u32 = 2 * super::SLAVE_SPAN;
+    /// The raster frame's control word, [`super::ctrl`] bits as the ray tracer's: a
+    /// raster frame is the records committed before its start, done once they ran.
+    pub const CTRL: u32 = BASE;
+    /// Records the input FIFO can take now (the FITkit's FIFO_FREE line).
+    pub const FIFO_FREE: u32 = BASE + 0x04;
+    /// 1 when every committed record has executed (FIFO empty, pipeline idle).
+    pub const IDLE: u32 = BASE + 0x08;
+    /// Low word of the record being staged.
+    pub const PUSH_LO: u32 = BASE + 0x10;
+    /// High word of the record being staged; writing it appends the record to the
+    /// staged packet.
+    pub const PUSH_HI: u32 = BASE + 0x14;
+    /// Writing a channel moves the staged packet into the FIFO, whole, on that channel.
+    pub const COMMIT: u32 = BASE + 0x18;
+    /// Framebuffer width | height << 16.
+    pub const SIZE: u32 = BASE + 0x20;
+    /// Fractional bits of the coordinates in the following records.
+    pub const SUBPIXEL: u32 = BASE + 0x24;
+    /// The background the set-up clears to, `0x00RRGGBB`.
+    pub const BACKGROUND: u32 = BASE + 0x28;
+    /// Anti-aliasing: [`super::aa_pattern_code`] | samples << 8.
+    pub const AA: u32 = BASE + 0x2C;
+    /// [`super::cull_code`] | [`super::traversal_code`] << 8.
+    pub const MODE: u32 = BASE + 0x30;
+    /// Any write applies [`SIZE`] … [`MODE`] once the FIFO has drained and clears the
+    /// framebuffer: the set-up is one event, not five.
+    pub const SETUP: u32 = BASE + 0x34;
+    /// Low word of the cycles up to the last raster frame's end (high word at +4).
+    pub const CYCLES: u32 = BASE + 0x40;
+    /// Low word of the fragments up to the last raster frame's end (high word at +4).
+    pub const WORK: u32 = BASE + 0x48;
+}
+
+/// The read-back slave: which buffer, rectangle and format [`READ_BASE`] shows.
+pub mod readback {
+    /// First byte of the slave.
+    pub const BASE: u32 = 3 * super::SLAVE_SPAN;
+    /// The buffer, [`super::plane_code`].
+    pub const PLANE: u32 = BASE;
+    /// The byte layout, [`super::format_code`].
+    pub const FORMAT: u32 = BASE + 0x04;
+    /// The rectangle's x | y << 16.
+    pub const RECT_XY: u32 = BASE + 0x08;
+    /// The rectangle's w | h << 16.
+    pub const RECT_WH: u32 = BASE + 0x0C;
+    /// Bytes of the read-back the four registers above describe, or [`NONE`].
+    pub const LEN: u32 = BASE + 0x10;
+    /// Which [`super::READ_WINDOW`]-byte page of the read-back the window shows.
+    pub const PAGE: u32 = BASE + 0x14;
+    /// What [`LEN`] reads when the device has no such buffer, rectangle or format.
+    pub const NONE: u32 = u32::MAX;
+}
+
+/// Bytes of the read-back window: a power of two, so a page is a shift.
+pub const READ_WINDOW: u32 = 0x4000;
+/// Byte address of the read-back window: the first [`READ_WINDOW`]-aligned address after
+/// the register slaves.
+pub const READ_BASE: u32 = READ_WINDOW * ((readback::BASE + SLAVE_SPAN - 1) / READ_WINDOW + 1);
+/// Texels (32-bit words) of the texture memory both blocks sample.
+pub const TEXTURE_WORDS: u32 = 1 << 18;
+/// Bytes of the texture memory's window: its size, a power of two.
+pub const TEXTURE_WINDOW: u32 = TEXTURE_WORDS * 4;
+/// Byte address of texel 0: the first [`TEXTURE_WINDOW`]-aligned address after the
+/// read-back window.
+pub const TEXTURE_BASE: u32 = TEXTURE_WINDOW * ((READ_BASE + READ_WINDOW - 1) / TEXTURE_WINDOW + 1);
+/// Address bits the device's interconnect decodes: enough for the texture window.
+pub const DEVICE_ADDR_BITS: u32 = u32::BITS - (TEXTURE_BASE + TEXTURE_WINDOW - 1).leading_zeros();
+
+/// Who may do what with a register.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    /// Reading only; a write is a driver bug.
+    Read,
+    /// Writing only (an action or a staging port); a read is a driver bug.
+    Write,
+    /// Both.
+    ReadWrite,
+}
+
+impl Access {
+    /// Whether a read is allowed.
+    pub const fn readable(self) -> bool {
+        !matches!(self, Access::Write)
+    }
+
+    /// Whether a write is allowed.
+    pub const fn writable(self) -> bool {
+        !matches!(self, Access::Read)
+    }
+}
+
+/// One register of the map: its name is what an error about it says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Register {
+    /// Byte address.
+    pub addr: u32,
+    /// The name the docs and error messages use.
+    pub name: &'static str,
+    /// Who may read or write it.
+    pub access: Access,
+}
+
+const fn reg(addr: u32, name: &'static str, access: Access) -> Register {
+    Register { addr, name, access }
+}
+
+/// Every single register of the map (the counters and memory windows are ranges, see
+/// [`locate`]): the table a model decodes and checks access with.
+pub const REGISTERS: &[Register] = {
+    use Access::{Read as R, ReadWrite as RW, Write as W};
+    &[
+        reg(AP_CTRL, "AP_CTRL", RW),
+        reg(GIE, "GIE", RW),
+        reg(IER, "IER", RW),
+        reg(ISR, "ISR", RW),
+        reg(NUMERIC, "NUMERIC", RW),
+        reg(AOVS, "AOVS", RW),
+        reg(sys::ID, "ID", R),
+        reg(sys::VERSION, "VERSION", R),
+        reg(sys::RESET, "RESET", W),
+        reg(sys::RT_CYCLES, "RT_CYCLES_LO", R),
+        reg(sys::RT_CYCLES + 4, "RT_CYCLES_HI", R),
+        reg(sys::RT_WORK, "RT_WORK_LO", R),
+        reg(sys::RT_WORK + 4, "RT_WORK_HI", R),
+        reg(raster::CTRL, "RASTER_CTRL", RW),
+        reg(raster::FIFO_FREE, "FIFO_FREE", R),
+        reg(raster::IDLE, "RASTER_IDLE", R),
+        reg(raster::PUSH_LO, "PUSH_LO", W),
+        reg(raster::PUSH_HI, "PUSH_HI", W),
+        reg(raster::COMMIT, "COMMIT", W),
+        reg(raster::SIZE, "RASTER_SIZE", RW),
+        reg(raster::SUBPIXEL, "RASTER_SUBPIXEL", RW),
+        reg(raster::BACKGROUND, "RASTER_BACKGROUND", RW),
+        reg(raster::AA, "RASTER_AA", RW),
+        reg(raster::MODE, "RASTER_MODE", RW),
+        reg(raster::SETUP, "RASTER_SETUP", W),
+        reg(raster::CYCLES, "RASTER_CYCLES_LO", R),
+        reg(raster::CYCLES + 4, "RASTER_CYCLES_HI", R),
+        reg(raster::WORK, "RASTER_WORK_LO", R),
+        reg(raster::WORK + 4, "RASTER_WORK_HI", R),
+        reg(readback::PLANE, "READ_PLANE", RW),
+        reg(readback::FORMAT, "READ_FORMAT", RW),
+        reg(readback::RECT_XY, "READ_RECT_XY", RW),
+        reg(readback::RECT_WH, "READ_RECT_WH", RW),
+        reg(readback::LEN, "READ_LEN", R),
+        reg(readback::PAGE, "READ_PAGE", RW),
+    ]
+};
+
+/// A device counter's registers: its name and how it is taken from and put into
+/// [`DeviceCounters`], so the model that serves it and the driver that reads it use
+/// one table.
+#[derive(Clone, Copy)]
+pub struct CounterReg {
+    /// The name the docs and error messages use.
+    pub name: &'static str,
+    /// The counter's value in the model's counters.
+    pub get: fn(&DeviceCounters) -> u64,
+    /// Stores a value read from the registers in the driver's counters.
+    pub set: fn(&mut DeviceCounters, u64),
+}
+
+impl core::fmt::Debug for CounterReg {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name)
+    }
+}
+
+/// The FPGA's counters in address order, counter i at [`counter_addr`]`(i)`.
+pub const COUNTERS: &[CounterReg] = &[
+    CounterReg {
+        name: "fragments",
+        get: |c| c.fragments,
+        set: |c, v| c.fragments = v,
+    },
+    CounterReg {
+        name: "cycles",
+        get: |c| c.cycles,
+        set: |c, v| c.cycles = v,
+    },
+    CounterReg {
+        name: "frames",
+        get: |c| c.frames as u64,
+        set: |c, v| c.frames = v as u32,
+    },
+];
+
+/// Byte address of counter `index`'s low word (its high word follows).
+pub const fn counter_addr(index: usize) -> u32 {
+    sys::COUNTERS + 8 * index as u32
+}
+
+/// The registers of one block's frames: where a driver starts one and where it finds
+/// what [`crate::frame::FrameDone`] reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BlockRegs {
+    /// The block, as error messages name it.
+    pub name: &'static str,
+    /// Its control word ([`ctrl`] bits).
+    pub ctrl: u32,
+    /// Low word of its last frame's cycles.
+    pub cycles: u32,
+    /// Low word of its last frame's work (rays or fragments).
+    pub work: u32,
+}
+
+/// The frame registers of `block`.
+pub const fn block_regs(block: Block) -> BlockRegs {
+    match block {
+        Block::RayTrace => BlockRegs {
+            name: "ray tracer",
+            ctrl: AP_CTRL,
+            cycles: sys::RT_CYCLES,
+            work: sys::RT_WORK,
+        },
+        Block::Raster => BlockRegs {
+            name: "raster block",
+            ctrl: raster::CTRL,
+            cycles: raster::CYCLES,
+            work: raster::WORK,
+        },
+    }
+}
+
+/// What an address selects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Location {
+    /// One of [`REGISTERS`].
+    Register(&'static Register),
+    /// A word of counter `index` of [`COUNTERS`].
+    Counter {
+        /// Index in [`COUNTERS`].
+        index: usize,
+        /// The high word (else the low one).
+        high: bool,
+    },
+    /// Scene register word `index` ([`SCENE_BASE`]).
+    Scene(usize),
+    /// The read-back window's word at this byte offset in the window ([`READ_BASE`]).
+    ReadBack(u32),
+    /// Texel `index` of the texture memory ([`TEXTURE_BASE`]).
+    Texture(u32),
+}
+
+impl Location {
+    /// Who may read or write it.
+    pub fn access(&self) -> Access {
+        match self {
+            Location::Register(r) => r.access,
+            Location::Counter { .. } | Location::ReadBack(_) => Access::Read,
+            Location::Scene(_) => Access::ReadWrite,
+            Location::Texture(_) => Access::Write,
+        }
+    }
+}
+
+impl core::fmt::Display for Location {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Location::Register(r) => f.write_str(r.name),
+            Location::Counter { index, high } => {
+                let name = COUNTERS.get(*index).map_or("?", |c| c.name);
+                let half = if *high { "HI" } else { "LO" };
+                write!(f, "COUNTER[{name}]_{half}")
+            }
+            Location::Scene(i) => write!(f, "scene word {i}"),
+            Location::ReadBack(off) => write!(f, "READ_WINDOW byte {off}"),
+            Location::Texture(i) => write!(f, "texel {i}"),
+        }
+    }
+}
+
+/// What `addr` selects, or `None` outside the map (unaligned addresses included: every
+/// access is a whole word). Scene words past the image are outside too, though inside
+/// the window: HLS backs only the array's words.
+pub fn locate(addr: u32) -> Option<Location> {
+    if !addr.is_multiple_of(4) {
+        return None;
+    }
+    if (SCENE_BASE..SCENE_BASE + SCENE_WINDOW).contains(&addr) {
+        let i = ((addr - SCENE_BASE) / 4) as usize;
+        return (i < SCENE_WORDS).then_some(Location::Scene(i));
+    }
+    if (READ_BASE..READ_BASE + READ_WINDOW).contains(&addr) {
+        return Some(Location::ReadBack(addr - READ_BASE));
+    }
+    if (TEXTURE_BASE..TEXTURE_BASE + TEXTURE_WINDOW).contains(&addr) {
+        return Some(Location::Texture((addr - TEXTURE_BASE) / 4));
+    }
+    let counters = sys::COUNTERS..counter_addr(COUNTERS.len());
+    if counters.contains(&addr) {
+        let off = addr - sys::COUNTERS;
+        return Some(Location::Counter {
+            index: (off / 8) as usize,
+            high: off % 8 == 4,
+        });
+    }
+    REGISTERS
+        .iter()
+        .find(|r| r.addr == addr)
+        .map(Location::Register)
+}
+
+/// The name of the register at `addr`, for messages ("?" for an address that is not
+/// one of [`REGISTERS`]).
+pub fn register_name(addr: u32) -> &'static str {
+    match locate(addr) {
+        Some(Location::Register(r)) => r.name,
+        _ => "?",
+    }
+}
+
+/// The [`readback::PLANE`] value for `p`.
+pub const fn plane_code(p: Plane) -> u32 {
+    p as u32
+}
+
+/// The plane a [`readback::PLANE`] value names.
+pub fn plane_from_code(code: u32) -> Option<Plane> {
+    [Plane::Color, Plane::Depth, Plane::Normal]
+        .get(code as usize)
+        .copied()
+}
+
+/// The [`readback::FORMAT`] value for `f`.
+pub const fn format_code(f: PixelFormat) -> u32 {
+    f as u32
+}
+
+/// The format a [`readback::FORMAT`] value names.
+pub fn format_from_code(code: u32) -> Option<PixelFormat> {
+    use PixelFormat::*;
+    [Rgb888, Rgb332, Kcu116, DepthF32, NormalF32]
+        .get(code as usize)
+        .copied()
+}
+
+/// The [`raster::AA`] pattern field for `p`.
+pub const fn aa_pattern_code(p: AaPattern) -> u32 {
+    p as u32
+}
+
+/// The pattern a [`raster::AA`] pattern field names.
+pub fn aa_pattern_from_code(code: u32) -> Option<AaPattern> {
+    use AaPattern::*;
+    [None, Regular, Jitter, Rotated, Poisson, Coverage]
+        .get(code as usize)
+        .copied()
+}
+
+/// The [`raster::MODE`] cull field for `c`.
+pub const fn cull_code(c: Cull) -> u32 {
+    c as u32
+}
+
+/// The culling a [`raster::MODE`] cull field names.
+pub fn cull_from_code(code: u32) -> Option<Cull> {
+    [Cull::None, Cull::Clockwise, Cull::CounterClockwise]
+        .get(code as usize)
+        .copied()
+}
+
+/// The [`raster::MODE`] traversal field for `t`: its index in [`Traversal::ALL`].
+pub const fn traversal_code(t: Traversal) -> u32 {
+    t as u32
+}
+
+/// The traversal a [`raster::MODE`] traversal field names.
+pub fn traversal_from_code(code: u32) -> Option<Traversal> {
+    Traversal::ALL.get(code as usize).copied()
+}
+
+/// Two 16-bit fields in one register, `a | b << 16` (sizes, corners).
+pub const fn pair16(a: u16, b: u16) -> u32 {
+    a as u32 | (b as u32) << 16
+}
+
+/// The two fields of a [`pair16`] register.
+pub const fn unpair16(v: u32) -> (u16, u16) {
+    (v as u16, (v >> 16) as u16)
+}
+
+/// The [`raster::AA`] value of `aa`.
+pub const fn aa_reg(aa: Aa) -> u32 {
+    aa_pattern_code(aa.pattern) | (aa.samples as u32) << 8
+}
+
+/// The anti-aliasing a [`raster::AA`] value names, or `None` for an unknown pattern or
+/// bits set above the samples.
+pub fn aa_from_reg(v: u32) -> Option<Aa> {
+    (v >> 16 == 0).then_some(())?;
+    Some(Aa {
+        pattern: aa_pattern_from_code(v & 0xFF)?,
+        samples: (v >> 8) as u8,
+    })
+}
+
+/// The [`raster::MODE`] value of `cull` and `traversal`.
+pub const fn mode_reg(cull: Cull, traversal: Traversal) -> u32 {
+    cull_code(cull) | traversal_code(traversal) << 8
+}
+
+/// The culling and traversal a [`raster::MODE`] value names.
+pub fn mode_from_reg(v: u32) -> Option<(Cull, Traversal)> {
+    (v >> 16 == 0).then_some(())?;
+    Some((cull_from_code(v & 0xFF)?, traversal_from_code(v >> 8)?))
+}
+
+/// The [`raster::BACKGROUND`] value of `c`.
+pub const fn rgb_reg(c: Rgb) -> u32 {
+    (c.r as u32) << 16 | (c.g as u32) << 8 | c.b as u32
+}
+
+/// The colour a [`raster::BACKGROUND`] value holds (bits 24–31 ignored).
+pub const fn rgb_from_reg(v: u32) -> Rgb {
+    Rgb::new((v >> 16) as u8, (v >> 8) as u8, v as u8)
+}
+
+/// The writes that program the raster block with `s`, ending with [`raster::SETUP`]
+/// which applies them.
+pub fn raster_setup_writes(s: &RasterSetup) -> impl Iterator<Item = (u32, u32)> {
+    [
+        (raster::SIZE, pair16(s.width, s.height)),
+        (raster::SUBPIXEL, u32::from(s.subpixel_bits)),
+        (raster::BACKGROUND, rgb_reg(s.background)),
+        (raster::AA, aa_reg(s.aa)),
+        (raster::MODE, mode_reg(s.cull, s.traversal)),
+        (raster::SETUP, 1),
+    ]
+    .into_iter()
+}
+
+/// The writes that select `req` for [`readback::LEN`] and the read-back window.
+pub fn read_request_writes(req: &ReadRequest) -> impl Iterator<Item = (u32, u32)> {
+    let Rect { x, y, w, h } = req.rect;
+    [
+        (readback::PLANE, plane_code(req.plane)),
+        (readback::FORMAT, format_code(req.format)),
+        (readback::RECT_XY, pair16(x, y)),
+        (readback::RECT_WH, pair16(w, h)),
+    ]
+    .into_iter()
+}
+
 // The map must stay inside what the slave decodes and the scalars below the memory.
 const _: () = assert!(LAST_SCALAR < SCENE_BASE && SCENE_BASE.is_multiple_of(SCENE_WINDOW));
 const _: () = assert!(SCENE_WORDS * 4 <= SCENE_WINDOW as usize);
+// The other slaves sit after the ray tracer's, below the windows, and the windows do not
+// overlap.
+const _: () = assert!(SCENE_BASE + SCENE_WINDOW <= sys::BASE);
+const _: () = assert!(counter_addr(COUNTERS.len()) <= sys::BASE + SLAVE_SPAN);
+const _: () = assert!(readback::BASE + SLAVE_SPAN <= READ_BASE);
+const _: () = assert!(READ_BASE.is_multiple_of(READ_WINDOW) && READ_WINDOW.is_power_of_two());
+const _: () = assert!(TEXTURE_BASE.is_multiple_of(TEXTURE_WINDOW));
+const _: () = assert!(TEXTURE_WINDOW.is_power_of_two() && READ_BASE + READ_WINDOW <= TEXTURE_BASE);
 
 #[cfg(test)]
 mod tests {
@@ -220,5 +765,83 @@ mod tests {
         let w: heapless::Vec<(u32, u32), 3> =
             start_writes(&start(Numeric::F32, false, true)).collect();
         assert_eq!(&w[..], &[(0x10, 1), (0x18, 0), (0x00, 0x81)]);
+    }
+
+    #[test]
+    fn the_device_map_is_where_the_table_says() {
+        assert_eq!(
+            (sys::ID, sys::COUNTERS, raster::CTRL, readback::BASE),
+            (0x1000, 0x1100, 0x2000, 0x3000)
+        );
+        assert_eq!((READ_BASE, READ_WINDOW), (0x4000, 0x4000));
+        assert_eq!((TEXTURE_BASE, TEXTURE_WINDOW), (0x10_0000, 0x10_0000));
+        assert_eq!(DEVICE_ADDR_BITS, 21);
+        assert_eq!(counter_addr(2), 0x1110);
+        // Every register decodes to itself, and no two share an address.
+        for (i, r) in REGISTERS.iter().enumerate() {
+            assert_eq!(locate(r.addr), Some(Location::Register(r)), "{}", r.name);
+            assert!(
+                REGISTERS[..i].iter().all(|o| o.addr != r.addr),
+                "{}",
+                r.name
+            );
+        }
+        assert_eq!(locate(0x14), None, "NUMERIC's reserved word");
+        assert_eq!(locate(0x801), None, "unaligned");
+        assert_eq!(locate(0x800 + 4 * 420), None, "past the scene image");
+        assert_eq!(locate(0x804), Some(Location::Scene(1)));
+        assert_eq!(
+            locate(0x1114),
+            Some(Location::Counter {
+                index: 2,
+                high: true
+            })
+        );
+        assert_eq!(locate(counter_addr(COUNTERS.len())), None);
+        assert_eq!(locate(0x4008), Some(Location::ReadBack(8)));
+        assert_eq!(locate(0x10_0010), Some(Location::Texture(4)));
+        assert_eq!(locate(0x20_0000), None);
+        let mut name = heapless::String::<32>::new();
+        let _ = core::fmt::write(
+            &mut name,
+            format_args!(
+                "{}",
+                Location::Counter {
+                    index: 2,
+                    high: true
+                }
+            ),
+        );
+        assert_eq!(name, "COUNTER[frames]_HI");
+    }
+
+    #[test]
+    fn codes_round_trip() {
+        use crate::frame::{Aa, AaPattern, Cull, PixelFormat, Plane, Rgb, Traversal};
+        for p in [Plane::Color, Plane::Depth, Plane::Normal] {
+            assert_eq!(plane_from_code(plane_code(p)), Some(p));
+        }
+        use PixelFormat::*;
+        for f in [Rgb888, Rgb332, Kcu116, DepthF32, NormalF32] {
+            assert_eq!(format_from_code(format_code(f)), Some(f));
+        }
+        assert_eq!(format_from_code(5), Option::None);
+        for t in Traversal::ALL {
+            for c in [Cull::None, Cull::Clockwise, Cull::CounterClockwise] {
+                assert_eq!(mode_from_reg(mode_reg(c, t)), Some((c, t)));
+            }
+        }
+        use AaPattern::*;
+        for pattern in [None, Regular, Jitter, Rotated, Poisson, Coverage] {
+            let aa = Aa {
+                pattern,
+                samples: 4,
+            };
+            assert_eq!(aa_from_reg(aa_reg(aa)), Some(aa));
+        }
+        assert_eq!(aa_from_reg(6), Option::None);
+        let c = Rgb::new(0x12, 0x34, 0x56);
+        assert_eq!((rgb_reg(c), rgb_from_reg(rgb_reg(c))), (0x123456, c));
+        assert_eq!(unpair16(pair16(640, 480)), (640, 480));
     }
 }

@@ -12,9 +12,10 @@ use std::io;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use firmware::{Controller, ControllerError, FpgaBus, FpgaLink};
+use firmware::{Controller, ControllerError, FpgaBus, FpgaLink, MmioBus, MmioError, Registers};
 use protocol::bus::BusLayout;
 use protocol::frame::{Caps, DeviceCounters, FrameDone, RasterSetup, ReadRequest, StartFrame};
+use sim_target::mmio::{RegisterError, RegisterFile};
 
 /// One direction of an in-memory byte line. A mutex rather than a `RefCell` so that the
 /// line can join threads (the FPGA-link emulation runs its FPGA on one).
@@ -231,6 +232,61 @@ pub fn sim_target_with(layout: &'static BusLayout) -> BuiltIn<SimBus> {
     let device = sim_target::Device::new(layout);
     let caps = device.caps();
     BuiltIn::new(SimBus(device), caps, layout)
+}
+
+/// The register-file model ([`sim_target::mmio`]) as the firmware driver's registers:
+/// sim-target cannot implement the firmware's trait itself, since the FPGA model must
+/// not depend on the controller.
+pub struct ModelRegisters(pub RegisterFile);
+
+impl Registers for ModelRegisters {
+    type Error = RegisterError;
+
+    fn read(&mut self, addr: u32) -> Result<u32, RegisterError> {
+        self.0.read(addr)
+    }
+
+    fn write(&mut self, addr: u32, value: u32) -> Result<(), RegisterError> {
+        self.0.write(addr, value)
+    }
+}
+
+/// The FPGA bus of [`sim_target_mmio`].
+pub type ModelMmioBus = MmioBus<ModelRegisters>;
+
+/// The controller's hello on the register bus, so that a user sees which bus ran.
+pub const MMIO_IDENT: &str = "fpgfx built-in: AXI4-Lite bus";
+
+/// Polls of one wait on the built-in register bus: the model ends a frame within
+/// [`sim_target::mmio::DONE_AFTER_POLLS`] reads, so a wait this long is a stuck block,
+/// reported in well under a second rather than after the firmware's board-sized limit.
+pub const MODEL_POLL_LIMIT: u32 = 100_000;
+
+/// `--port builtin:mmio`: the built-in target with the controller's [`MmioBus`] on the
+/// register-file model, WIDE bus layout as [`sim_target()`]. Images must equal
+/// [`sim_target()`]'s; the difference is only the bus.
+pub fn sim_target_mmio() -> Result<BuiltIn<ModelMmioBus>, MmioError<RegisterError>> {
+    let layout = &protocol::bus::WIDE;
+    let device = sim_target::Device::new(layout);
+    let caps = device.caps();
+    mmio_target(ModelRegisters(RegisterFile::new(device)), caps, layout)
+}
+
+/// The built-in target with the controller's [`MmioBus`] on any registers (a model with
+/// a knob set, or one wrapped to break it, for tests), probed first, with
+/// [`MODEL_POLL_LIMIT`].
+pub fn mmio_target<R: Registers>(
+    regs: R,
+    caps: Caps,
+    layout: &'static BusLayout,
+) -> Result<BuiltIn<MmioBus<R>>, MmioError<R::Error>>
+where
+    R::Error: core::fmt::Display,
+{
+    let mut bus = MmioBus::new(regs);
+    bus.poll_limit = MODEL_POLL_LIMIT;
+    bus.probe()?;
+    Ok(BuiltIn::named(bus, caps, layout, MMIO_IDENT))
 }
 
 /// Milliseconds since the line was made, as the firmware's link clock.

@@ -5,8 +5,9 @@
 //! The board comes in the shapes a real one is met in:
 //!
 //! * in this process ([`in_process`]): `fpgfx --port builtin` and the tests, the host
-//!   joined to the controller by an in-memory pipe, the FPGA on the controller's bus or
-//!   behind the serial FPGA link on a second pipe;
+//!   joined to the controller by an in-memory pipe, the FPGA on the controller's bus,
+//!   behind the serial FPGA link on a second pipe, or on its AXI4-Lite registers
+//!   (`--port builtin:mmio`, the firmware's `MmioBus` on `sim_target::mmio`);
 //! * behind a pseudo-terminal ([`pty`]) or TCP ([`board`], the `fpgfx-sim` binary): the
 //!   controller on a real byte stream (any [`Pending`] one), optionally slowed to a UART's
 //!   rate, so `fpgfx --port` is exercised over a tty;

@@ -5,6 +5,7 @@
 //!
 //! * at the root: [`Device`], the FPGA as the controller's bus sees it (FIFO, blocks,
 //!   read-back);
+//! * [`mmio`]: the same device word by word on its AXI4-Lite map, for a soft-core driver;
 //! * [`raster`] and [`rt`]: the two blocks' golden models;
 //! * [`num`]: the number formats the ray tracer runs in;
 //! * [`scene_regs`]: a ray-tracer scene to and from its register image.
@@ -17,6 +18,7 @@
 #![warn(missing_docs)]
 
 mod device;
+pub mod mmio;
 pub mod num;
 pub mod raster;
 pub mod rt;

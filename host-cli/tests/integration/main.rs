@@ -1,10 +1,10 @@
 //! host-cli's integration tests, one module per area: the `fpgfx` binary on good and bad
-//! input, the built-in pipeline (recording bus, gallery goldens, FPGA link), the
-//! emulated board over a pty and TCP, flashing through the ROM bootloader, the real
-//! board binary under QEMU, target selection, `animate`, `bench`, `stress`, the
-//! raster file parser's property tests and `vectors` (its testbench under Icarus and
-//! Verilator). One binary rather than one per file: each test
-//! binary links the whole stack again, so a single one is built and linked once.
+//! input, the built-in pipeline (recording bus, gallery goldens, FPGA link, the AXI4-Lite
+//! register bus), the emulated board over a pty and TCP, flashing through the ROM
+//! bootloader, the real board binary under QEMU, target selection, `animate`, `bench`,
+//! `stress`, the raster file parser's property tests and `vectors` (its testbench under
+//! Icarus and Verilator). One binary rather than one per file: each test binary links
+//! the whole stack again, so a single one is built and linked once.
 //!
 //! The tests share one process and run on parallel threads: scratch files go to a
 //! folder per module ([`common::tmp`]), and nothing here sets environment variables or
@@ -22,6 +22,7 @@ mod compare;
 mod flash;
 mod fpga_link;
 mod gallery;
+mod mmio;
 mod pipeline;
 mod ports;
 mod pty;

@@ -1,4 +1,5 @@
-//! sim-target's integration tests, one module per area: the instrumented formats (bit
+//! sim-target's integration tests, one module per area: the AXI4-Lite register file, the
+//! instrumented formats (bit
 //! equality with their format, reentrant counting), the approximations' error bounds,
 //! the scene-file parser, the rasteriser (coverage, anti-aliasing, primitives, hardware
 //! model, golden framebuffer) and the ray tracer (accuracy, culling, golden images,
@@ -9,6 +10,7 @@
 mod common;
 
 mod instrumented;
+mod mmio;
 mod num_approx;
 mod parser_props;
 mod raster_aa;
