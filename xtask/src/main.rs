@@ -105,11 +105,13 @@ const PACKAGES: &[Package] = &[
         program: "cc",
         package: "gcc",
         why: "compiles the C library's C test against libfpgfx.a (capi/tests/c_test.rs)",
+        needs: None,
     },
     Package {
         program: "c++",
         package: "g++",
         why: "compiles the C library's Vitis HLS testbench around its stand-in DUT (capi/tests/c_test.rs)",
+        needs: None,
     },
     Package {
         program: "qemu-system-arm",

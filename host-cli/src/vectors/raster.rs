@@ -668,7 +668,7 @@ color = "#ff0000"
     #[test]
     fn fragments_start_with_the_set_up_clear_and_count_the_model() {
         let set = raster(JOB_TEXT, "t.toml", LayoutId::Fitkit).expect("vectors");
-        let frags = memh::parse(&set.file(FRAGMENTS).expect("fragments").text()).expect("memh");
+        let frags = memh::parse(set.file(FRAGMENTS).expect("fragments").text()).expect("memh");
         // Set-up clear, line, triangle, clear packet; words K YYY XXX CC.
         let word = |k: u64, x: u64, y: u64, c: u64| k << 32 | y << 20 | x << 8 | c;
         assert_eq!(
@@ -684,7 +684,7 @@ color = "#ff0000"
         let drawn = frags.words.iter().filter(|w| *w >> 32 == 1).count();
         assert_eq!(frags.words.len(), 2 * 64 * 48 + drawn);
         let (header, frame) =
-            memh::parse_frame(&set.file(FRAMEBUFFER).expect("frame").text()).expect("frame");
+            memh::parse_frame(set.file(FRAMEBUFFER).expect("frame").text()).expect("frame");
         assert_eq!((header.width, header.height), (64, 48));
         assert!(
             frame.iter().all(|&p| p == 0xe0),
@@ -716,7 +716,7 @@ color = "#ff0000"
         let set = raster(JOB_TEXT, "t.toml", LayoutId::Wide).expect("vectors");
         assert!(set.file(SPI_BYTES).is_none() && set.file(TESTBENCH_FILE).is_none());
         let (header, _) =
-            memh::parse_frame(&set.file(FRAMEBUFFER).expect("frame").text()).expect("frame");
+            memh::parse_frame(set.file(FRAMEBUFFER).expect("frame").text()).expect("frame");
         assert_eq!(header.format, PixelFormat::Rgb888);
         let fifo = &set.file(FIFO_RECORDS_FILE).expect("records").text();
         // 64-bit records: a flag digit and 16 record digits.
