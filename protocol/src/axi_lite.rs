@@ -587,10 +587,7 @@ pub const fn aa_pattern_code(p: AaPattern) -> u32 {
 
 /// The pattern a [`raster::AA`] pattern field names.
 pub fn aa_pattern_from_code(code: u32) -> Option<AaPattern> {
-    use AaPattern::*;
-    [None, Regular, Jitter, Rotated, Poisson, Coverage]
-        .get(code as usize)
-        .copied()
+    AaPattern::ALL.get(code as usize).copied()
 }
 
 /// The [`raster::MODE`] cull field for `c`.
@@ -600,9 +597,7 @@ pub const fn cull_code(c: Cull) -> u32 {
 
 /// The culling a [`raster::MODE`] cull field names.
 pub fn cull_from_code(code: u32) -> Option<Cull> {
-    [Cull::None, Cull::Clockwise, Cull::CounterClockwise]
-        .get(code as usize)
-        .copied()
+    Cull::ALL.get(code as usize).copied()
 }
 
 /// The [`raster::MODE`] traversal field for `t`: its index in [`Traversal::ALL`].
@@ -827,12 +822,22 @@ mod tests {
         }
         assert_eq!(format_from_code(5), Option::None);
         for t in Traversal::ALL {
-            for c in [Cull::None, Cull::Clockwise, Cull::CounterClockwise] {
+            for c in Cull::ALL {
                 assert_eq!(mode_from_reg(mode_reg(c, t)), Some((c, t)));
             }
         }
-        use AaPattern::*;
-        for pattern in [None, Regular, Jitter, Rotated, Poisson, Coverage] {
+        // The codes are the `ALL` tables' indices, which the C library and the raster
+        // vectors' set-up file number by too.
+        for (i, p) in AaPattern::ALL.into_iter().enumerate() {
+            assert_eq!(aa_pattern_code(p), i as u32);
+        }
+        for (i, c) in Cull::ALL.into_iter().enumerate() {
+            assert_eq!(cull_code(c), i as u32);
+        }
+        for (i, t) in Traversal::ALL.into_iter().enumerate() {
+            assert_eq!(traversal_code(t), i as u32);
+        }
+        for pattern in AaPattern::ALL {
             let aa = Aa {
                 pattern,
                 samples: 4,

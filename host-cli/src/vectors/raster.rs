@@ -16,10 +16,11 @@ use compare::memh::{self, FrameHeader, PixelFormat};
 use embedded_hal::delay::DelayNs;
 use embedded_hal::spi::{ErrorKind, ErrorType, Operation, SpiDevice};
 use firmware::{FitkitSpi, FitkitSpiError, FpgaBus};
+use protocol::axi_lite;
 use protocol::bus::{rgb332_encode, BusLayout};
 use protocol::fitkit_spi::{Status, ADDR_STATUS, FIFO_RECORDS, FLAG_FIFO_EMPTY, RECORD_BITS};
 use protocol::fpga::LayoutId;
-use protocol::frame::{AaPattern, Cull, RasterSetup, Rgb, Traversal};
+use protocol::frame::{RasterSetup, Rgb, Traversal};
 use serde::Serialize;
 use sim_target::raster::{FbWrite, Stats};
 
@@ -264,26 +265,23 @@ fn files_words(files: &[VectorFile], name: &str) -> usize {
 
 /// `raster_setup.hex`: one word per field, in the order of the C library's
 /// `fpgfx_raster_setup` after the layout; each enum is its index in protocol's `ALL`
-/// table, which is how `FPGFX_LAYOUT_*`, `FPGFX_AA_*`, `FPGFX_CULL_*` and
-/// `FPGFX_TRAVERSAL_*` are numbered.
+/// table (the AXI4-Lite raster registers' codes, `protocol::axi_lite`), which is how
+/// `FPGFX_LAYOUT_*`, `FPGFX_AA_*`, `FPGFX_CULL_*` and `FPGFX_TRAVERSAL_*` are numbered.
 fn setup_file(setup: &RasterSetup, layout: LayoutId, origin: &str) -> VectorFile {
-    fn code<T: PartialEq>(all: &[T], v: &T) -> u64 {
-        // Every value is in its `ALL` table (protocol's tests list the variants).
-        all.iter().position(|a| a == v).unwrap_or(0) as u64
-    }
     let bg = setup.background;
     let words = [
-        code(&LayoutId::ALL, &layout),
+        // Every layout is in the table (its `of` looks it up there).
+        LayoutId::ALL.iter().position(|&l| l == layout).unwrap_or(0) as u64,
         u64::from(setup.width),
         u64::from(setup.height),
         u64::from(setup.subpixel_bits),
         u64::from(bg.r),
         u64::from(bg.g),
         u64::from(bg.b),
-        code(&AaPattern::ALL, &setup.aa.pattern),
+        u64::from(axi_lite::aa_pattern_code(setup.aa.pattern)),
         u64::from(setup.aa.samples),
-        code(&Cull::ALL, &setup.cull),
-        code(&Traversal::ALL, &setup.traversal),
+        u64::from(axi_lite::cull_code(setup.cull)),
+        u64::from(axi_lite::traversal_code(setup.traversal)),
     ];
     data_file(
         memh::format(
