@@ -142,6 +142,9 @@ impl Device {
             max_lights: 2,
             texture_words: crate::raster::TEXTURE_WORDS as u32,
             raster_layout: protocol::fpga::LayoutId::of(self.layout),
+            // The float datapaths take IEEE words; the fixed ones (and f16, an experiment
+            // without an HLS port of its own) read the seed's Q16.16.
+            float_regs: NumericSet::default().with(Numeric::F32).with(Numeric::F64),
         }
     }
 
