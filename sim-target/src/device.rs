@@ -459,7 +459,8 @@ impl Device {
         Some(out)
     }
 
-    /// Fragments written, FPGA cycles and frames done, for the controller's stats.
+    /// Fragments written, FPGA cycles, frames done and the last ray-traced frame's
+    /// saturations, for the controller's stats.
     pub fn counters(&self) -> protocol::frame::DeviceCounters {
         let (fragments, cycles) = self
             .raster
@@ -469,6 +470,7 @@ impl Device {
             fragments,
             cycles,
             frames: self.frames,
+            saturations: self.rt_frame.as_ref().map_or(0, |f| f.stats.saturations),
             ..Default::default()
         }
     }
