@@ -1094,7 +1094,13 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         put_rv(fmt, &mut w, cam::U, "camera.u", c.u)?;
         put_rv(fmt, &mut w, cam::V, "camera.v", c.v)?;
         put_rv(fmt, &mut w, cam::W, "camera.w", c.w)?;
-        put_r(fmt, &mut w, cam::NEAR_PLANE, "camera.near_plane", c.near_plane)?;
+        put_r(
+            fmt,
+            &mut w,
+            cam::NEAR_PLANE,
+            "camera.near_plane",
+            c.near_plane,
+        )?;
         self.camera = w;
         Ok(())
     }
@@ -1217,7 +1223,13 @@ fn encode_object(o: &ObjectRegs, fmt: ValueFormat) -> Result<[u32; obj::WORDS], 
     put_rv(fmt, &mut w, obj::TRANSLATE, "translate", o.translate)?;
     put_rv(fmt, &mut w, obj::SCALE, "scale", o.scale)?;
     put_rv(fmt, &mut w, obj::ROTATE, "rotate", o.rotate)?;
-    put_r(fmt, &mut w, obj::AMBIENT_K, "material.ambient.k", m.ambient.k)?;
+    put_r(
+        fmt,
+        &mut w,
+        obj::AMBIENT_K,
+        "material.ambient.k",
+        m.ambient.k,
+    )?;
     put_rv(
         fmt,
         &mut w,
@@ -1225,7 +1237,13 @@ fn encode_object(o: &ObjectRegs, fmt: ValueFormat) -> Result<[u32; obj::WORDS], 
         "material.ambient.color",
         m.ambient.color,
     )?;
-    put_r(fmt, &mut w, obj::DIFFUSE_K, "material.diffuse.k", m.diffuse.k)?;
+    put_r(
+        fmt,
+        &mut w,
+        obj::DIFFUSE_K,
+        "material.diffuse.k",
+        m.diffuse.k,
+    )?;
     put_rv(
         fmt,
         &mut w,
@@ -1234,8 +1252,20 @@ fn encode_object(o: &ObjectRegs, fmt: ValueFormat) -> Result<[u32; obj::WORDS], 
         m.diffuse.color,
     )?;
     w[obj::DIFFUSE_MODEL] = m.diffuse_model.code();
-    put_r(fmt, &mut w, obj::SIGMA2, "material.diffuse.sigma2", m.sigma2)?;
-    put_r(fmt, &mut w, obj::SPECULAR_K, "material.specular.k", m.specular.k)?;
+    put_r(
+        fmt,
+        &mut w,
+        obj::SIGMA2,
+        "material.diffuse.sigma2",
+        m.sigma2,
+    )?;
+    put_r(
+        fmt,
+        &mut w,
+        obj::SPECULAR_K,
+        "material.specular.k",
+        m.specular.k,
+    )?;
     put_rv(
         fmt,
         &mut w,
@@ -1248,7 +1278,13 @@ fn encode_object(o: &ObjectRegs, fmt: ValueFormat) -> Result<[u32; obj::WORDS], 
     w[obj::REFLECTION_MODE] = m.reflection.code();
     put_r(fmt, &mut w, obj::ETA, "material.reflection.eta", m.eta)?;
     put_r(fmt, &mut w, obj::KAPPA, "material.reflection.k", m.kappa)?;
-    put_r(fmt, &mut w, obj::SPEC_ETA, "material.specular.eta", m.spec_eta)?;
+    put_r(
+        fmt,
+        &mut w,
+        obj::SPEC_ETA,
+        "material.specular.eta",
+        m.spec_eta,
+    )?;
     put_r(
         fmt,
         &mut w,
@@ -1265,9 +1301,27 @@ fn encode_object(o: &ObjectRegs, fmt: ValueFormat) -> Result<[u32; obj::WORDS], 
     )?;
     w[obj::TEX_KIND] = t.kind.code();
     w[obj::TEX_MAPPING] = t.mapping.code();
-    put_rv(fmt, &mut w, obj::TEX_SCALE, "material.texture.scale", t.scale)?;
-    put_rv(fmt, &mut w, obj::TEX_OFFSET, "material.texture.offset", t.offset)?;
-    put_rv(fmt, &mut w, obj::TEX_COLOR2, "material.texture.color2", t.color2)?;
+    put_rv(
+        fmt,
+        &mut w,
+        obj::TEX_SCALE,
+        "material.texture.scale",
+        t.scale,
+    )?;
+    put_rv(
+        fmt,
+        &mut w,
+        obj::TEX_OFFSET,
+        "material.texture.offset",
+        t.offset,
+    )?;
+    put_rv(
+        fmt,
+        &mut w,
+        obj::TEX_COLOR2,
+        "material.texture.color2",
+        t.color2,
+    )?;
     w[obj::TEX_FILTER] = t.filter.code();
     w[obj::TEX_SEED] = t.seed;
     w[obj::TEX_BASE] = t.base;

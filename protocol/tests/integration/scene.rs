@@ -218,7 +218,13 @@ fn binary32_images_carry_ieee_words() {
     let w: Vec<u32> = s.words().collect();
     assert_eq!(w[hdr::VALUE_FORMAT], 1);
     // Integers, codes and the always-f32 max_distance are the Q16.16 image's words.
-    for i in [hdr::VERSION, hdr::WIDTH, hdr::MAX_DISTANCE, hdr::FLAGS, hdr::SEED] {
+    for i in [
+        hdr::VERSION,
+        hdr::WIDTH,
+        hdr::MAX_DISTANCE,
+        hdr::FLAGS,
+        hdr::SEED,
+    ] {
         assert_eq!(Some(w[i]), q.word(i), "word {i}");
     }
     assert_eq!(w[hdr::BIAS], 0.001f32.to_bits());
@@ -291,9 +297,7 @@ fn unknown_value_formats_are_refused_naming_the_field() {
 fn the_format_follows_the_targets_caps() {
     use protocol::frame::{Caps, Numeric, NumericSet};
     let caps = Caps {
-        float_regs: NumericSet::default()
-            .with(Numeric::F32)
-            .with(Numeric::F64),
+        float_regs: NumericSet::default().with(Numeric::F32).with(Numeric::F64),
         ..Default::default()
     };
     for n in Numeric::ALL {
