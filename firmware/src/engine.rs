@@ -285,6 +285,7 @@ impl<B: FpgaBus> Engine<B> {
             fifo_stalls: self.counters.fifo_stalls,
             frames: fpga.frames,
             queue_free: self.counters.queue_free,
+            saturations: fpga.saturations,
         })
     }
 

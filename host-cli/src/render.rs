@@ -13,8 +13,9 @@ use protocol::frame::{
     Stats,
 };
 use protocol::names::{Named, UnknownName};
-use protocol::scene::diff;
-use sim_target::scene_regs::Regs;
+use protocol::scene::{diff, ValueFormat};
+use sim_target::rt::Scene;
+use sim_target::scene_regs::{Regs, SceneRegsError};
 
 use crate::session::{Phase, Session, SessionError, Transport};
 
@@ -214,6 +215,21 @@ pub struct RenderOutput {
     pub render: std::time::Duration,
     /// Every plane read back: its pixel bytes and the time from request to the last chunk.
     pub read_back: Phase,
+}
+
+/// Writes `scene` into the register image the connected target wants for a frame in
+/// `numeric`: binary32 reals where its caps list the format as a float datapath, Q16.16
+/// otherwise (and before a handshake, when the target is unknown). The one place the host
+/// decides the image's value format, so render and animate cannot disagree.
+pub fn scene_regs<T: Transport>(
+    session: &Session<T>,
+    scene: &Scene,
+    numeric: Numeric,
+) -> Result<Regs, SceneRegsError> {
+    let format = session.peer().map_or(ValueFormat::Q16_16, |p| {
+        ValueFormat::for_caps(&p.caps, numeric)
+    });
+    sim_target::scene_regs::to_regs_as(scene, format)
 }
 
 /// Keeps the register image the target holds, so each frame sends only the difference.

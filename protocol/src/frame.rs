@@ -265,6 +265,12 @@ pub struct Caps {
     /// command the board cannot draw (a circle on the FITkit) before sending anything,
     /// naming it. `None` from a host, or a controller with a layout of its own.
     pub raster_layout: Option<crate::fpga::LayoutId>,
+    /// Number formats whose datapath wants the scene's reals as IEEE binary32 register
+    /// words ([`crate::scene::ValueFormat::Binary32`]) rather than Q16.16, so that a float
+    /// datapath gets the scene to f32 precision instead of quantised to 2⁻¹⁶; the host
+    /// picks the image's format with [`crate::scene::ValueFormat::for_caps`]. Empty: the
+    /// seed's Q16.16 image for every format.
+    pub float_regs: NumericSet,
 }
 
 /// The first message in each direction. Each side compares the other's
@@ -878,6 +884,12 @@ pub struct DeviceCounters {
     pub frames: u32,
     /// Free slots in the controller's command queue now.
     pub queue_free: u16,
+    /// Results of the last ray-traced frame that a fixed-point datapath clipped to its
+    /// format's range (the saturating arithmetic of `ap_fixed` with `AP_SAT`, division by
+    /// zero included): 0 means the frame is what the format computes without clipping.
+    /// Float formats count nothing here, as they do not saturate (an overflow becomes ±∞,
+    /// which `fpgfx stress` counts).
+    pub saturations: u64,
 }
 
 /// Both ends' view of the link plus the device counters.

@@ -9,12 +9,29 @@
 //!
 //! # Number formats
 //!
-//! Real values are Q16.16 two's complement (the seed's `ap_fixed<32,16>`): value × 65536
-//! rounded to nearest, ties away from zero, range −32768 … 32767.99998. [`q16_from_f64`]
-//! refuses NaN, infinities and values outside that range, naming the field, rather than
-//! saturating. **Exception:** `MAX_DISTANCE` (1e6 in the seed) cannot be held by Q16.16,
-//! so it is an IEEE binary32 bit pattern. Counts, sizes, codes and seeds are plain
-//! unsigned integers.
+//! Real values are in the image's **value format**, named by header word 15
+//! ([`hdr::VALUE_FORMAT`], [`ValueFormat`]) so that every reader (the device, an RTL
+//! testbench, the C library) knows how to read them without being told out of band:
+//!
+//! - **0, Q16.16** (the seed's `ap_fixed<32,16>`, and the default): two's complement, value
+//!   × 65536 rounded to nearest, ties away from zero, range −32768 … 32767.99998.
+//!   [`q16_from_f64`] refuses NaN, infinities and values outside that range, naming the
+//!   field, rather than saturating.
+//! - **1, binary32**: the IEEE-754 bit pattern, rounded to nearest even, as an HLS `float`
+//!   port on AXI4-Lite takes it. A float datapath then starts from the scene's values
+//!   rounded once to f32 (relative error ≤ 2⁻²⁴) instead of quantised to 2⁻¹⁶ absolute.
+//!   [`f32_from_f64`] refuses NaN, infinities and magnitudes beyond f32, naming the field.
+//!
+//! Any other code in word 15 is refused ([`SceneError::Code`] naming `value_format`) by
+//! [`SceneRegs::from_words`] and [`SceneRegs::write`], so a held image always has a known
+//! format. A Q16.16 image is word for word the image of register-map version 1 before the
+//! field existed (word 15 was "reserved, 0"). A target says in
+//! [`crate::frame::Caps::float_regs`] which of its number formats want binary32 registers;
+//! the host picks the format with [`ValueFormat::for_caps`]. **Exception:** `MAX_DISTANCE`
+//! (1e6 in the seed) cannot be held by Q16.16, so it is binary32 bits in both formats.
+//! Counts, sizes, codes and seeds are plain unsigned integers in both. The controller's
+//! per-frame animation steps ([`crate::frame::Ramp`], [`crate::frame::Orbit`]) add and
+//! rotate Q16.16 words, so an auto-restarted animation needs a Q16.16 image.
 //!
 //! # Register map (word offsets)
 //!
@@ -26,19 +43,19 @@
 //! | 3 | light count (ambient included) | u32 ≤ LIGHTS |
 //! | 4, 5 | width, height | u32 ≥ 1 |
 //! | 6 | depth (RAYTRACING_DEPTH) | u32 ≥ 1 |
-//! | 7 | bias (CORE_BIAS) | Q16.16 |
+//! | 7 | bias (CORE_BIAS) | real |
 //! | 8 | max_distance | **f32 bits** |
-//! | 9–11 | background r, g, b | Q16.16 |
+//! | 9–11 | background r, g, b | real × 3 |
 //! | 12 | samples per pixel | u32 ≥ 1 |
 //! | 13 | flags ([`FLAG_SHADOWS`] …) | u32 |
 //! | 14 | jitter seed | u32 |
-//! | 15 | reserved, 0 | |
-//! | 16–18 | camera position | Q16.16 × 3 |
-//! | 19–21 | camera look_at | Q16.16 × 3 |
-//! | 22–24 | camera up | Q16.16 × 3 |
-//! | 25 | fov_y, degrees | Q16.16 |
-//! | 26–28, 29–31, 32–34 | basis u, v, w (ViRAY's form, derived by the host) | Q16.16 × 9 |
-//! | 35 | near_plane (image plane distance along −w) | Q16.16 |
+//! | 15 | value format: 0 Q16.16, 1 binary32 ([`ValueFormat`]) | u32 code |
+//! | 16–18 | camera position | real × 3 |
+//! | 19–21 | camera look_at | real × 3 |
+//! | 22–24 | camera up | real × 3 |
+//! | 25 | fov_y, degrees | real |
+//! | 26–28, 29–31, 32–34 | basis u, v, w (ViRAY's form, derived by the host) | real × 9 |
+//! | 35 | near_plane (image plane distance along −w) | real |
 //! | 36 + 12·i | light i: [`light`] offsets | |
 //! | 36 + 12·LIGHTS + 45·j | object j: [`obj`] offsets | |
 //!
@@ -48,7 +65,7 @@
 //! σ², specular k + colour ×3 + model + exponent (u32 ≤ 1023), reflection mode + η + κ,
 //! texture kind, mapping, scale ×2, offset ×2, colour2 ×3, filter, seed, base texel,
 //! size (`width_log2 | height_log2 << 8`), Torrance–Sparrow η + κ, constant reflectance r.
-//! With the defaults the map is 420 words.
+//! With the defaults the map is 420 words. "real" is a word in the image's value format.
 
 use heapless::Vec;
 
@@ -87,11 +104,12 @@ pub mod hdr {
     pub const HEIGHT: usize = 5;
     /// [`super::RenderRegs::depth`].
     pub const DEPTH: usize = 6;
-    /// [`super::RenderRegs::bias`], Q16.16.
+    /// [`super::RenderRegs::bias`], a real.
     pub const BIAS: usize = 7;
-    /// [`super::RenderRegs::max_distance`], f32 bits (the only non-Q16.16 real).
+    /// [`super::RenderRegs::max_distance`], f32 bits whatever the value format (Q16.16
+    /// cannot hold the seed's 1e6).
     pub const MAX_DISTANCE: usize = 8;
-    /// [`super::RenderRegs::background`], 3 × Q16.16.
+    /// [`super::RenderRegs::background`], 3 reals.
     pub const BACKGROUND: usize = 9;
     /// [`super::RenderRegs::spp`].
     pub const SPP: usize = 12;
@@ -99,12 +117,16 @@ pub mod hdr {
     pub const FLAGS: usize = 13;
     /// [`super::RenderRegs::seed`].
     pub const SEED: usize = 14;
-    /// Words in the header, word 15 (reserved, 0) included.
+    /// The [`super::ValueFormat`] code every real of the image is read in: a field of the
+    /// image rather than a setting of the reader, so a testbench or C caller handed only
+    /// the words decodes them right.
+    pub const VALUE_FORMAT: usize = 15;
+    /// Words in the header.
     pub const WORDS: usize = 16;
 }
 
 /// Word offsets inside the camera block, from [`crate::scene::cam::OFFSET`]; the meaning
-/// of each is on the [`crate::scene::CameraRegs`] field it carries (all Q16.16).
+/// of each is on the [`crate::scene::CameraRegs`] field it carries (all reals).
 pub mod cam {
     /// Word offset of the camera block: right after the header.
     pub const OFFSET: usize = super::hdr::WORDS;
@@ -130,7 +152,7 @@ pub mod cam {
 
 /// Word offsets inside a light block; light i starts at
 /// [`crate::scene::SceneRegs::light_offset`]`(i)`. The meaning of each is on the
-/// [`crate::scene::LightRegs`] field it carries (reals are Q16.16).
+/// [`crate::scene::LightRegs`] field it carries.
 pub mod light {
     /// Word offset of light 0's block: right after the camera block.
     pub const OFFSET: usize = super::cam::OFFSET + super::cam::WORDS;
@@ -153,7 +175,7 @@ pub mod light {
 /// Word offsets inside an object block; object j starts at
 /// [`crate::scene::SceneRegs::object_offset`]`(j)`. The meaning of each is on the
 /// [`crate::scene::ObjectRegs`], [`crate::scene::MaterialRegs`] or
-/// [`crate::scene::TextureRegs`] field it carries (reals are Q16.16, codes u32).
+/// [`crate::scene::TextureRegs`] field it carries (codes are u32).
 pub mod obj {
     /// [`super::ObjectRegs::shape`] as a [`super::Shape`] code.
     pub const SHAPE: usize = 0;
@@ -390,7 +412,10 @@ pub fn q16_to_f64(q: i32) -> f64 {
     f64::from(q) / 65536.0
 }
 
-fn f32_bits(field: &'static str, value: f64) -> Result<u32, SceneError> {
+/// Converts to IEEE binary32 bits, rounding to nearest even; NaN, infinities and
+/// magnitudes that round beyond f32's largest finite value are errors naming `field`, as
+/// [`q16_from_f64`] refuses what Q16.16 cannot hold.
+pub fn f32_from_f64(field: &'static str, value: f64) -> Result<u32, SceneError> {
     let f = value as f32;
     if f.is_finite() {
         Ok(f.to_bits())
@@ -554,6 +579,49 @@ code_enum!(
     }
 );
 
+code_enum!(
+    /// How the image's real values are written ([`hdr::VALUE_FORMAT`]; see the module
+    /// docs): the datapath's own format where a float one can take IEEE words, so that
+    /// the scene is not quantised to Q16.16 on the way to a float datapath.
+    ValueFormat {
+        /// Q16.16 two's complement: what the seed's `ap_fixed<32,16>` block reads.
+        #[default]
+        Q16_16 = 0,
+        /// IEEE binary32 bits: what an HLS `float` port on AXI4-Lite reads.
+        Binary32 = 1,
+    }
+);
+
+impl ValueFormat {
+    /// The word `value` is written as; a value this format cannot hold is an error
+    /// naming `field` ([`q16_from_f64`], [`f32_from_f64`]).
+    pub fn encode(self, field: &'static str, value: f64) -> Result<u32, SceneError> {
+        match self {
+            ValueFormat::Q16_16 => q16_from_f64(field, value).map(|q| q as u32),
+            ValueFormat::Binary32 => f32_from_f64(field, value),
+        }
+    }
+
+    /// The real `word` holds, exactly (both formats widen to f64 without rounding).
+    pub fn decode(self, word: u32) -> f64 {
+        match self {
+            ValueFormat::Q16_16 => q16_to_f64(word as i32),
+            ValueFormat::Binary32 => f64::from(f32::from_bits(word)),
+        }
+    }
+
+    /// The format a target that announced `caps` wants for a frame computed in
+    /// `numeric`: binary32 where [`crate::frame::Caps::float_regs`] lists the format,
+    /// Q16.16 otherwise (so a target that says nothing gets the seed's image).
+    pub fn for_caps(caps: &crate::frame::Caps, numeric: crate::frame::Numeric) -> Self {
+        if caps.float_regs.contains(numeric) {
+            ValueFormat::Binary32
+        } else {
+            ValueFormat::Q16_16
+        }
+    }
+}
+
 /// The header's frame settings, as [`SceneRegs::set_render`] writes them (`[render]` of
 /// the scene file; docs/requirements.md §4.1).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -569,7 +637,8 @@ pub struct RenderRegs {
     /// ray does not hit the surface it starts on.
     pub bias: f64,
     /// MAX_DISTANCE, world units: hits beyond it count as misses. Stored as f32 bits
-    /// because the seed's 1e6 is beyond Q16.16, so it must be a finite f32.
+    /// in both value formats because the seed's 1e6 is beyond Q16.16, so it must be a
+    /// finite f32.
     pub max_distance: f64,
     /// Linear RGB of rays that hit nothing (1.0 = full scale before clamping).
     pub background: [f64; 3],
@@ -720,27 +789,34 @@ pub struct ObjectRegs {
     pub material: MaterialRegs,
 }
 
-// Block encoders: `w` is the block's words.
-fn put_q(w: &mut [u32], at: usize, field: &'static str, v: f64) -> Result<(), SceneError> {
-    w[at] = q16_from_f64(field, v)? as u32;
+// Block encoders and decoders: `w` is the block's words, `fmt` the image's value format.
+fn put_r(
+    fmt: ValueFormat,
+    w: &mut [u32],
+    at: usize,
+    field: &'static str,
+    v: f64,
+) -> Result<(), SceneError> {
+    w[at] = fmt.encode(field, v)?;
     Ok(())
 }
-fn put_v<const N: usize>(
+fn put_rv<const N: usize>(
+    fmt: ValueFormat,
     w: &mut [u32],
     at: usize,
     field: &'static str,
     v: [f64; N],
 ) -> Result<(), SceneError> {
     for (i, x) in v.iter().enumerate() {
-        put_q(w, at + i, field, *x)?;
+        put_r(fmt, w, at + i, field, *x)?;
     }
     Ok(())
 }
-fn get_q(w: &[u32], at: usize) -> f64 {
-    q16_to_f64(w[at] as i32)
+fn get_r(fmt: ValueFormat, w: &[u32], at: usize) -> f64 {
+    fmt.decode(w[at])
 }
-fn get_v<const N: usize>(w: &[u32], at: usize) -> [f64; N] {
-    core::array::from_fn(|i| get_q(w, at + i))
+fn get_rv<const N: usize>(fmt: ValueFormat, w: &[u32], at: usize) -> [f64; N] {
+    core::array::from_fn(|i| get_r(fmt, w, at + i))
 }
 fn int(field: &'static str, value: u64, min: u64, max: u64) -> Result<(), SceneError> {
     if value < min || value > max {
@@ -795,13 +871,22 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     // RegWrite offsets are u16 and the capacities must fit their bytes in word 1.
     const FITS: () = assert!(Self::WORDS <= 1 << 16 && OBJ < 256 && LIGHTS < 256 && LIGHTS >= 1);
 
-    /// An empty scene: header magic and version set, no objects or lights, all else 0.
+    /// An empty Q16.16 scene: header magic and version set, no objects or lights, all
+    /// else 0 (the device's power-on register file).
     pub fn new() -> Self {
+        Self::with_format(ValueFormat::Q16_16)
+    }
+
+    /// An empty scene whose reals are written in `format`. The format is fixed when the
+    /// image is made, not settable later, so that no value already written can be reread
+    /// in another format than it was written in.
+    pub fn with_format(format: ValueFormat) -> Self {
         #[allow(clippy::let_unit_value)]
         let () = Self::FITS;
         let mut header = [0; hdr::WORDS];
         header[hdr::MAGIC] = MAGIC;
         header[hdr::VERSION] = Self::VERSION_WORD;
+        header[hdr::VALUE_FORMAT] = format.code();
         SceneRegs {
             header,
             camera: [0; cam::WORDS],
@@ -869,8 +954,20 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         Ok(Self::WORDS)
     }
 
-    /// Rebuilds an image from exactly [`Self::WORDS`] words, checking magic and version.
-    /// Field values are not checked here (the typed getters do that).
+    /// The format the image's reals are in (word 15). Always a known one: the
+    /// constructors write one and [`Self::from_words`] and [`Self::write`] refuse others.
+    pub fn value_format(&self) -> ValueFormat {
+        ValueFormat::from_code(self.header[hdr::VALUE_FORMAT]).unwrap_or_default()
+    }
+
+    /// Refuses a value-format word that names no [`ValueFormat`], so that a held image
+    /// never has reals of an unknown format.
+    fn check_value_format(word: u32) -> Result<(), SceneError> {
+        code("value_format", word, ValueFormat::from_code).map(|_| ())
+    }
+
+    /// Rebuilds an image from exactly [`Self::WORDS`] words, checking magic, version and
+    /// value format. Other field values are not checked here (the typed getters do that).
     pub fn from_words(words: &[u32]) -> Result<Self, SceneError> {
         if words.len() != Self::WORDS {
             return Err(SceneError::Length {
@@ -889,6 +986,7 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
                 expected: Self::VERSION_WORD,
             });
         }
+        Self::check_value_format(words[hdr::VALUE_FORMAT])?;
         let mut s = Self::new();
         for (i, &w) in words.iter().enumerate() {
             if let Some(slot) = s.word_mut(i) {
@@ -898,7 +996,8 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         Ok(s)
     }
 
-    /// Writes a run of words, as the device does for a [`RegWrite`].
+    /// Writes a run of words, as the device does for a [`RegWrite`]; a write past the map
+    /// or of an unknown value-format code changes nothing.
     pub fn write(&mut self, offset: usize, words: &[u32]) -> Result<(), SceneError> {
         if offset
             .checked_add(words.len())
@@ -909,6 +1008,12 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
                 len: words.len(),
                 size: Self::WORDS,
             });
+        }
+        if let Some(&f) = hdr::VALUE_FORMAT
+            .checked_sub(offset)
+            .and_then(|i| words.get(i))
+        {
+            Self::check_value_format(f)?;
         }
         for (i, &w) in words.iter().enumerate() {
             if let Some(slot) = self.word_mut(offset + i) {
@@ -945,13 +1050,14 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         int("height", u64::from(r.height), 1, u64::from(u16::MAX))?;
         int("depth", u64::from(r.depth), 1, 16)?;
         int("spp", u64::from(r.spp), 1, 1 << 16)?;
+        let fmt = self.value_format();
         let mut h = self.header;
         h[hdr::WIDTH] = r.width;
         h[hdr::HEIGHT] = r.height;
         h[hdr::DEPTH] = r.depth;
-        put_q(&mut h, hdr::BIAS, "bias", r.bias)?;
-        h[hdr::MAX_DISTANCE] = f32_bits("max_distance", r.max_distance)?;
-        put_v(&mut h, hdr::BACKGROUND, "background", r.background)?;
+        put_r(fmt, &mut h, hdr::BIAS, "bias", r.bias)?;
+        h[hdr::MAX_DISTANCE] = f32_from_f64("max_distance", r.max_distance)?;
+        put_rv(fmt, &mut h, hdr::BACKGROUND, "background", r.background)?;
         h[hdr::SPP] = r.spp;
         h[hdr::FLAGS] = r.flags;
         h[hdr::SEED] = r.seed;
@@ -961,48 +1067,58 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
 
     /// Reads the frame settings back. Cannot fail: every word is some valid value.
     pub fn render(&self) -> RenderRegs {
+        let fmt = self.value_format();
         let h = &self.header;
         RenderRegs {
             width: h[hdr::WIDTH],
             height: h[hdr::HEIGHT],
             depth: h[hdr::DEPTH],
-            bias: get_q(h, hdr::BIAS),
+            bias: get_r(fmt, h, hdr::BIAS),
             max_distance: f64::from(f32::from_bits(h[hdr::MAX_DISTANCE])),
-            background: get_v(h, hdr::BACKGROUND),
+            background: get_rv(fmt, h, hdr::BACKGROUND),
             spp: h[hdr::SPP],
             flags: h[hdr::FLAGS],
             seed: h[hdr::SEED],
         }
     }
 
-    /// Writes the camera block; a value outside Q16.16 is an error naming the field, and
-    /// then nothing is written.
+    /// Writes the camera block; a value the value format cannot hold is an error naming
+    /// the field, and then nothing is written.
     pub fn set_camera(&mut self, c: &CameraRegs) -> Result<(), SceneError> {
+        let fmt = self.value_format();
         let mut w = [0; cam::WORDS];
-        put_v(&mut w, cam::POSITION, "camera.position", c.position)?;
-        put_v(&mut w, cam::LOOK_AT, "camera.look_at", c.look_at)?;
-        put_v(&mut w, cam::UP, "camera.up", c.up)?;
-        put_q(&mut w, cam::FOV_Y, "camera.fov_y", c.fov_y)?;
-        put_v(&mut w, cam::U, "camera.u", c.u)?;
-        put_v(&mut w, cam::V, "camera.v", c.v)?;
-        put_v(&mut w, cam::W, "camera.w", c.w)?;
-        put_q(&mut w, cam::NEAR_PLANE, "camera.near_plane", c.near_plane)?;
+        put_rv(fmt, &mut w, cam::POSITION, "camera.position", c.position)?;
+        put_rv(fmt, &mut w, cam::LOOK_AT, "camera.look_at", c.look_at)?;
+        put_rv(fmt, &mut w, cam::UP, "camera.up", c.up)?;
+        put_r(fmt, &mut w, cam::FOV_Y, "camera.fov_y", c.fov_y)?;
+        put_rv(fmt, &mut w, cam::U, "camera.u", c.u)?;
+        put_rv(fmt, &mut w, cam::V, "camera.v", c.v)?;
+        put_rv(fmt, &mut w, cam::W, "camera.w", c.w)?;
+        put_r(
+            fmt,
+            &mut w,
+            cam::NEAR_PLANE,
+            "camera.near_plane",
+            c.near_plane,
+        )?;
         self.camera = w;
         Ok(())
     }
 
-    /// Reads the camera block back. Cannot fail: every word is some Q16.16 value.
+    /// Reads the camera block back. Cannot fail: every word is some value in either
+    /// format.
     pub fn camera(&self) -> CameraRegs {
+        let fmt = self.value_format();
         let w = &self.camera;
         CameraRegs {
-            position: get_v(w, cam::POSITION),
-            look_at: get_v(w, cam::LOOK_AT),
-            up: get_v(w, cam::UP),
-            fov_y: get_q(w, cam::FOV_Y),
-            u: get_v(w, cam::U),
-            v: get_v(w, cam::V),
-            w: get_v(w, cam::W),
-            near_plane: get_q(w, cam::NEAR_PLANE),
+            position: get_rv(fmt, w, cam::POSITION),
+            look_at: get_rv(fmt, w, cam::LOOK_AT),
+            up: get_rv(fmt, w, cam::UP),
+            fov_y: get_r(fmt, w, cam::FOV_Y),
+            u: get_rv(fmt, w, cam::U),
+            v: get_rv(fmt, w, cam::V),
+            w: get_rv(fmt, w, cam::W),
+            near_plane: get_r(fmt, w, cam::NEAR_PLANE),
         }
     }
 
@@ -1041,14 +1157,15 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
                 value: l.kind.code(),
             });
         }
+        let fmt = self.value_format();
         let enc = || -> Result<[u32; light::WORDS], SceneError> {
             let mut w = [0; light::WORDS];
             w[light::KIND] = l.kind.code();
-            put_v(&mut w, light::POSITION, "position", l.position)?;
-            put_v(&mut w, light::COLOR, "color", l.color)?;
-            put_v(&mut w, light::DIRECTION, "direction", l.direction)?;
-            put_q(&mut w, light::COS_OUTER, "cos_outer", l.cos_outer)?;
-            put_q(&mut w, light::COS_INNER, "cos_inner", l.cos_inner)?;
+            put_rv(fmt, &mut w, light::POSITION, "position", l.position)?;
+            put_rv(fmt, &mut w, light::COLOR, "color", l.color)?;
+            put_rv(fmt, &mut w, light::DIRECTION, "direction", l.direction)?;
+            put_r(fmt, &mut w, light::COS_OUTER, "cos_outer", l.cos_outer)?;
+            put_r(fmt, &mut w, light::COS_INNER, "cos_inner", l.cos_inner)?;
             Ok(w)
         };
         self.lights[i] = enc().map_err(|e| e.at(at))?;
@@ -1059,15 +1176,16 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     /// [`LightKind`].
     pub fn light(&self, i: usize) -> Result<LightRegs, SceneError> {
         Self::light_index(i)?;
+        let fmt = self.value_format();
         let w = &self.lights[i];
         Ok(LightRegs {
             kind: code("kind", w[light::KIND], LightKind::from_code)
                 .map_err(|e| e.at(At::Light(i)))?,
-            position: get_v(w, light::POSITION),
-            color: get_v(w, light::COLOR),
-            direction: get_v(w, light::DIRECTION),
-            cos_outer: get_q(w, light::COS_OUTER),
-            cos_inner: get_q(w, light::COS_INNER),
+            position: get_rv(fmt, w, light::POSITION),
+            color: get_rv(fmt, w, light::COLOR),
+            direction: get_rv(fmt, w, light::DIRECTION),
+            cos_outer: get_r(fmt, w, light::COS_OUTER),
+            cos_inner: get_r(fmt, w, light::COS_INNER),
         })
     }
 
@@ -1075,7 +1193,7 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     /// and the error names the object and the field.
     pub fn set_object(&mut self, i: usize, o: &ObjectRegs) -> Result<(), SceneError> {
         Self::object_index(i)?;
-        self.objects[i] = encode_object(o).map_err(|e| e.at(At::Object(i)))?;
+        self.objects[i] = encode_object(o, self.value_format()).map_err(|e| e.at(At::Object(i)))?;
         Ok(())
     }
 
@@ -1084,11 +1202,11 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     /// here).
     pub fn object(&self, i: usize) -> Result<ObjectRegs, SceneError> {
         Self::object_index(i)?;
-        decode_object(&self.objects[i]).map_err(|e| e.at(At::Object(i)))
+        decode_object(&self.objects[i], self.value_format()).map_err(|e| e.at(At::Object(i)))
     }
 }
 
-fn encode_object(o: &ObjectRegs) -> Result<[u32; obj::WORDS], SceneError> {
+fn encode_object(o: &ObjectRegs, fmt: ValueFormat) -> Result<[u32; obj::WORDS], SceneError> {
     let m = &o.material;
     let t = &m.texture;
     int("material.specular.exponent", u64::from(m.exponent), 0, 1023)?;
@@ -1102,27 +1220,54 @@ fn encode_object(o: &ObjectRegs) -> Result<[u32; obj::WORDS], SceneError> {
     int("material.texture.base", u64::from(t.base), 0, (1 << 16) - 1)?;
     let mut w = [0; obj::WORDS];
     w[obj::SHAPE] = o.shape.code();
-    put_v(&mut w, obj::TRANSLATE, "translate", o.translate)?;
-    put_v(&mut w, obj::SCALE, "scale", o.scale)?;
-    put_v(&mut w, obj::ROTATE, "rotate", o.rotate)?;
-    put_q(&mut w, obj::AMBIENT_K, "material.ambient.k", m.ambient.k)?;
-    put_v(
+    put_rv(fmt, &mut w, obj::TRANSLATE, "translate", o.translate)?;
+    put_rv(fmt, &mut w, obj::SCALE, "scale", o.scale)?;
+    put_rv(fmt, &mut w, obj::ROTATE, "rotate", o.rotate)?;
+    put_r(
+        fmt,
+        &mut w,
+        obj::AMBIENT_K,
+        "material.ambient.k",
+        m.ambient.k,
+    )?;
+    put_rv(
+        fmt,
         &mut w,
         obj::AMBIENT_COLOR,
         "material.ambient.color",
         m.ambient.color,
     )?;
-    put_q(&mut w, obj::DIFFUSE_K, "material.diffuse.k", m.diffuse.k)?;
-    put_v(
+    put_r(
+        fmt,
+        &mut w,
+        obj::DIFFUSE_K,
+        "material.diffuse.k",
+        m.diffuse.k,
+    )?;
+    put_rv(
+        fmt,
         &mut w,
         obj::DIFFUSE_COLOR,
         "material.diffuse.color",
         m.diffuse.color,
     )?;
     w[obj::DIFFUSE_MODEL] = m.diffuse_model.code();
-    put_q(&mut w, obj::SIGMA2, "material.diffuse.sigma2", m.sigma2)?;
-    put_q(&mut w, obj::SPECULAR_K, "material.specular.k", m.specular.k)?;
-    put_v(
+    put_r(
+        fmt,
+        &mut w,
+        obj::SIGMA2,
+        "material.diffuse.sigma2",
+        m.sigma2,
+    )?;
+    put_r(
+        fmt,
+        &mut w,
+        obj::SPECULAR_K,
+        "material.specular.k",
+        m.specular.k,
+    )?;
+    put_rv(
+        fmt,
         &mut w,
         obj::SPECULAR_COLOR,
         "material.specular.color",
@@ -1131,16 +1276,24 @@ fn encode_object(o: &ObjectRegs) -> Result<[u32; obj::WORDS], SceneError> {
     w[obj::SPECULAR_MODEL] = m.specular_model.code();
     w[obj::EXPONENT] = m.exponent;
     w[obj::REFLECTION_MODE] = m.reflection.code();
-    put_q(&mut w, obj::ETA, "material.reflection.eta", m.eta)?;
-    put_q(&mut w, obj::KAPPA, "material.reflection.k", m.kappa)?;
-    put_q(&mut w, obj::SPEC_ETA, "material.specular.eta", m.spec_eta)?;
-    put_q(
+    put_r(fmt, &mut w, obj::ETA, "material.reflection.eta", m.eta)?;
+    put_r(fmt, &mut w, obj::KAPPA, "material.reflection.k", m.kappa)?;
+    put_r(
+        fmt,
+        &mut w,
+        obj::SPEC_ETA,
+        "material.specular.eta",
+        m.spec_eta,
+    )?;
+    put_r(
+        fmt,
         &mut w,
         obj::SPEC_KAPPA,
         "material.specular.extinction",
         m.spec_kappa,
     )?;
-    put_q(
+    put_r(
+        fmt,
         &mut w,
         obj::REFLECTANCE,
         "material.reflection.r",
@@ -1148,9 +1301,27 @@ fn encode_object(o: &ObjectRegs) -> Result<[u32; obj::WORDS], SceneError> {
     )?;
     w[obj::TEX_KIND] = t.kind.code();
     w[obj::TEX_MAPPING] = t.mapping.code();
-    put_v(&mut w, obj::TEX_SCALE, "material.texture.scale", t.scale)?;
-    put_v(&mut w, obj::TEX_OFFSET, "material.texture.offset", t.offset)?;
-    put_v(&mut w, obj::TEX_COLOR2, "material.texture.color2", t.color2)?;
+    put_rv(
+        fmt,
+        &mut w,
+        obj::TEX_SCALE,
+        "material.texture.scale",
+        t.scale,
+    )?;
+    put_rv(
+        fmt,
+        &mut w,
+        obj::TEX_OFFSET,
+        "material.texture.offset",
+        t.offset,
+    )?;
+    put_rv(
+        fmt,
+        &mut w,
+        obj::TEX_COLOR2,
+        "material.texture.color2",
+        t.color2,
+    )?;
     w[obj::TEX_FILTER] = t.filter.code();
     w[obj::TEX_SEED] = t.seed;
     w[obj::TEX_BASE] = t.base;
@@ -1158,7 +1329,7 @@ fn encode_object(o: &ObjectRegs) -> Result<[u32; obj::WORDS], SceneError> {
     Ok(w)
 }
 
-fn decode_object(w: &[u32; obj::WORDS]) -> Result<ObjectRegs, SceneError> {
+fn decode_object(w: &[u32; obj::WORDS], fmt: ValueFormat) -> Result<ObjectRegs, SceneError> {
     let size = w[obj::TEX_SIZE];
     int("material.texture.size", u64::from(size), 0, 0x0808)?;
     int("material.texture.width_log2", u64::from(size & 0xff), 0, 8)?;
@@ -1176,27 +1347,27 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<ObjectRegs, SceneError> {
     )?;
     Ok(ObjectRegs {
         shape: code("shape", w[obj::SHAPE], Shape::from_code)?,
-        translate: get_v(w, obj::TRANSLATE),
-        scale: get_v(w, obj::SCALE),
-        rotate: get_v(w, obj::ROTATE),
+        translate: get_rv(fmt, w, obj::TRANSLATE),
+        scale: get_rv(fmt, w, obj::SCALE),
+        rotate: get_rv(fmt, w, obj::ROTATE),
         material: MaterialRegs {
             ambient: TermRegs {
-                k: get_q(w, obj::AMBIENT_K),
-                color: get_v(w, obj::AMBIENT_COLOR),
+                k: get_r(fmt, w, obj::AMBIENT_K),
+                color: get_rv(fmt, w, obj::AMBIENT_COLOR),
             },
             diffuse: TermRegs {
-                k: get_q(w, obj::DIFFUSE_K),
-                color: get_v(w, obj::DIFFUSE_COLOR),
+                k: get_r(fmt, w, obj::DIFFUSE_K),
+                color: get_rv(fmt, w, obj::DIFFUSE_COLOR),
             },
             diffuse_model: code(
                 "material.diffuse.model",
                 w[obj::DIFFUSE_MODEL],
                 DiffuseModel::from_code,
             )?,
-            sigma2: get_q(w, obj::SIGMA2),
+            sigma2: get_r(fmt, w, obj::SIGMA2),
             specular: TermRegs {
-                k: get_q(w, obj::SPECULAR_K),
-                color: get_v(w, obj::SPECULAR_COLOR),
+                k: get_r(fmt, w, obj::SPECULAR_K),
+                color: get_rv(fmt, w, obj::SPECULAR_COLOR),
             },
             specular_model: code(
                 "material.specular.model",
@@ -1209,11 +1380,11 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<ObjectRegs, SceneError> {
                 w[obj::REFLECTION_MODE],
                 ReflectionMode::from_code,
             )?,
-            eta: get_q(w, obj::ETA),
-            kappa: get_q(w, obj::KAPPA),
-            spec_eta: get_q(w, obj::SPEC_ETA),
-            spec_kappa: get_q(w, obj::SPEC_KAPPA),
-            reflectance: get_q(w, obj::REFLECTANCE),
+            eta: get_r(fmt, w, obj::ETA),
+            kappa: get_r(fmt, w, obj::KAPPA),
+            spec_eta: get_r(fmt, w, obj::SPEC_ETA),
+            spec_kappa: get_r(fmt, w, obj::SPEC_KAPPA),
+            reflectance: get_r(fmt, w, obj::REFLECTANCE),
             texture: TextureRegs {
                 kind: code(
                     "material.texture.kind",
@@ -1225,9 +1396,9 @@ fn decode_object(w: &[u32; obj::WORDS]) -> Result<ObjectRegs, SceneError> {
                     w[obj::TEX_MAPPING],
                     Mapping::from_code,
                 )?,
-                scale: get_v(w, obj::TEX_SCALE),
-                offset: get_v(w, obj::TEX_OFFSET),
-                color2: get_v(w, obj::TEX_COLOR2),
+                scale: get_rv(fmt, w, obj::TEX_SCALE),
+                offset: get_rv(fmt, w, obj::TEX_OFFSET),
+                color2: get_rv(fmt, w, obj::TEX_COLOR2),
                 filter: code(
                     "material.texture.filter",
                     w[obj::TEX_FILTER],

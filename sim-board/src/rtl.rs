@@ -50,6 +50,7 @@ pub fn caps() -> Caps {
         texture_words: 0,
         // The engine fills in the layout it packs in.
         raster_layout: None,
+        float_regs: NumericSet::default(),
     }
 }
 

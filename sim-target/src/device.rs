@@ -142,6 +142,9 @@ impl Device {
             max_lights: 2,
             texture_words: crate::raster::TEXTURE_WORDS as u32,
             raster_layout: protocol::fpga::LayoutId::of(self.layout),
+            // The float datapaths take IEEE words; the fixed ones (and f16, an experiment
+            // without an HLS port of its own) read the seed's Q16.16.
+            float_regs: NumericSet::default().with(Numeric::F32).with(Numeric::F64),
         }
     }
 
@@ -456,7 +459,8 @@ impl Device {
         Some(out)
     }
 
-    /// Fragments written, FPGA cycles and frames done, for the controller's stats.
+    /// Fragments written, FPGA cycles, frames done and the last ray-traced frame's
+    /// saturations, for the controller's stats.
     pub fn counters(&self) -> protocol::frame::DeviceCounters {
         let (fragments, cycles) = self
             .raster
@@ -466,6 +470,7 @@ impl Device {
             fragments,
             cycles,
             frames: self.frames,
+            saturations: self.rt_frame.as_ref().map_or(0, |f| f.stats.saturations),
             ..Default::default()
         }
     }

@@ -4,12 +4,13 @@
 //!
 //! The register image is what a board receives, so rendering through it (rather than
 //! from the parsed file) is what makes built-in mode a faithful model: every value is
-//! quantised to Q16.16 exactly as the MicroBlaze would write it. Materials are per object
+//! rounded to the image's value format (Q16.16, or binary32 for a float datapath; see
+//! [`protocol::scene`]) exactly as the MicroBlaze would write it. Materials are per object
 //! in the registers (ViRAY has no material table), so shared materials are expanded.
 
 use protocol::scene::{
     self as regs, CameraRegs, LightRegs, MaterialRegs, ObjectRegs, RenderRegs, SceneError,
-    SceneRegs, TermRegs, TextureRegs,
+    SceneRegs, TermRegs, TextureRegs, ValueFormat,
 };
 
 use crate::rt::f;
@@ -113,9 +114,17 @@ fn material(m: &Material) -> Result<MaterialRegs, SceneRegsError> {
     Ok(out)
 }
 
-/// Writes a scene into a register image (what the host sends).
+/// Writes a scene into a Q16.16 register image: the seed's, which every target reads (the
+/// image a target gets when its caps list no float registers).
 pub fn to_regs(scene: &Scene) -> Result<Regs, SceneRegsError> {
-    let mut r = Regs::new();
+    to_regs_as(scene, ValueFormat::Q16_16)
+}
+
+/// Writes a scene into a register image whose reals are in `format` (what the host
+/// sends: the format [`ValueFormat::for_caps`] picks for the target and the frame's
+/// number format).
+pub fn to_regs_as(scene: &Scene, format: ValueFormat) -> Result<Regs, SceneRegsError> {
+    let mut r = Regs::with_format(format);
     r.set_counts(scene.objects.len(), 1 + scene.lights.len())?;
     r.set_render(&RenderRegs {
         width: scene.width,
@@ -194,7 +203,8 @@ fn some_term(t: TermRegs) -> Option<Term> {
     })
 }
 
-/// Reads the scene a register image describes (what the device renders).
+/// Reads the scene a register image describes, in whichever value format the image says
+/// (what the device renders).
 pub fn from_regs(r: &Regs) -> Result<Scene, SceneRegsError> {
     let render = r.render();
     let cam = r.camera();

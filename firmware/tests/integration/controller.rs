@@ -176,6 +176,7 @@ fn caps() -> Caps {
         max_lights: 2,
         texture_words: 4096,
         raster_layout: None,
+        float_regs: NumericSet::default(),
     }
 }
 

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use host_cli::animate::{CameraMove, Kind, Output, Script};
 use host_cli::raster_file;
-use host_cli::render::{Aovs, Packing, Renderer};
+use host_cli::render::{scene_regs, Aovs, Packing, Renderer};
 use protocol::frame::Numeric;
 
 use super::{parse_size, TargetArgs};
@@ -162,8 +162,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
                     scene.width = w;
                     scene.height = h;
                 }
-                let regs =
-                    sim_target::scene_regs::to_regs(&scene).with_context(|| label.clone())?;
+                let regs = scene_regs(&session, &scene, numeric).with_context(|| label.clone())?;
                 let (out, words) = renderer
                     .frame(
                         &mut session,

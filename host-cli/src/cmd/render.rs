@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use host_cli::render::{AovFiles, Packing, Renderer};
+use host_cli::render::{scene_regs, AovFiles, Packing, Renderer};
 use protocol::frame::Numeric;
 
 use super::{parse_size, phase_line, TargetArgs};
@@ -59,8 +59,8 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
             .map_err(|e| anyhow::anyhow!("--aov {e}"))?,
         None => AovFiles::default(),
     };
-    let regs = sim_target::scene_regs::to_regs(&scene).with_context(|| name.clone())?;
     session.handshake().context("handshake with the target")?;
+    let regs = scene_regs(&session, &scene, numeric).with_context(|| name.clone())?;
     // The target renders a frame without answering in between: allow for a full-HD
     // frame in the slowest format.
     session.timeout = std::time::Duration::from_secs(3600);
@@ -101,6 +101,11 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
             out.cycles,
             sim_target::rt::BOARD_CLOCK_HZ / 1e6,
             sim_target::rt::BOARD_II
+        );
+        println!(
+            "saturations   {} results clipped to the format's range (fixed point; floats \
+             do not saturate)",
+            out.stats.device.saturations
         );
         let l = out.stats.link;
         println!(

@@ -13,6 +13,7 @@ use compare::memh::{self, FrameHeader, PixelFormat as MemhFormat};
 use protocol::axi_lite::{self, SCENE_WORDS};
 use protocol::frame::{Block, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame};
 use protocol::names::Named;
+use protocol::scene::ValueFormat;
 use sim_target::rt::Scene;
 use sim_target::scene_regs::{self, SceneRegsError};
 use sim_target::Device;
@@ -62,7 +63,11 @@ pub fn render(scene: &Scene, opts: &Options) -> Result<RenderVectors, VectorsErr
         scene.width = w;
         scene.height = h;
     }
-    let image = scene_regs::to_regs(&scene)?;
+    let mut device = Device::new(LAYOUT);
+    // The registers in the value format the built-in target's caps ask for, as
+    // `fpgfx render --port builtin` sends them.
+    let format = ValueFormat::for_caps(&device.caps(), opts.numeric);
+    let image = scene_regs::to_regs_as(&scene, format)?;
     let mut regs = [0u32; SCENE_WORDS];
     image.to_words(&mut regs).map_err(SceneRegsError::from)?;
     // The device renders the scene the registers describe (materials expanded per object),
@@ -76,7 +81,6 @@ pub fn render(scene: &Scene, opts: &Options) -> Result<RenderVectors, VectorsErr
         aovs: true,
     };
     let (width, height) = (scene.width, scene.height);
-    let mut device = Device::new(LAYOUT);
     device.write_regs(0, &regs)?;
     device.start(&start)?;
     let rect = Rect {

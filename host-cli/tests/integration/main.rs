@@ -20,6 +20,7 @@ mod bench;
 mod cli;
 mod compare;
 mod flash;
+mod float_regs;
 mod fpga_link;
 mod gallery;
 mod mmio;

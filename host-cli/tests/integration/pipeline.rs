@@ -124,6 +124,7 @@ fn caps() -> Caps {
         max_lights: 2,
         texture_words: 65536,
         raster_layout: None,
+        float_regs: NumericSet::default(),
     }
 }
 

@@ -63,6 +63,7 @@ fn worst_cases_fit_a_link_frame() {
             fifo_stalls: u64::MAX,
             frames: u32::MAX,
             queue_free: u16::MAX,
+            saturations: u64::MAX,
         }),
         FpgaReply::Status(FpgaStatus {
             fifo_free: u16::MAX,

@@ -29,6 +29,7 @@ fn caps() -> Caps {
         max_lights: 2,
         texture_words: 65536,
         raster_layout: Some(protocol::fpga::LayoutId::Fitkit),
+        float_regs: NumericSet(0b11),
     }
 }
 
@@ -51,6 +52,7 @@ const HELLO: &[u8] = &[
     0x08, 0x10, 0x80, 0x04, // subpixel 8, queue 16, fifo 512
     0x08, 0x02, 0x80, 0x80, 0x04, // objects, lights, texture words 65536
     0x01, 0x00, // raster layout Some(Fitkit)
+    0x03, // float_regs mask (f64, f32)
     0x02, 0x66, 0x77, // "fw"
 ];
 
@@ -295,14 +297,15 @@ fn device_vectors() -> std::vec::Vec<(DeviceFrame, &'static [u8])> {
                     fifo_stalls: 1_000_000,
                     frames: 17,
                     queue_free: 1,
+                    saturations: 300,
                 },
             }),
             &[
                 0x05, // Stats
                 0x64, 0x02, 0x62, 0x01, 0x00, 0x03, 0x04, 0x01, 0x05, 0x00, 0xac,
                 0x02, // link counters
-                0x05, 0xc8, 0x01, 0x0a, 0xc0, 0xc4, 0x07, 0xc0, 0x84, 0x3d, 0x11,
-                0x01, // device counters
+                0x05, 0xc8, 0x01, 0x0a, 0xc0, 0xc4, 0x07, 0xc0, 0x84, 0x3d, 0x11, 0x01, 0xac,
+                0x02, // device counters
             ],
         ),
         (
@@ -367,7 +370,7 @@ fn schema_hash_is_pinned() {
     // by version rather than by hash.
     assert_eq!(SCHEMA_HASH, schema_hash());
     println!("schema hash {SCHEMA_HASH:#018x}");
-    assert_eq!(SCHEMA_HASH, 0x687eb9a2f546a4c6);
+    assert_eq!(SCHEMA_HASH, 0xb2f4f9af77649538);
 }
 
 #[test]
@@ -532,6 +535,7 @@ fn worst_case_messages_fit_a_frame() {
             fifo_stalls: u64::MAX,
             frames: u32::MAX,
             queue_free: u16::MAX,
+            saturations: u64::MAX,
         },
     });
     assert!(encode(&stats, &mut buf).is_ok());
@@ -727,13 +731,16 @@ fn hello_s() -> impl Strategy<Value = Hello> {
             any::<(u8, u16, u16, u8, u8, u32)>(),
         ),
         "[a-z0-9 .]{0,32}",
-        proptest::option::of(prop_oneof![
-            Just(protocol::fpga::LayoutId::Fitkit),
-            Just(protocol::fpga::LayoutId::Extended),
-            Just(protocol::fpga::LayoutId::Wide),
-        ]),
+        (
+            proptest::option::of(prop_oneof![
+                Just(protocol::fpga::LayoutId::Fitkit),
+                Just(protocol::fpga::LayoutId::Extended),
+                Just(protocol::fpga::LayoutId::Wide),
+            ]),
+            any::<u16>(),
+        ),
     )
-        .prop_map(|(v, h, (a, b), ident, raster_layout)| {
+        .prop_map(|(v, h, (a, b), ident, (raster_layout, float_regs))| {
             let c = (a.0, a.1, a.2, a.3, a.4, a.5, b.0, b.1, b.2, b.3, b.4, b.5);
             Hello {
                 protocol_version: v,
@@ -752,6 +759,7 @@ fn hello_s() -> impl Strategy<Value = Hello> {
                     max_lights: c.10,
                     texture_words: c.11,
                     raster_layout,
+                    float_regs: NumericSet(float_regs),
                 },
                 ident: String::try_from(ident.as_str()).expect("≤ 32 ASCII bytes"),
             }
@@ -870,8 +878,8 @@ fn device_frame() -> impl Strategy<Value = DeviceFrame> {
         any::<(u32, u32)>().prop_map(|(len, crc32)| DeviceFrame::ReadDone(ReadDone { len, crc32 })),
         (
             any::<[u32; 11]>(),
-            (any::<(u32, u32, u64)>(), any::<(u64, u64, u32, u16)>())
-                .prop_map(|(a, b)| (a.0, a.1, a.2, b.0, b.1, b.2, b.3))
+            (any::<(u32, u32, u64)>(), any::<(u64, u64, u32, u16, u64)>())
+                .prop_map(|(a, b)| (a.0, a.1, a.2, b.0, b.1, b.2, b.3, b.4))
         )
             .prop_map(|(l, d)| {
                 DeviceFrame::Stats(Stats {
@@ -896,6 +904,7 @@ fn device_frame() -> impl Strategy<Value = DeviceFrame> {
                         fifo_stalls: d.4,
                         frames: d.5,
                         queue_free: d.6,
+                        saturations: d.7,
                     },
                 })
             }),

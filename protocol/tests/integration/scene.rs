@@ -1,7 +1,7 @@
 //! Ray-tracer register image: golden offsets and words for the example scene of
 //! docs/requirements.md §4.11, Q16.16 conversion limits, and the diff (identical scenes
 //! give nothing, one field gives one one-word write, diff + apply reproduces the new scene
-//! for arbitrary images).
+//! for arbitrary images), and the binary32 value format.
 
 use proptest::prelude::*;
 use protocol::frame::{RegWrite, REG_WRITE_WORDS};
@@ -9,14 +9,19 @@ use protocol::scene::{
     apply, cam, diff, diff_with_gap, hdr, light, obj, q16_from_f64, q16_to_f64, At, CameraRegs,
     DiffuseModel, LightKind, LightRegs, Mapping, MaterialRegs, ObjectRegs, ReflectionMode,
     RenderRegs, SceneError, SceneRegs, Shape, SpecularModel, TermRegs, TexFilter, TextureKind,
-    TextureRegs, DEFAULT_MERGE_GAP, FLAG_SHADOWS, MAGIC,
+    TextureRegs, ValueFormat, DEFAULT_MERGE_GAP, FLAG_SHADOWS, MAGIC,
 };
 
 type Regs = SceneRegs; // the seed's defaults: 8 objects, 2 lights
 
 /// The example scene of docs/requirements.md §4.11 ("Scene file and AOVs").
 fn example() -> Regs {
-    let mut s = Regs::new();
+    example_in(ValueFormat::Q16_16)
+}
+
+/// [`example`] with its reals in `format`.
+fn example_in(format: ValueFormat) -> Regs {
+    let mut s = Regs::with_format(format);
     s.set_render(&RenderRegs {
         width: 1920,
         height: 1080,
@@ -143,6 +148,8 @@ fn golden_words() {
     // 0.9073486328125 × 2^23 = 0x742400 → 0 10010010 1110100001001… = 0x4974_2400.
     assert_eq!(w[hdr::MAX_DISTANCE], 0x4974_2400);
     assert_eq!(w[hdr::FLAGS], FLAG_SHADOWS);
+    // Q16.16, code 0: the word that was "reserved, 0" before the value format existed.
+    assert_eq!(w[hdr::VALUE_FORMAT], 0);
     // Camera position (0, 1, 6) and fov 45°.
     assert_eq!(
         &w[cam::OFFSET..cam::OFFSET + 3],
@@ -200,6 +207,110 @@ impl WithColor2 for TextureRegs {
     fn with_color2(mut self, q: i32) -> Self {
         self.color2 = [q16_to_f64(q); 3];
         self
+    }
+}
+
+#[test]
+fn binary32_images_carry_ieee_words() {
+    let q = example();
+    let s = example_in(ValueFormat::Binary32);
+    assert_eq!(s.value_format(), ValueFormat::Binary32);
+    let w: Vec<u32> = s.words().collect();
+    assert_eq!(w[hdr::VALUE_FORMAT], 1);
+    // Integers, codes and the always-f32 max_distance are the Q16.16 image's words.
+    for i in [
+        hdr::VERSION,
+        hdr::WIDTH,
+        hdr::MAX_DISTANCE,
+        hdr::FLAGS,
+        hdr::SEED,
+    ] {
+        assert_eq!(Some(w[i]), q.word(i), "word {i}");
+    }
+    assert_eq!(w[hdr::BIAS], 0.001f32.to_bits());
+    assert_eq!(
+        &w[cam::OFFSET..cam::OFFSET + 3],
+        &[0, 1.0f32.to_bits(), 6.0f32.to_bits()]
+    );
+    assert_eq!(w[cam::OFFSET + cam::FOV_Y], 0x4234_0000); // 45.0
+    assert_eq!(w[48 + light::DIRECTION], (-0.4f32).to_bits());
+    assert_eq!(w[60 + obj::ETA], 1.33f32.to_bits());
+    assert_eq!(w[60 + obj::EXPONENT], 32);
+    // Read back: the f32-rounded values, not the Q16.16-quantised ones.
+    assert_eq!(s.render().bias, f64::from(0.001f32));
+    assert_eq!(s.light(1).unwrap().direction[0], f64::from(-0.4f32));
+    assert_eq!(s.object(0).unwrap().material.eta, f64::from(1.33f32));
+    let mut buf = vec![0u32; Regs::WORDS];
+    s.to_words(&mut buf).unwrap();
+    assert_eq!(Regs::from_words(&buf).unwrap(), s);
+    // Beyond Q16.16 is fine in binary32; beyond f32 is refused naming the field and block.
+    let mut o = floor();
+    o.scale[1] = 40000.0;
+    let mut t = Regs::with_format(ValueFormat::Binary32);
+    t.set_object(3, &o).unwrap();
+    assert_eq!(t.object(3).unwrap().scale[1], 40000.0);
+    for v in [1e39, -1e39, f64::NAN, f64::INFINITY] {
+        o.scale[1] = v;
+        let e = t.set_object(3, &o).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                SceneError::F32 {
+                    at: At::Object(3),
+                    field: "scale",
+                    ..
+                }
+            ),
+            "{v}: {e}"
+        );
+        assert!(e.to_string().starts_with("object 3: `scale`"), "{e}");
+    }
+    assert_eq!(
+        ValueFormat::Binary32.encode("x", 3.0e38),
+        Ok(3.0e38f32.to_bits())
+    );
+}
+
+#[test]
+fn unknown_value_formats_are_refused_naming_the_field() {
+    let mut buf = vec![0u32; Regs::WORDS];
+    example().to_words(&mut buf).unwrap();
+    buf[hdr::VALUE_FORMAT] = 2;
+    let refused = SceneError::Code {
+        at: At::Global,
+        field: "value_format",
+        value: 2,
+    };
+    assert_eq!(Regs::from_words(&buf), Err(refused));
+    assert!(refused.to_string().contains("value_format"));
+    // A register write that would set it changes nothing, alone or inside a run.
+    let mut s = example();
+    assert_eq!(s.write(hdr::VALUE_FORMAT, &[2]), Err(refused));
+    assert_eq!(s.write(hdr::SEED, &[9, 2, 5]), Err(refused));
+    assert_eq!(s, example());
+    // A known code is taken: the image's reals are then read in that format.
+    s.write(hdr::VALUE_FORMAT, &[1]).unwrap();
+    assert_eq!(s.value_format(), ValueFormat::Binary32);
+}
+
+#[test]
+fn the_format_follows_the_targets_caps() {
+    use protocol::frame::{Caps, Numeric, NumericSet};
+    let caps = Caps {
+        float_regs: NumericSet::default().with(Numeric::F32).with(Numeric::F64),
+        ..Default::default()
+    };
+    for n in Numeric::ALL {
+        let want = if matches!(n, Numeric::F32 | Numeric::F64) {
+            ValueFormat::Binary32
+        } else {
+            ValueFormat::Q16_16
+        };
+        assert_eq!(ValueFormat::for_caps(&caps, n), want, "{n:?}");
+        assert_eq!(
+            ValueFormat::for_caps(&Caps::default(), n),
+            ValueFormat::Q16_16
+        );
     }
 }
 
@@ -385,6 +496,8 @@ fn image(words: Vec<u32>) -> Regs {
     let mut w = words;
     w[0] = MAGIC;
     w[1] = Regs::VERSION_WORD;
+    // Either value format: other codes are refused (`unknown_value_formats_…`).
+    w[hdr::VALUE_FORMAT] %= 2;
     Regs::from_words(&w).unwrap()
 }
 
@@ -403,6 +516,7 @@ proptest! {
         let old = image(base);
         let mut new = old.clone();
         for (off, v) in edits {
+            let v = if off == hdr::VALUE_FORMAT { v % 2 } else { v };
             new.write(off, &[v]).unwrap();
         }
         let mut patched = old.clone();

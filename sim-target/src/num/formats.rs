@@ -1,5 +1,7 @@
 //! Saturating fixed-point formats (see the module docs of [`crate::num`] for why saturating).
+//! Every clip is counted ([`super::saturation`]), on the clipping branch only.
 
+use super::saturation::saturated;
 use super::Scalar;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use fixed::types::{I16F16, I24F8, I32F32, I8F24};
@@ -26,10 +28,19 @@ impl DivBits for i32 {
     #[inline(always)]
     fn div_bits<const FRAC: u32>(a: i32, b: i32) -> i32 {
         if FRAC + 32 <= 53 {
-            (a as f64 * (1u64 << FRAC) as f64 / b as f64) as i32
+            let q = a as f64 * (1u64 << FRAC) as f64 / b as f64;
+            // the cast truncates toward zero: it clips exactly outside (MIN − 1, MAX + 1)
+            if !(q > i32::MIN as f64 - 1.0 && q < i32::MAX as f64 + 1.0) {
+                saturated();
+            }
+            q as i32
         } else {
             let q = ((a as i64) << FRAC) / b as i64;
-            q.clamp(i32::MIN as i64, i32::MAX as i64) as i32
+            let c = q.clamp(i32::MIN as i64, i32::MAX as i64);
+            if c != q {
+                saturated();
+            }
+            c as i32
         }
     }
 }
@@ -38,7 +49,11 @@ impl DivBits for i64 {
     #[inline(always)]
     fn div_bits<const FRAC: u32>(a: i64, b: i64) -> i64 {
         let q = ((a as i128) << FRAC) / b as i128;
-        q.clamp(i64::MIN as i128, i64::MAX as i128) as i64
+        let c = q.clamp(i64::MIN as i128, i64::MAX as i128);
+        if c != q {
+            saturated();
+        }
+        c as i64
     }
 }
 
@@ -98,6 +113,7 @@ macro_rules! fixed_scalar {
             #[inline(always)]
             fn div(self, o: Self) -> Self {
                 if o.0 == <$inner>::ZERO {
+                    saturated();
                     if self.0 >= <$inner>::ZERO {
                         Self(<$inner>::MAX)
                     } else {
@@ -117,7 +133,10 @@ macro_rules! fixed_scalar {
             fn neg(self) -> Self {
                 match self.0.to_bits().checked_neg() {
                     Some(r) => Self(<$inner>::from_bits(r)),
-                    None => Self(<$inner>::MAX),
+                    None => {
+                        saturated();
+                        Self(<$inner>::MAX)
+                    }
                 }
             }
         }
@@ -140,12 +159,14 @@ macro_rules! fixed_scalar {
             #[cold]
             #[inline(never)]
             fn clip(p: $wide) -> Self {
+                saturated();
                 Self(<$inner>::from_bits(
                     p.clamp(<$bits>::MIN as $wide, <$bits>::MAX as $wide) as $bits,
                 ))
             }
             /// The saturating sum of double-width products, out of line (see
-            /// [`Self::narrow`]).
+            /// [`Self::narrow`]). Not counted: its result is beyond the word, so the
+            /// [`Self::narrow`] that follows clips it and counts once.
             #[cold]
             #[inline(never)]
             fn sat_sum3(a: $wide, b: $wide, c: $wide) -> $wide {
@@ -155,11 +176,13 @@ macro_rules! fixed_scalar {
             #[cold]
             #[inline(never)]
             fn sat_add(self, o: Self) -> Self {
+                saturated();
                 Self(self.0.saturating_add(o.0))
             }
             #[cold]
             #[inline(never)]
             fn sat_sub(self, o: Self) -> Self {
+                saturated();
                 Self(self.0.saturating_sub(o.0))
             }
             /// [`Scalar::from_f64`] of x = r·2⁻ᶠ for a positive r already in units of the
@@ -178,7 +201,15 @@ macro_rules! fixed_scalar {
                 // which is exactly the saturating conversion wanted — and, unlike
                 // `saturating_from_num`, folds to a constant for literals.
                 let scaled = x * (1u64 << $frac) as f64;
-                Self(<$inner>::from_bits((scaled + 0.5f64.copysign(scaled)) as $bits))
+                let r = scaled + 0.5f64.copysign(scaled);
+                // The cast clips r ≥ 2^(n−1) and r whose truncation is below −2^(n−1):
+                // r ≤ −2^(n−1) − 1, which for i64 (where −2^63 − 1 rounds to −2^63) is
+                // r < −2^63, hence both tests. Folds away for literals like the rest.
+                let limit = -(<$bits>::MIN as f64);
+                if r >= limit || (r < -limit && r <= -limit - 1.0) {
+                    saturated();
+                }
+                Self(<$inner>::from_bits(r as $bits))
             }
             #[inline(always)]
             fn to_f64(self) -> f64 {
@@ -201,10 +232,15 @@ macro_rules! fixed_scalar {
                 // 1/√(b·2⁻ᶠ)·2ᶠ = 2^(3f/2)/√b, for the same reason bit for bit the core's
                 // `from_f64(1.0 / self.to_f64().sqrt())` without its two scalings
                 if self.0 <= <$inner>::ZERO {
+                    saturated();
                     Self(<$inner>::MAX)
                 } else {
                     let r = (1u64 << ($frac + $frac / 2)) as f64
                         / (self.0.to_bits() as f64).sqrt();
+                    // beyond the word only in Q8.24 (2³⁶/√b for b < 1024)
+                    if r + 0.5 >= -(<$bits>::MIN as f64) {
+                        saturated();
+                    }
                     Self::from_scaled_pos(r)
                 }
             }

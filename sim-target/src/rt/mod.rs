@@ -268,6 +268,10 @@ pub struct Stats {
     pub seconds: f64,
     /// Board-time estimate in cycles: pixels·spp·II + overhead.
     pub board_cycles: u64,
+    /// Results the frame's fixed-point format clipped to its range, set-up included
+    /// ([`crate::num::saturation`]); always 0 in the float formats, which do not
+    /// saturate. Nonzero means the frame differs from what an unclipped datapath draws.
+    pub saturations: u64,
 }
 
 impl Stats {
@@ -693,6 +697,8 @@ struct Counts {
     shadow: u64,
     reflected: u64,
     refracted: u64,
+    /// Results clipped while rendering the row (set by `render_generic` around the row).
+    saturations: u64,
     /// Index of the object that blocked the last shadow ray of this row: tried first by
     /// the next one (neighbouring pixels share occluders). `occluded` is an any(), so the
     /// order cannot change the result.
@@ -1242,6 +1248,9 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
         progress,
     } = job;
     let rows_done = std::sync::atomic::AtomicU32::new(0);
+    // the set-up's clips (scene constants beyond the format) count on this thread; each
+    // row counts its own below, on whichever thread runs it
+    let setup_start = crate::num::saturation::total();
     // culling is exact only where a ray missing an object's bound makes the datapath
     // answer "no hit" too: not with a coarse √ (see `SqrtKind::max_rel_error`)
     let bounds = if opts.cull
@@ -1307,8 +1316,10 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
         })
         .collect();
     let aovs = opts.aovs;
+    let setup_saturations = crate::num::saturation::total().wrapping_sub(setup_start);
     let one_row = |j: u32| {
-        let r = row_fn(&prep, &ctx, j);
+        let (mut r, saturations) = crate::num::saturation::count(|| row_fn(&prep, &ctx, j));
+        r.3.saturations = saturations;
         let done = rows_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         progress(done, height);
         r
@@ -1321,7 +1332,10 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
     let mut rgb8 = Vec::with_capacity(width as usize * height as usize * 3);
     let mut depth = Vec::new();
     let mut normal = Vec::new();
-    let mut total = Counts::default();
+    let mut total = Counts {
+        saturations: setup_saturations,
+        ..Counts::default()
+    };
     for (r, d, n, c) in rows {
         rgb8.extend(r);
         depth.extend(d);
@@ -1330,6 +1344,7 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
         total.shadow += c.shadow;
         total.reflected += c.reflected;
         total.refracted += c.refracted;
+        total.saturations += c.saturations;
     }
     let (depth, normal) = if aovs {
         (Some(depth), Some(normal))
@@ -1455,6 +1470,7 @@ fn finish(
         nominal_rays: nominal_rays(scene, width, height, spp),
         seconds,
         board_cycles: width as u64 * height as u64 * spp as u64 * BOARD_II + BOARD_FRAME_OVERHEAD,
+        saturations: c.saturations,
     };
     Frame {
         width,

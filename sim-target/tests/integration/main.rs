@@ -33,5 +33,6 @@ mod rt_render;
 mod rt_scene_file;
 mod rt_shapes;
 mod rt_texture_fast;
+mod saturation;
 mod scene_file_fuzz;
 mod scene_regs;
