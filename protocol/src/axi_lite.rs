@@ -88,6 +88,7 @@
 //! | 0 | fragments written to the framebuffer |
 //! | 1 | FPGA cycles spent by the blocks |
 //! | 2 | frames completed |
+//! | 3 | saturating results of the last ray-traced frame (fixed-point formats) |
 //!
 //! A 64-bit value is read low word first: that read latches the high word, so a value
 //! that changes between the two reads still reads whole; a high word read without its
@@ -427,6 +428,11 @@ pub const COUNTERS: &[CounterReg] = &[
         name: "frames",
         get: |c| c.frames as u64,
         set: |c, v| c.frames = v as u32,
+    },
+    CounterReg {
+        name: "saturations",
+        get: |c| c.saturations,
+        set: |c, v| c.saturations = v,
     },
 ];
 
