@@ -13,6 +13,7 @@ use protocol::frame::{
     READ_CHUNK,
 };
 use protocol::link::{Crc32Digest, CRC32};
+use protocol::scene::{hdr, ValueFormat};
 
 use crate::fpga::{push_command, FpgaBus, PushError};
 
@@ -197,8 +198,16 @@ impl<B: FpgaBus> Engine<B> {
                     .map(|r| r.reg)
                     .chain(a.orbits.iter().flat_map(|o| [o.x_reg, o.z_reg]))
                     .position(|reg| usize::from(reg) >= regs);
+                // The steps add and rotate Q16.16 words; on a binary32 image they would
+                // write other numbers than the host asked for, so they are refused.
+                let format = hdr::VALUE_FORMAT;
+                let fixed = self.shadow[format] == ValueFormat::Q16_16.code();
+                let animates = !a.ramps.is_empty() || !a.orbits.is_empty();
                 match bad {
                     Some(i) => self.error(ErrorCode::OutOfRange, seq, i as u32),
+                    None if animates && !fixed => {
+                        self.error(ErrorCode::Unsupported, seq, format as u32)
+                    }
                     None => self.animation = a.clone(),
                 }
             }

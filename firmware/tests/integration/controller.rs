@@ -549,3 +549,41 @@ fn auto_restart_steps_the_animation_until_stopped() {
     assert!((r - 3.0).abs() < 1e-3, "orbit radius drifted to {r}");
     assert!(ops.contains(&Op::Stop));
 }
+
+/// The animation steps are Q16.16 arithmetic: on a binary32 image (a float datapath's)
+/// the controller refuses them, naming the value-format word, instead of writing garbage.
+#[test]
+fn animation_on_a_binary32_image_is_refused() {
+    use protocol::scene::{hdr, ValueFormat};
+    let mut rig = Rig::new(Bus::new(64, 64), caps());
+    rig.hello();
+    let animation = || {
+        HostFrame::Animate(Animation {
+            ramps: HVec::from_slice(&[Ramp { reg: 40, step: 1 }]).expect("ramps"),
+            orbits: HVec::new(),
+        })
+    };
+    rig.send(&animation());
+    rig.pump(2);
+    assert!(
+        rig.errors().is_empty(),
+        "a Q16.16 image animates: {:?}",
+        rig.errors()
+    );
+    rig.send(&HostFrame::Regs(RegWrite {
+        offset: hdr::VALUE_FORMAT as u16,
+        words: HVec::from_slice(&[ValueFormat::Binary32.code()]).expect("words"),
+    }));
+    rig.send(&animation());
+    rig.pump(2);
+    let errors = rig.errors();
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert_eq!(
+        (errors[0].0, errors[0].2),
+        (ErrorCode::Unsupported, hdr::VALUE_FORMAT as u32)
+    );
+    // An empty animation (stop animating) is always allowed.
+    rig.send(&HostFrame::Animate(Animation::default()));
+    rig.pump(2);
+    assert_eq!(rig.errors().len(), 1);
+}

@@ -51,7 +51,7 @@ fn stat(stdout: &str, label: &str) -> u64 {
 #[test]
 fn mmio_renders_the_reference_scene_as_builtin_does() {
     let scene = example("reference.toml");
-    for numeric in ["q16.16", "f32"] {
+    for numeric in ["q16.16", "f32", "q8.24"] {
         let (a, b) = same_output(
             &[
                 "render",
@@ -64,9 +64,17 @@ fn mmio_renders_the_reference_scene_as_builtin_does() {
             ],
             &format!("ref-{numeric}.png"),
         );
-        for label in ["registers", "board time"] {
+        for label in ["registers", "board time", "saturations"] {
             let line = |s: &str| s.lines().find(|l| l.starts_with(label)).map(str::to_owned);
             assert_eq!(line(&a), line(&b), "{numeric}: {label} differs");
+        }
+        // The saturation counter crosses the register bus too: Q8.24 clips the
+        // reference scene's squared distances by the thousand, floats never clip.
+        let saturations = stat(&b, "saturations");
+        match numeric {
+            "q8.24" => assert!(saturations > 1000, "{numeric}: {b}"),
+            "f32" => assert_eq!(saturations, 0, "{numeric}: {b}"),
+            _ => {}
         }
         assert!(
             stat(&b, "registers") > 200,
