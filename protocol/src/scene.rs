@@ -31,7 +31,8 @@
 //! (1e6 in the seed) cannot be held by Q16.16, so it is binary32 bits in both formats.
 //! Counts, sizes, codes and seeds are plain unsigned integers in both. The controller's
 //! per-frame animation steps ([`crate::frame::Ramp`], [`crate::frame::Orbit`]) add and
-//! rotate Q16.16 words, so an auto-restarted animation needs a Q16.16 image.
+//! rotate Q16.16 words, so an auto-restarted animation needs a Q16.16 image: the
+//! controller refuses a non-empty animation while word 15 says binary32.
 //!
 //! # Register map (word offsets)
 //!
