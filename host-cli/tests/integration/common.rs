@@ -107,6 +107,25 @@ pub struct Sim {
     reader: Option<JoinHandle<()>>,
 }
 
+impl Sim {
+    /// Waits (up to `limit`) until the sim's stderr holds `needle`: a request the host
+    /// sent last (the bootloader's Go) may still be in the sim when the host exits, and
+    /// killing it then would cut its log line short.
+    pub fn wait_for_log(&self, needle: &str, limit: std::time::Duration) -> bool {
+        let end = std::time::Instant::now() + limit;
+        loop {
+            let seen = {
+                let log = self.stderr.lock().expect("log lock");
+                String::from_utf8_lossy(&log).contains(needle)
+            };
+            if seen || std::time::Instant::now() >= end {
+                return seen;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+    }
+}
+
 /// A `Command` for the emulator binary, for the tests that do not want [`start_sim`]'s
 /// handshake (e.g. `--fpga-link`, which prints no port).
 pub fn sim_command() -> Command {

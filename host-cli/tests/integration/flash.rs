@@ -240,6 +240,8 @@ fn fpgfx_flashes_bin_hex_and_elf_and_erases_only_what_it_needs() {
     }
     assert!(expected_ff > 1_000_000);
 
+    // The last Go may still be on its way through the sim when fpgfx exits.
+    sim.wait_for_log("Go 0x08040000", std::time::Duration::from_secs(10));
     let log = sim_stderr(sim);
     assert!(log.contains("Go 0x08000000"), "{log}");
     assert!(log.contains("Go 0x08040000"), "{log}");
