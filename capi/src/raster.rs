@@ -27,9 +27,9 @@ pub const FPGFX_CHANNEL_COMMAND: u8 = 0x03;
 /// `fifo_records.hex` is 0, their packets go to this channel.
 pub const FPGFX_CHANNEL_STREAM: u8 = 0x04;
 const _: () = assert!(
-    FPGFX_CHANNEL_LINE == protocol::bus::CHANNEL_LINE
-        && FPGFX_CHANNEL_TRIANGLE == protocol::bus::CHANNEL_TRIANGLE
-        && FPGFX_CHANNEL_COMMAND == protocol::bus::CHANNEL_COMMAND
+    FPGFX_CHANNEL_LINE == protocol::fitkit_spi::ADDR_LINE
+        && FPGFX_CHANNEL_TRIANGLE == protocol::fitkit_spi::ADDR_TRIANGLE
+        && FPGFX_CHANNEL_COMMAND == protocol::fitkit_spi::ADDR_CLEAR
         && FPGFX_CHANNEL_STREAM == protocol::bus::CHANNEL_STREAM
 );
 

@@ -61,6 +61,8 @@
 
 use heapless::Vec;
 
+use crate::fitkit_spi::{ADDR_CLEAR, ADDR_LINE, ADDR_TRIANGLE};
+
 use crate::frame::{
     Bezier, BezierPatch, Circle, Connectivity, FillRule, Filter, Line, LineAlgo, Pixel, Point,
     Polygon, RasterCmd, Rgb, SeedFill, Shade, TexRef, Triangle, Wrap,
@@ -86,13 +88,6 @@ pub const FEAT_TEXTURE: u16 = 1 << 3;
 /// Bits of a texture base address: the texture memory holds 256 × 256 texels.
 pub const TEX_BASE_BITS: u8 = 16;
 
-/// SPI address of the FITkit's line FIFO port (the seed does not give addresses; these
-/// are fpgfx's choice).
-pub const CHANNEL_LINE: u8 = 0x01;
-/// SPI address of the FITkit's triangle FIFO port.
-pub const CHANNEL_TRIANGLE: u8 = 0x02;
-/// SPI address of the FITkit's command port (a stand-alone clear).
-pub const CHANNEL_COMMAND: u8 = 0x03;
 /// The single address of layouts that carry an opcode in every packet.
 pub const CHANNEL_STREAM: u8 = 0x04;
 
@@ -1282,9 +1277,9 @@ pub fn channel(layout: &BusLayout, kind: Kind) -> Result<u8, BusError> {
         return Ok(CHANNEL_STREAM);
     }
     match kind {
-        Kind::Line => Ok(CHANNEL_LINE),
-        Kind::Triangle => Ok(CHANNEL_TRIANGLE),
-        Kind::Clear => Ok(CHANNEL_COMMAND),
+        Kind::Line => Ok(ADDR_LINE),
+        Kind::Triangle => Ok(ADDR_TRIANGLE),
+        Kind::Clear => Ok(ADDR_CLEAR),
         _ => Err(unsupported(layout, kind)),
     }
 }
@@ -1302,9 +1297,9 @@ fn kind_of_channel(layout: &BusLayout, ch: u8) -> Result<Option<Kind>, BusError>
         };
     }
     let kind = match ch {
-        CHANNEL_LINE => Kind::Line,
-        CHANNEL_TRIANGLE => Kind::Triangle,
-        CHANNEL_COMMAND => Kind::Clear,
+        ADDR_LINE => Kind::Line,
+        ADDR_TRIANGLE => Kind::Triangle,
+        ADDR_CLEAR => Kind::Clear,
         _ => return Err(unknown),
     };
     if layout.supports(kind) {

@@ -11,18 +11,20 @@
 //! Everything here is a pure function of bytes, so the firmware's SPI driver, the
 //! Verilator bridge's tests and the RTL's own testbenches agree on one definition.
 
-use crate::bus::{CHANNEL_COMMAND, CHANNEL_LINE, CHANNEL_TRIANGLE};
+use core::fmt::Write as _;
+
 use crate::frame::Cull;
 
 /// Address of the set-up packet: frame size, background and culling, executed in FIFO
 /// order (earlier packets finish first), then the framebuffer is cleared.
 pub const ADDR_SETUP: u8 = 0x00;
-/// Address of line packets ([`crate::bus::CHANNEL_LINE`]).
-pub const ADDR_LINE: u8 = CHANNEL_LINE;
-/// Address of triangle packets ([`crate::bus::CHANNEL_TRIANGLE`]).
-pub const ADDR_TRIANGLE: u8 = CHANNEL_TRIANGLE;
-/// Address of stand-alone clears ([`crate::bus::CHANNEL_COMMAND`]).
-pub const ADDR_CLEAR: u8 = CHANNEL_COMMAND;
+/// Address of line packets. The seed gives no addresses; these are fpgfx's choice, and
+/// [`crate::bus`] sends a [`FITKIT`](crate::bus::FITKIT) packet to the address of its kind.
+pub const ADDR_LINE: u8 = 0x01;
+/// Address of triangle packets.
+pub const ADDR_TRIANGLE: u8 = 0x02;
+/// Address of stand-alone clears.
+pub const ADDR_CLEAR: u8 = 0x03;
 /// Address of the status block ([`Status`]): a read, as long as the master clocks.
 pub const ADDR_STATUS: u8 = 0x20;
 /// Address of the framebuffer read-back ([`read_header`]).
@@ -48,6 +50,36 @@ pub const READ_TURNAROUND: usize = 1;
 /// Bytes before the first pixel of a read-back transaction: address, 3 address bytes,
 /// turnaround.
 pub const READ_HEADER_BYTES: usize = 4 + READ_TURNAROUND;
+
+/// Where each field of the status block starts (byte offsets; multi-byte fields are big
+/// endian). The RTL's `status` module serialises the same offsets from the generated
+/// header.
+pub mod status_byte {
+    /// Free input FIFO records, 2 bytes.
+    pub const FREE: usize = 0;
+    /// The `FLAG_*` bits.
+    pub const FLAGS: usize = 2;
+    /// The sticky error's code ([`super::ErrorCode`]), 0 without one.
+    pub const ERROR_CODE: usize = 3;
+    /// The address (channel) of the packet that raised the error.
+    pub const ERROR_CHANNEL: usize = 4;
+    /// The index of that packet (commits before it), 2 bytes.
+    pub const ERROR_PACKET: usize = 5;
+    /// Packets executed, 4 bytes.
+    pub const PACKETS: usize = 7;
+    /// Fragments written, 4 bytes.
+    pub const FRAGMENTS: usize = 11;
+    /// Cycles the line unit was busy, 4 bytes.
+    pub const LINE_CYCLES: usize = 15;
+    /// Cycles the triangle unit was busy, 4 bytes.
+    pub const TRIANGLE_CYCLES: usize = 19;
+    /// Cycles spent clearing, 4 bytes.
+    pub const CLEAR_CYCLES: usize = 23;
+    /// The cycle the last packet finished at, 4 bytes.
+    pub const END_CYCLE: usize = 27;
+    /// Highest input FIFO occupancy ÷ 2, saturating.
+    pub const FIFO_MAX_PAIRS: usize = 31;
+}
 
 /// Why a transaction could not be built or a status block not decoded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -239,7 +271,21 @@ pub enum ErrorCode {
 }
 
 impl ErrorCode {
-    /// The code as the status block carries it.
+    /// Every code, in the order of their numbers (1, 2, …).
+    pub const ALL: [ErrorCode; 6] = [
+        Self::Length,
+        Self::Padding,
+        Self::Overrun,
+        Self::ClearWithoutCb,
+        Self::UnknownAddress,
+        Self::ReadUnderrun,
+    ];
+
+    /// Bits the status block and the RTL give a code.
+    pub const BITS: u32 = 3;
+
+    /// The code as the status block carries it: its place in [`ErrorCode::ALL`] plus one
+    /// (0 is "no error").
     pub fn code(self) -> u8 {
         match self {
             Self::Length => 1,
@@ -254,15 +300,19 @@ impl ErrorCode {
     /// The code from its status byte; `None` for 0 (no error) and for codes the block
     /// does not send.
     pub fn from_code(code: u8) -> Option<Self> {
-        Some(match code {
-            1 => Self::Length,
-            2 => Self::Padding,
-            3 => Self::Overrun,
-            4 => Self::ClearWithoutCb,
-            5 => Self::UnknownAddress,
-            6 => Self::ReadUnderrun,
-            _ => return None,
-        })
+        Self::ALL.into_iter().find(|e| e.code() == code)
+    }
+
+    /// The name of the code's macro in the generated Verilog header (`FITKIT_ERR_…`).
+    pub fn verilog_name(self) -> &'static str {
+        match self {
+            Self::Length => "LENGTH",
+            Self::Padding => "PADDING",
+            Self::Overrun => "OVERRUN",
+            Self::ClearWithoutCb => "CLEAR_WITHOUT_CB",
+            Self::UnknownAddress => "UNKNOWN_ADDRESS",
+            Self::ReadUnderrun => "READ_UNDERRUN",
+        }
     }
 }
 
@@ -311,36 +361,37 @@ impl Status {
     /// or a different device produces.
     pub fn decode(b: &[u8; STATUS_BYTES]) -> Result<Self, SpiFrameError> {
         let u32_at = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
-        let free = u16::from_be_bytes([b[0], b[1]]);
+        use status_byte as at;
+        let free = u16::from_be_bytes([b[at::FREE], b[at::FREE + 1]]);
         if free > FIFO_RECORDS {
             return Err(SpiFrameError::Status {
-                byte: 0,
-                value: b[0],
+                byte: at::FREE,
+                value: b[at::FREE],
                 field: "free-record count (0..=512)",
             });
         }
-        let flags = b[2];
+        let flags = b[at::FLAGS];
         if flags & !(FLAG_BUSY | FLAG_ERROR | FLAG_FIFO_EMPTY | FLAG_SETUP_DONE) != 0 {
             return Err(SpiFrameError::Status {
-                byte: 2,
+                byte: at::FLAGS,
                 value: flags,
                 field: "flags byte",
             });
         }
-        let error = match (flags & FLAG_ERROR != 0, b[3]) {
+        let error = match (flags & FLAG_ERROR != 0, b[at::ERROR_CODE]) {
             (false, 0) => None,
             (true, code) => Some(BlockError {
                 code: ErrorCode::from_code(code).ok_or(SpiFrameError::Status {
-                    byte: 3,
+                    byte: at::ERROR_CODE,
                     value: code,
                     field: "error code",
                 })?,
-                channel: b[4],
-                packet: u16::from_be_bytes([b[5], b[6]]),
+                channel: b[at::ERROR_CHANNEL],
+                packet: u16::from_be_bytes([b[at::ERROR_PACKET], b[at::ERROR_PACKET + 1]]),
             }),
             (false, code) => {
                 return Err(SpiFrameError::Status {
-                    byte: 3,
+                    byte: at::ERROR_CODE,
                     value: code,
                     field: "error code (the error flag is clear)",
                 })
@@ -350,13 +401,13 @@ impl Status {
             free,
             flags,
             error,
-            packets: u32_at(7),
-            fragments: u32_at(11),
-            line_cycles: u32_at(15),
-            triangle_cycles: u32_at(19),
-            clear_cycles: u32_at(23),
-            end_cycle: u32_at(27),
-            fifo_max_pairs: b[31],
+            packets: u32_at(status_byte::PACKETS),
+            fragments: u32_at(status_byte::FRAGMENTS),
+            line_cycles: u32_at(status_byte::LINE_CYCLES),
+            triangle_cycles: u32_at(status_byte::TRIANGLE_CYCLES),
+            clear_cycles: u32_at(status_byte::CLEAR_CYCLES),
+            end_cycle: u32_at(status_byte::END_CYCLE),
+            fifo_max_pairs: b[status_byte::FIFO_MAX_PAIRS],
         })
     }
 
@@ -364,25 +415,276 @@ impl Status {
     /// models and testbenches that must answer as the block does.
     pub fn encode(&self) -> [u8; STATUS_BYTES] {
         let mut b = [0u8; STATUS_BYTES];
-        b[0..2].copy_from_slice(&self.free.to_be_bytes());
-        b[2] = self.flags & !FLAG_ERROR;
+        use status_byte as at;
+        b[at::FREE..at::FREE + 2].copy_from_slice(&self.free.to_be_bytes());
+        b[at::FLAGS] = self.flags & !FLAG_ERROR;
         if let Some(e) = self.error {
-            b[2] |= FLAG_ERROR;
-            b[3] = e.code.code();
-            b[4] = e.channel;
-            b[5..7].copy_from_slice(&e.packet.to_be_bytes());
+            b[at::FLAGS] |= FLAG_ERROR;
+            b[at::ERROR_CODE] = e.code.code();
+            b[at::ERROR_CHANNEL] = e.channel;
+            b[at::ERROR_PACKET..at::ERROR_PACKET + 2].copy_from_slice(&e.packet.to_be_bytes());
         }
         for (i, v) in [
-            (7, self.packets),
-            (11, self.fragments),
-            (15, self.line_cycles),
-            (19, self.triangle_cycles),
-            (23, self.clear_cycles),
-            (27, self.end_cycle),
+            (status_byte::PACKETS, self.packets),
+            (status_byte::FRAGMENTS, self.fragments),
+            (status_byte::LINE_CYCLES, self.line_cycles),
+            (status_byte::TRIANGLE_CYCLES, self.triangle_cycles),
+            (status_byte::CLEAR_CYCLES, self.clear_cycles),
+            (status_byte::END_CYCLE, self.end_cycle),
         ] {
             b[i..i + 4].copy_from_slice(&v.to_be_bytes());
         }
-        b[31] = self.fifo_max_pairs;
+        b[status_byte::FIFO_MAX_PAIRS] = self.fifo_max_pairs;
         b
     }
+}
+
+/// One `define of the generated Verilog header: the macro's name after `FITKIT_`, its
+/// width in bits (0 for a plain number such as a byte offset) and its value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MapEntry {
+    /// Name after the `FITKIT_` prefix.
+    pub name: &'static str,
+    /// Width of a sized literal (`8'h20`); 0 writes a plain decimal number.
+    pub bits: u32,
+    /// The value.
+    pub value: u32,
+    /// One line saying what it is, written above it.
+    pub doc: &'static str,
+}
+
+const fn entry(name: &'static str, bits: u32, value: u32, doc: &'static str) -> MapEntry {
+    MapEntry {
+        name,
+        bits,
+        value,
+        doc,
+    }
+}
+
+/// Everything about the block the RTL and its testbenches must agree on with this crate:
+/// addresses, error codes, flag bits, status offsets and the FIFO's geometry.
+/// [`write_verilog_header`] turns it into `fitkit_map.vh`, so no number here is typed
+/// twice; the error codes follow in [`ErrorCode::ALL`]'s order.
+pub const MAP: [MapEntry; 33] = [
+    entry(
+        "ADDR_SETUP",
+        8,
+        ADDR_SETUP as u32,
+        "set-up packet (frame size, background, culling, then a clear)",
+    ),
+    entry("ADDR_LINE", 8, ADDR_LINE as u32, "line packets (2 records)"),
+    entry(
+        "ADDR_TRIANGLE",
+        8,
+        ADDR_TRIANGLE as u32,
+        "triangle packets (2 records)",
+    ),
+    entry(
+        "ADDR_CLEAR",
+        8,
+        ADDR_CLEAR as u32,
+        "stand-alone clear packets (1 record)",
+    ),
+    entry("ADDR_STATUS", 8, ADDR_STATUS as u32, "status block read"),
+    entry("ADDR_READ", 8, ADDR_READ as u32, "framebuffer read-back"),
+    entry(
+        "ADDR_RESET",
+        8,
+        ADDR_RESET as u32,
+        "block reset, no payload",
+    ),
+    entry(
+        "RECORD_BITS",
+        0,
+        RECORD_BITS,
+        "bits of one input FIFO record",
+    ),
+    entry(
+        "FIFO_RECORDS",
+        0,
+        FIFO_RECORDS as u32,
+        "records the input FIFO holds",
+    ),
+    entry(
+        "MAX_PACKET_BYTES",
+        0,
+        MAX_PACKET_BYTES as u32,
+        "payload bytes of the widest packet",
+    ),
+    entry(
+        "FRAME_SIDE",
+        0,
+        FRAME_SIDE as u32,
+        "side of the framebuffer the coordinates address",
+    ),
+    entry(
+        "COORD_BITS",
+        0,
+        crate::bus::FITKIT.coord_bits as u32,
+        "bits of a coordinate",
+    ),
+    entry(
+        "COLOR_BITS",
+        0,
+        crate::bus::FITKIT.color_bits as u32,
+        "bits of a colour (RGB332)",
+    ),
+    entry(
+        "STATUS_BYTES",
+        0,
+        STATUS_BYTES as u32,
+        "bytes of the status block",
+    ),
+    entry(
+        "READ_TURNAROUND",
+        0,
+        READ_TURNAROUND as u32,
+        "bytes between the read-back's address and its first pixel",
+    ),
+    entry(
+        "READ_HEADER_BYTES",
+        0,
+        READ_HEADER_BYTES as u32,
+        "bytes before the first pixel of a read-back",
+    ),
+    entry("ERR_BITS", 0, ErrorCode::BITS, "bits of an error code"),
+    entry(
+        "FLAG_BUSY",
+        0,
+        FLAG_BUSY.trailing_zeros(),
+        "flags bit: a packet is queued or executing",
+    ),
+    entry(
+        "FLAG_ERROR",
+        0,
+        FLAG_ERROR.trailing_zeros(),
+        "flags bit: a sticky error is latched",
+    ),
+    entry(
+        "FLAG_FIFO_EMPTY",
+        0,
+        FLAG_FIFO_EMPTY.trailing_zeros(),
+        "flags bit: the input FIFO is empty",
+    ),
+    entry(
+        "FLAG_SETUP_DONE",
+        0,
+        FLAG_SETUP_DONE.trailing_zeros(),
+        "flags bit: a set-up has run since reset",
+    ),
+    entry(
+        "STATUS_FREE",
+        0,
+        status_byte::FREE as u32,
+        "status offset: free records, 2 bytes",
+    ),
+    entry(
+        "STATUS_FLAGS",
+        0,
+        status_byte::FLAGS as u32,
+        "status offset: flags",
+    ),
+    entry(
+        "STATUS_ERROR_CODE",
+        0,
+        status_byte::ERROR_CODE as u32,
+        "status offset: error code",
+    ),
+    entry(
+        "STATUS_ERROR_CHANNEL",
+        0,
+        status_byte::ERROR_CHANNEL as u32,
+        "status offset: the failing packet's address",
+    ),
+    entry(
+        "STATUS_ERROR_PACKET",
+        0,
+        status_byte::ERROR_PACKET as u32,
+        "status offset: the failing packet's index, 2 bytes",
+    ),
+    entry(
+        "STATUS_PACKETS",
+        0,
+        status_byte::PACKETS as u32,
+        "status offset: packets executed, 4 bytes",
+    ),
+    entry(
+        "STATUS_FRAGMENTS",
+        0,
+        status_byte::FRAGMENTS as u32,
+        "status offset: fragments written, 4 bytes",
+    ),
+    entry(
+        "STATUS_LINE_CYCLES",
+        0,
+        status_byte::LINE_CYCLES as u32,
+        "status offset: line unit busy cycles, 4 bytes",
+    ),
+    entry(
+        "STATUS_TRIANGLE_CYCLES",
+        0,
+        status_byte::TRIANGLE_CYCLES as u32,
+        "status offset: triangle unit busy cycles, 4 bytes",
+    ),
+    entry(
+        "STATUS_CLEAR_CYCLES",
+        0,
+        status_byte::CLEAR_CYCLES as u32,
+        "status offset: clearing cycles, 4 bytes",
+    ),
+    entry(
+        "STATUS_END_CYCLE",
+        0,
+        status_byte::END_CYCLE as u32,
+        "status offset: the last packet's end cycle, 4 bytes",
+    ),
+    entry(
+        "STATUS_FIFO_MAX_PAIRS",
+        0,
+        status_byte::FIFO_MAX_PAIRS as u32,
+        "status offset: highest FIFO occupancy / 2",
+    ),
+];
+
+/// Writes `fitkit_map.vh`, the Verilog header every RTL module and testbench of the
+/// FITkit block includes: one `` `define FITKIT_… `` per [`MAP`] entry and per
+/// [`ErrorCode`], behind an include guard. The committed file is checked against this
+/// output by a test, so the Verilog cannot drift from the Rust.
+pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Result {
+    writeln!(
+        out,
+        "// fitkit_map.vh -- the FITkit raster block's SPI map, status layout and FIFO geometry."
+    )?;
+    writeln!(out, "//")?;
+    writeln!(
+        out,
+        "// GENERATED from protocol::fitkit_spi::MAP (protocol/src/fitkit_spi.rs); do not edit."
+    )?;
+    writeln!(
+        out,
+        "// `FPGFX_BLESS=1 cargo test -p protocol --test integration fitkit_map` rewrites it."
+    )?;
+    writeln!(out, "`ifndef FITKIT_MAP_VH")?;
+    writeln!(out, "`define FITKIT_MAP_VH")?;
+    let mut line = |name: &str, bits: u32, value: u32, doc: &str| -> core::fmt::Result {
+        writeln!(out, "// {doc}")?;
+        match bits {
+            0 => writeln!(out, "`define FITKIT_{name} {value}"),
+            8 => writeln!(out, "`define FITKIT_{name} {bits}'h{value:02X}"),
+            _ => writeln!(out, "`define FITKIT_{name} {bits}'d{value}"),
+        }
+    };
+    for e in MAP {
+        line(e.name, e.bits, e.value, e.doc)?;
+    }
+    for e in ErrorCode::ALL {
+        let mut name = heapless::String::<32>::new();
+        // 32 bytes hold "ERR_" and the longest code name.
+        let _ = write!(name, "ERR_{}", e.verilog_name());
+        let mut doc = heapless::String::<48>::new();
+        let _ = write!(doc, "error code: {e}");
+        line(&name, ErrorCode::BITS, e.code() as u32, &doc)?;
+    }
+    writeln!(out, "`endif")
 }

@@ -150,3 +150,51 @@ fn status_from_a_floating_miso_is_refused() {
     let zeros = [0u8; STATUS_BYTES];
     assert_eq!(Status::decode(&zeros).map(|s| s.idle()), Ok(true));
 }
+
+/// The committed Verilog header, which every RTL module and testbench of the FITkit block
+/// includes, is exactly what `write_verilog_header` writes from the Rust map: a number
+/// changed on one side only fails here. `FPGFX_BLESS=1` rewrites the file instead.
+#[test]
+fn fitkit_map_header_matches_the_rust_map() {
+    let mut text = String::new();
+    protocol::fitkit_spi::write_verilog_header(&mut text).expect("writes to a String");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../hw/fitkit-raster/rtl/fitkit_map.vh");
+    if std::env::var_os("FPGFX_BLESS").is_some() {
+        std::fs::write(&path, &text).expect("writes the header");
+    }
+    let committed = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e} (FPGFX_BLESS=1 writes it)", path.display()));
+    assert_eq!(
+        committed,
+        text,
+        "{} differs from protocol::fitkit_spi::MAP; run with FPGFX_BLESS=1 to regenerate",
+        path.display()
+    );
+}
+
+/// Every error code has its macro, every address and status offset is there once, and
+/// the sized literals carry the right width.
+#[test]
+fn fitkit_map_header_names_every_fact_once() {
+    let mut text = String::new();
+    protocol::fitkit_spi::write_verilog_header(&mut text).expect("writes to a String");
+    for e in protocol::fitkit_spi::ErrorCode::ALL {
+        let want = format!("`define FITKIT_ERR_{} 3'd{}\n", e.verilog_name(), e.code());
+        assert!(text.contains(&want), "missing {want:?}");
+    }
+    assert!(text.contains("`define FITKIT_ADDR_STATUS 8'h20\n"));
+    assert!(text.contains("`define FITKIT_ADDR_RESET 8'h7F\n"));
+    assert!(text.contains("`define FITKIT_STATUS_END_CYCLE 27\n"));
+    assert!(text.contains("`define FITKIT_RECORD_BITS 36\n"));
+    let mut names: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("`define "))
+        .map(|l| l.split(' ').next().unwrap_or(l))
+        .collect();
+    let n = names.len();
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), n, "a macro is defined twice");
+    assert_eq!(n, protocol::fitkit_spi::MAP.len() + 6 + 1);
+}

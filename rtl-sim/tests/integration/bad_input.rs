@@ -1,7 +1,7 @@
 //! Bad packets: each is refused whole (the frame stays the model's, which never saw it)
 //! and latches the block's sticky error with its code, address and packet index.
 
-use protocol::bus::CHANNEL_COMMAND;
+use protocol::fitkit_spi::ADDR_CLEAR;
 use protocol::fitkit_spi::{self as wire, BlockError, ErrorCode};
 use protocol::frame::{Cull, Rgb};
 
@@ -70,8 +70,8 @@ fn a_clear_without_cb_is_refused() {
     // CB col in one record: CB is the record's top bit.
     let record = u64::from(0xE3u8) << 27;
     let mut buf = [0u8; 1 + wire::MAX_PACKET_BYTES];
-    let n = wire::packet(CHANNEL_COMMAND, &[record], &mut buf).expect("frames");
-    refused(&buf[..n], ErrorCode::ClearWithoutCb, CHANNEL_COMMAND);
+    let n = wire::packet(ADDR_CLEAR, &[record], &mut buf).expect("frames");
+    refused(&buf[..n], ErrorCode::ClearWithoutCb, ADDR_CLEAR);
 }
 
 #[test]
