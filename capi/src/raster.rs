@@ -2,10 +2,9 @@
 //! input-FIFO packets run into it (`(channel, records)`, as the controller pushes them
 //! and as `fpgfx vectors raster` lists them), and the pixels read back.
 
-use protocol::fpga::LayoutId;
-use protocol::frame::{
-    Aa, AaPattern, Cull, PixelFormat, Plane, RasterSetup, ReadRequest, Rect, Rgb, Traversal,
-};
+use protocol::bus::LayoutId;
+use protocol::frame::{PixelFormat, Plane, ReadRequest, Rect};
+use protocol::raster::{Aa, AaPattern, Cull, RasterSetup, Rgb, Traversal};
 use sim_target::{Device, DeviceError};
 
 use crate::{fpgfx_status, guard, input, output, put, Failure};

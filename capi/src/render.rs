@@ -97,7 +97,7 @@ fn image(regs: &[u32]) -> Result<Regs, Failure> {
 /// Width and height the image's frame has, each within what a read-back addresses.
 fn frame_size(image: &Regs) -> Result<(u16, u16), Failure> {
     let r = image.render();
-    let max = protocol::frame::MAX_FRAME_SIDE;
+    let max = protocol::MAX_FRAME_SIDE;
     match (u16::try_from(r.width), u16::try_from(r.height)) {
         (Ok(w), Ok(h))
             if (1..=max).contains(&u32::from(w)) && (1..=max).contains(&u32::from(h)) =>

@@ -10,7 +10,7 @@ use std::process::{Command, Output};
 use std::sync::OnceLock;
 
 use host_cli::vectors::render as vectors;
-use protocol::fpga::LayoutId;
+use protocol::bus::LayoutId;
 use protocol::frame::Numeric;
 
 /// The package root (`capi/`).

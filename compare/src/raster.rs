@@ -2,7 +2,7 @@
 //! allowance. The rules follow the raster block's coverage contract (docs/raster.md) and
 //! dEQP's verifier; docs/compare.md draws them.
 
-use protocol::frame::{Line, Point, RasterCmd, RasterSetup};
+use protocol::raster::{Line, Point, RasterCmd, RasterSetup};
 
 use crate::Edge;
 
@@ -107,7 +107,7 @@ fn line_outline(l: &Line, bits: u8) -> [(f64, f64); 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use protocol::frame::{LineAlgo, Rgb, Shade, Triangle};
+    use protocol::raster::{LineAlgo, Rgb, Shade, Triangle};
 
     fn setup(bits: u8) -> RasterSetup {
         RasterSetup {

@@ -7,7 +7,7 @@ use compare::{
     MASK_ALLOWED, MASK_FAIL,
 };
 use proptest::prelude::*;
-use protocol::frame::{Point, RasterCmd, RasterSetup, Rgb, Shade, Triangle};
+use protocol::raster::{Point, RasterCmd, RasterSetup, Rgb, Shade, Triangle};
 
 const BLACK: [u8; 3] = [0, 0, 0];
 const RED: [u8; 3] = [200, 0, 0];

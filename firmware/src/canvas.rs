@@ -21,7 +21,7 @@ use embedded_graphics::primitives::{
     Circle as EgCircle, Line as EgLine, PrimitiveStyle, Rectangle, Styled, Triangle as EgTriangle,
 };
 use protocol::bus::{BusError, BusLayout, PackOptions};
-use protocol::frame::{
+use protocol::raster::{
     Circle, Cull, Line, LineAlgo, Point as FpgaPoint, RasterCmd, RasterSetup, Rgb, Shade,
     Traversal, Triangle,
 };

@@ -9,10 +9,10 @@ use heapless::{Deque, Vec};
 use protocol::bus::{BusError, BusLayout, PackOptions};
 use protocol::frame::{
     Animation, Block, Caps, DeviceCounters, DeviceFrame, ErrorCode, ErrorReport, Hello, HostFrame,
-    LinkCounters, RasterCmd, RasterSetup, ReadChunk, ReadDone, ReadRequest, StartFrame, Stats,
-    READ_CHUNK,
+    LinkCounters, ReadChunk, ReadDone, ReadRequest, StartFrame, Stats, READ_CHUNK,
 };
 use protocol::link::{Crc32Digest, CRC32};
+use protocol::raster::{RasterCmd, RasterSetup};
 use protocol::scene::{hdr, ValueFormat};
 
 use crate::fpga::{push_command, FpgaBus, PushError};
@@ -70,7 +70,7 @@ impl<B: FpgaBus> Engine<B> {
         ident: &'static str,
     ) -> Self {
         // The engine packs the records, so it is the one that knows the layout.
-        caps.raster_layout = protocol::fpga::LayoutId::of(layout);
+        caps.raster_layout = protocol::bus::LayoutId::of(layout);
         Self {
             bus,
             caps,

@@ -21,9 +21,9 @@ use protocol::fitkit_spi::{
     ADDR_SETUP, ADDR_STATUS, ADDR_TRIANGLE, MAX_PACKET_BYTES, MAX_PACKET_RECORDS, STATUS_BYTES,
 };
 use protocol::frame::{
-    AaPattern, Block, DeviceCounters, FrameDone, PixelFormat, Plane, RasterSetup, ReadRequest,
-    StartFrame,
+    Block, DeviceCounters, FrameDone, PixelFormat, Plane, ReadRequest, StartFrame,
 };
+use protocol::raster::{AaPattern, RasterSetup};
 
 use crate::fpga::FpgaBus;
 

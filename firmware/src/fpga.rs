@@ -5,7 +5,8 @@
 //! the same handful of operations from both, so one trait covers them and each transport
 //! (in-process model, serial FPGA link, a real SPI peripheral) is one implementation.
 
-use protocol::frame::{DeviceCounters, FrameDone, RasterSetup, ReadRequest, StartFrame};
+use protocol::frame::{DeviceCounters, FrameDone, ReadRequest, StartFrame};
+use protocol::raster::RasterSetup;
 
 /// Operations the controller needs from an FPGA.
 pub trait FpgaBus {
@@ -78,7 +79,7 @@ pub(crate) enum PushError<E> {
 pub(crate) fn push_command<B: FpgaBus>(
     bus: &mut B,
     layout: &protocol::bus::BusLayout,
-    cmd: &protocol::frame::RasterCmd,
+    cmd: &protocol::raster::RasterCmd,
     opts: protocol::bus::PackOptions,
 ) -> Result<(usize, u64), PushError<B::Error>> {
     let kind = protocol::bus::Kind::of(cmd);

@@ -1,22 +1,23 @@
-//! [`FpgaBus`] over a serial line: each bus operation becomes a [`protocol::fpga`] message
+//! [`FpgaBus`] over a serial line: each bus operation becomes a [`protocol::fpga_link`] message
 //! on a [`protocol::link`], for a board whose FPGA is `fpgfx-sim --fpga-link` on the second
 //! UART.
 //!
 //! Writes are posted (sent without waiting); questions block until their answer arrives,
 //! servicing the link meanwhile, because the engine's calls are synchronous. FIFO credit
 //! is tracked here so that a stream of pushes costs no round trips until the credit runs
-//! low (see the module docs of [`protocol::fpga`]).
+//! low (see the module docs of [`protocol::fpga_link`]).
 
 use embedded_io::{Read, ReadReady, Write};
 use heapless::{Deque, Vec};
-use protocol::fpga::{
+use protocol::fpga_link::{
     Fault, FpgaReply, FpgaRequest, FpgaStatus, Identity, FPGA_SCHEMA_HASH, PUSH_RECORDS,
 };
 use protocol::frame::{
-    decode, encode, DeviceCounters, FrameDone, RasterSetup, ReadRequest, StartFrame, READ_CHUNK,
+    decode, encode, DeviceCounters, FrameDone, ReadRequest, StartFrame, READ_CHUNK,
     REG_WRITE_WORDS, TEXTURE_CHUNK,
 };
 use protocol::link::{Config, Event, Link, MAX_FRAME};
+use protocol::raster::RasterSetup;
 use protocol::MAX_PAYLOAD;
 
 use crate::fpga::FpgaBus;

@@ -16,7 +16,8 @@ use protocol::axi_lite::{
     self, block_regs, ctrl, raster, readback, scene_word_addr, sys, BlockRegs, COUNTERS, READ_BASE,
     READ_WINDOW, TEXTURE_BASE, TEXTURE_WORDS,
 };
-use protocol::frame::{Block, DeviceCounters, FrameDone, RasterSetup, ReadRequest, StartFrame};
+use protocol::frame::{Block, DeviceCounters, FrameDone, ReadRequest, StartFrame};
+use protocol::raster::RasterSetup;
 
 use crate::fpga::FpgaBus;
 

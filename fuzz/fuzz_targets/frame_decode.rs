@@ -11,9 +11,8 @@
 use std::fmt::Debug;
 
 use libfuzzer_sys::fuzz_target;
-use protocol::frame::{
-    decode, encode, raster_commands, DeviceFrame, HostFrame, RasterBatcher, RasterCmd,
-};
+use protocol::frame::{decode, encode, raster_commands, DeviceFrame, HostFrame, RasterBatcher};
+use protocol::raster::RasterCmd;
 use protocol::link::{decode_frame, encode_frame, Header, Kind, LinkError, HEADER_LEN, MAX_FRAME};
 use protocol::MAX_PAYLOAD;
 use serde::{de::DeserializeOwned, Serialize};

@@ -9,10 +9,9 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use host_cli::raster_file::{self, RasterFileError, RasterJob, GUARD_BAND};
-use protocol::frame::{
-    decode, AaPattern, HostFrame, Point, RasterBatcher, RasterCmd, MAX_FRAME_SIDE, MAX_POLYGON,
-    MAX_SUBPIXEL_BITS,
-};
+use protocol::frame::{decode, HostFrame, RasterBatcher};
+use protocol::raster::{AaPattern, Point, RasterCmd, MAX_POLYGON, MAX_SUBPIXEL_BITS};
+use protocol::MAX_FRAME_SIDE;
 use sim_target::raster::Raster;
 
 fn check(job: &RasterJob) {

@@ -12,8 +12,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use protocol::frame::{Aa, AaPattern, RasterSetup};
 use protocol::names::Named;
+use protocol::raster::{Aa, AaPattern, RasterSetup};
 use sim_target::num::instrumented::{self, Counted, OpKind};
 use sim_target::raster::Raster;
 use sim_target::rt::{self, scene_file, Math, Numeric, RenderOptions, Scene};

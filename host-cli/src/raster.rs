@@ -1,9 +1,10 @@
 //! `fpgfx raster`: a parsed command file through a [`Session`] to an image.
 
 use protocol::frame::{
-    Block, HostFrame, Numeric, PixelFormat, Plane, RasterBatcher, RasterCmd, ReadRequest, Rect,
-    StartFrame, Stats,
+    Block, HostFrame, Numeric, PixelFormat, Plane, RasterBatcher, ReadRequest, Rect, StartFrame,
+    Stats,
 };
+use protocol::raster::RasterCmd;
 
 use protocol::bus::{BusLayout, Kind, PackOptions};
 

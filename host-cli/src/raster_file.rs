@@ -8,12 +8,13 @@
 
 use std::ops::Range;
 
-use protocol::frame::{
+use protocol::names::UnknownName;
+use protocol::raster::{
     Aa, AaPattern, Bezier, BezierPatch, Circle, Connectivity, Cull, FillRule, Line, LineAlgo,
     Pixel, Point, Polygon, RasterCmd, RasterSetup, Rgb, SeedFill, Shade, Traversal, Triangle,
-    MAX_FRAME_SIDE, MAX_POLYGON, MAX_SUBPIXEL_BITS,
+    MAX_POLYGON, MAX_SUBPIXEL_BITS,
 };
-use protocol::names::UnknownName;
+use protocol::MAX_FRAME_SIDE;
 use serde::Deserialize;
 
 /// Geometry may reach this many pixels beyond the viewport on each side (a guard band);

@@ -11,11 +11,9 @@
 //! Targets: overhead ≤ 10 % for a triangle stream, ≥ 50 MB/s encode + decode on one core.
 
 use criterion::{black_box, criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use protocol::frame::{
-    encode, raster_commands, Line, LineAlgo, Point, RasterBatch, RasterBatcher, RasterCmd, Rgb,
-    Shade, Triangle,
-};
+use protocol::frame::{encode, raster_commands, RasterBatch, RasterBatcher};
 use protocol::link::{decode_frame, encode_frame, Event, Header, Kind, Link, MAX_FRAME};
+use protocol::raster::{Line, LineAlgo, Point, RasterCmd, Rgb, Shade, Triangle};
 use protocol::MAX_PAYLOAD;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};

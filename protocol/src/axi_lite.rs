@@ -101,9 +101,9 @@
 //! when it is larger than the window.
 
 use crate::frame::{
-    Aa, AaPattern, Block, Cull, DeviceCounters, Numeric, PixelFormat, Plane, RasterSetup,
-    ReadRequest, Rect, Rgb, StartFrame, Traversal,
+    Block, DeviceCounters, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame,
 };
+use crate::raster::{Aa, AaPattern, Cull, RasterSetup, Rgb, Traversal};
 use crate::scene::SceneRegs;
 
 /// Block-level control: `ap_start`, `ap_done`, `ap_idle`, `ap_ready`, `auto_restart`
@@ -818,7 +818,8 @@ mod tests {
 
     #[test]
     fn codes_round_trip() {
-        use crate::frame::{Aa, AaPattern, Cull, PixelFormat, Plane, Rgb, Traversal};
+        use crate::frame::{PixelFormat, Plane};
+        use crate::raster::{Aa, AaPattern, Cull, Rgb, Traversal};
         for p in [Plane::Color, Plane::Depth, Plane::Normal] {
             assert_eq!(plane_from_code(plane_code(p)), Some(p));
         }

@@ -13,7 +13,7 @@
 
 use core::fmt::Write as _;
 
-use crate::frame::Cull;
+use crate::raster::Cull;
 
 /// Address of the set-up packet: frame size, background and culling, executed in FIFO
 /// order (earlier packets finish first), then the framebuffer is cleared.
@@ -40,6 +40,10 @@ pub const FIFO_RECORDS: u16 = 512;
 pub const MAX_PACKET_RECORDS: usize = 2;
 /// Payload bytes of the widest packet (72 record bits).
 pub const MAX_PACKET_BYTES: usize = 9;
+/// Bits of a coordinate: whole pixels, unsigned ([`crate::bus::FITKIT`]).
+pub const COORD_BITS: u8 = 9;
+/// Bits of a colour: RGB332.
+pub const COLOR_BITS: u8 = 8;
 /// Side of the framebuffer the 9-bit coordinates address.
 pub const FRAME_SIDE: u16 = 512;
 /// Bytes of the status block ([`Status::decode`]).
@@ -518,16 +522,11 @@ pub const MAP: [MapEntry; 33] = [
         FRAME_SIDE as u32,
         "side of the framebuffer the coordinates address",
     ),
-    entry(
-        "COORD_BITS",
-        0,
-        crate::bus::FITKIT.coord_bits as u32,
-        "bits of a coordinate",
-    ),
+    entry("COORD_BITS", 0, COORD_BITS as u32, "bits of a coordinate"),
     entry(
         "COLOR_BITS",
         0,
-        crate::bus::FITKIT.color_bits as u32,
+        COLOR_BITS as u32,
         "bits of a colour (RGB332)",
     ),
     entry(

@@ -7,6 +7,8 @@
 //! one level further, grouped per block (`scene::obj::SHAPE`), because blocks share field
 //! names.
 //!
+//! * [`raster`] — the raster block's vocabulary: the commands of a raster job and the
+//!   values they carry, spoken by the messages, the bus packer, the model and the files.
 //! * [`frame`] — the messages between the host (`fpgfx`) and the controller firmware,
 //!   serialised with postcard. Both ends compare a [`frame::schema_hash`] in the
 //!   handshake so that two builds with different message layouts refuse each other
@@ -22,8 +24,9 @@
 //!   of a frame sit on the block's AXI4-Lite bus.
 //! * [`bootloader`] — the STM32 ROM bootloader's UART protocol (ST AN3155) that
 //!   `fpgfx flash` speaks to the board and `fpgfx-sim --bootloader` emulates.
-//! * [`fpga`] — the same bus operations as messages, for an FPGA reached over a serial
-//!   line (the board's second UART when the FPGA is the `fpgfx-sim` emulator).
+//! * [`fpga_link`] — the same bus operations as messages, for an FPGA reached over a
+//!   serial line (the board's second UART when the FPGA is the `fpgfx-sim` emulator):
+//!   what `firmware::FpgaLink` sends and `sim_board::FpgaServer` answers.
 //! * [`names`] — how the enums above are spelled in files and on the command line
 //!   (with the `clap` feature, as the flags' possible values).
 //!
@@ -36,10 +39,11 @@ pub mod axi_lite;
 pub mod bootloader;
 pub mod bus;
 pub mod fitkit_spi;
-pub mod fpga;
+pub mod fpga_link;
 pub mod frame;
 pub mod link;
 pub mod names;
+pub mod raster;
 pub mod scene;
 
 /// Version of the host <-> controller protocol. Bump it whenever a change is not purely
@@ -51,3 +55,10 @@ pub const PROTOCOL_VERSION: u16 = 3;
 /// a few window slots and the read-back buffer fit comfortably in the MCU's RAM, and so
 /// that a full frame still takes only ~23 ms at 115 200 baud.
 pub const MAX_PAYLOAD: usize = 256;
+
+/// Largest frame side in pixels, for the raster block and the ray tracer alike: the
+/// raster block's edge functions are proven exact up to it (sim-target's `raster::tri`),
+/// targets report it in [`frame::Caps`], and the host refuses a larger frame before sending it.
+/// The FITkit SDRAM row is 512 columns; the extended layouts allow more; the wire's
+/// `u16` would carry more still.
+pub const MAX_FRAME_SIDE: u32 = 4096;

@@ -10,7 +10,7 @@ use anyhow::{bail, Context, Result};
 use embedded_hal::spi::SpiDevice;
 use protocol::bus::{self, FITKIT};
 use protocol::fitkit_spi::{self as wire, Status};
-use protocol::frame::{Cull, Line, LineAlgo, Point, RasterCmd, Shade, Triangle};
+use protocol::raster::{Cull, Line, LineAlgo, Point, RasterCmd, Shade, Triangle};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use rtl_sim::{Rtl, RtlSpi, SpiConfig};

@@ -1,5 +1,5 @@
 //! The FPGA alone behind a serial port: the emulated device answering the serial FPGA
-//! link ([`protocol::fpga`]) for a controller elsewhere, e.g. a QEMU board's USART2.
+//! link ([`protocol::fpga_link`]) for a controller elsewhere, e.g. a QEMU board's USART2.
 
 use std::io::{self, Read, Write};
 use std::time::{Duration, Instant};

@@ -1,4 +1,4 @@
-//! The FPGA side of the serial FPGA link ([`protocol::fpga`]): an FPGA answering a
+//! The FPGA side of the serial FPGA link ([`protocol::fpga_link`]): an FPGA answering a
 //! controller that talks to it over a byte stream (a QEMU board's second UART).
 //!
 //! The FPGA is any [`FpgaBus`]: the golden model ([`SimBus`](crate::in_process::SimBus))
@@ -11,8 +11,9 @@
 //! the port and tests can drive it from memory.
 
 use heapless::Vec;
-use protocol::fpga::{
-    Fault, FaultCode, FpgaReply, FpgaRequest, FpgaStatus, Identity, LayoutId, FPGA_SCHEMA_HASH,
+use protocol::bus::LayoutId;
+use protocol::fpga_link::{
+    Fault, FaultCode, FpgaReply, FpgaRequest, FpgaStatus, Identity, FPGA_SCHEMA_HASH,
 };
 use protocol::frame::{decode, encode, READ_CHUNK};
 use protocol::link::{Event, Link};

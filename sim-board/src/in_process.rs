@@ -14,7 +14,8 @@ use std::time::{Duration, Instant};
 
 use firmware::{Controller, ControllerError, FpgaBus, FpgaLink, MmioBus, MmioError, Registers};
 use protocol::bus::BusLayout;
-use protocol::frame::{Caps, DeviceCounters, FrameDone, RasterSetup, ReadRequest, StartFrame};
+use protocol::frame::{Caps, DeviceCounters, FrameDone, ReadRequest, StartFrame};
+use protocol::raster::RasterSetup;
 use sim_target::mmio::{RegisterError, RegisterFile};
 
 /// One direction of an in-memory byte line. A mutex rather than a `RefCell` so that the
@@ -302,7 +303,7 @@ impl firmware::Clock for StdClock {
 pub type LinkBus = FpgaLink<PipeEnd, StdClock>;
 
 /// The built-in target with the FPGA behind the serial FPGA link, as on a QEMU board:
-/// the controller talks [`protocol::fpga`] over an in-memory line to an emulated FPGA on
+/// the controller talks [`protocol::fpga_link`] over an in-memory line to an emulated FPGA on
 /// its own thread, which stops when the target is dropped. Images must equal
 /// [`sim_target()`]'s; the difference is only the transport.
 pub fn sim_target_via_fpga_link() -> Result<BuiltIn<LinkBus>, firmware::FpgaLinkError<Infallible>> {

@@ -10,7 +10,8 @@
 use firmware::FitkitSpi;
 use protocol::bus::FITKIT;
 use protocol::fitkit_spi::{FIFO_RECORDS, FRAME_SIDE};
-use protocol::frame::{Caps, NumericSet, PixelFormat, MAX_SUBPIXEL_BITS};
+use protocol::frame::{Caps, NumericSet, PixelFormat};
+use protocol::raster::MAX_SUBPIXEL_BITS;
 use rtl_sim::{Rtl, RtlDelay, RtlError, RtlSpi, SharedRtl, SpiConfig, SpiError};
 
 use crate::in_process::BuiltIn;

@@ -13,7 +13,7 @@ use embedded_graphics::{
     primitives::{PrimitiveStyle, Rectangle, Triangle as EgTriangle},
     Drawable, Pixel as EgPixel,
 };
-use protocol::frame::*;
+use protocol::raster::*;
 use sim_target::raster::Raster;
 
 const W: u32 = 512;

@@ -10,9 +10,9 @@ use std::collections::VecDeque;
 
 use protocol::bus::{quantize_rgb332, rgb332_encode, unpack, BusError, BusLayout, MAX_RECORDS};
 use protocol::frame::{
-    Block, Caps, FrameDone, Numeric, NumericSet, PixelFormat, Plane, RasterSetup, ReadRequest, Rgb,
-    StartFrame,
+    Block, Caps, FrameDone, Numeric, NumericSet, PixelFormat, Plane, ReadRequest, StartFrame,
 };
+use protocol::raster::{RasterSetup, Rgb};
 
 use crate::raster::{Raster, RasterError};
 use crate::rt::RenderOptions;
@@ -133,15 +133,15 @@ impl Device {
                 | PixelFormat::Kcu116.bit()
                 | PixelFormat::DepthF32.bit()
                 | PixelFormat::NormalF32.bit(),
-            max_width: protocol::frame::MAX_FRAME_SIDE as u16,
-            max_height: protocol::frame::MAX_FRAME_SIDE as u16,
-            max_subpixel_bits: protocol::frame::MAX_SUBPIXEL_BITS,
+            max_width: protocol::MAX_FRAME_SIDE as u16,
+            max_height: protocol::MAX_FRAME_SIDE as u16,
+            max_subpixel_bits: protocol::raster::MAX_SUBPIXEL_BITS,
             queue_depth: 4,
             fifo_depth: FIFO_RECORDS as u16,
             max_objects: 8,
             max_lights: 2,
             texture_words: crate::raster::TEXTURE_WORDS as u32,
-            raster_layout: protocol::fpga::LayoutId::of(self.layout),
+            raster_layout: protocol::bus::LayoutId::of(self.layout),
             // The float datapaths take IEEE words; the fixed ones (and f16, an experiment
             // without an HLS port of its own) read the seed's Q16.16.
             float_regs: NumericSet::default().with(Numeric::F32).with(Numeric::F64),
@@ -218,7 +218,8 @@ impl Device {
                 }
             })?;
         // CB on a drawing command clears to the set-up's background first (seed 000).
-        let cb_draw = decoded.clear && !matches!(decoded.cmd, protocol::frame::RasterCmd::Clear(_));
+        let cb_draw =
+            decoded.clear && !matches!(decoded.cmd, protocol::raster::RasterCmd::Clear(_));
         if cb_draw {
             raster.draw_after_clear(&decoded.cmd)
         } else {

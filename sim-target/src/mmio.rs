@@ -25,9 +25,8 @@ use protocol::axi_lite::{
     self, ctrl, irq, raster as rr, readback as rb, sys, Location, COUNTERS, READ_WINDOW,
 };
 use protocol::bus::MAX_RECORDS;
-use protocol::frame::{
-    Block, Numeric, PixelFormat, Plane, RasterSetup, ReadRequest, Rect, StartFrame,
-};
+use protocol::frame::{Block, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame};
+use protocol::raster::RasterSetup;
 
 use crate::device::{Device, DeviceError};
 

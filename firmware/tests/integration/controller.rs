@@ -12,11 +12,13 @@ use firmware::{Controller, ControllerError, FpgaBus};
 use heapless::Vec as HVec;
 use protocol::bus::{pack, PackOptions, WIDE};
 use protocol::frame::{
-    decode, encode, Aa, AaPattern, Animation, Block, Caps, Cull, DeviceCounters, DeviceFrame,
-    ErrorCode, FrameDone, Hello, HostFrame, NumericSet, Orbit, Point, Ramp, RasterCmd, RasterSetup,
-    ReadRequest, RegWrite, Rgb, Shade, StartFrame, Traversal, Triangle,
+    decode, encode, Animation, Block, Caps, DeviceCounters, DeviceFrame, ErrorCode, FrameDone,
+    Hello, HostFrame, NumericSet, Orbit, Ramp, ReadRequest, RegWrite, StartFrame,
 };
 use protocol::link::{Event, Link, MAX_FRAME};
+use protocol::raster::{
+    Aa, AaPattern, Cull, Point, RasterCmd, RasterSetup, Rgb, Shade, Traversal, Triangle,
+};
 use protocol::MAX_PAYLOAD;
 
 type Queue = Rc<RefCell<VecDeque<u8>>>;
@@ -274,7 +276,7 @@ impl Rig {
         // it was given, since it is the one packing.
         assert!(
             matches!(self.answers.last(), Some(DeviceFrame::Hello(h))
-                if h.caps.raster_layout == Some(protocol::fpga::LayoutId::Wide)),
+                if h.caps.raster_layout == Some(protocol::bus::LayoutId::Wide)),
             "{:?}",
             self.answers
         );
@@ -376,10 +378,10 @@ fn malformed_and_out_of_range_requests_are_answered() {
     rig.send_bytes(&[0xff, 0xff, 0xff, 0xff]); // seq 1
     rig.send(&HostFrame::RasterSetup(setup(641, 16))); // seq 2: wider than max_width
     rig.send(&HostFrame::RasterSetup(setup(32, 32))); // seq 3: fine
-    let fill = RasterCmd::Fill(protocol::frame::SeedFill {
-        seed: protocol::frame::Pixel { x: 5, y: 32 },
+    let fill = RasterCmd::Fill(protocol::raster::SeedFill {
+        seed: protocol::raster::Pixel { x: 5, y: 32 },
         color: Rgb::new(1, 2, 3),
-        connectivity: protocol::frame::Connectivity::Four,
+        connectivity: protocol::raster::Connectivity::Four,
     });
     rig.send(&HostFrame::Raster(
         HVec::from_slice(&[triangle(1), fill]).expect("batch"),

@@ -74,9 +74,9 @@ impl TargetArgs {
     }
 }
 
-/// `--size WxH`, each side in 1..=[`MAX_FRAME_SIDE`](protocol::frame::MAX_FRAME_SIDE).
+/// `--size WxH`, each side in 1..=[`MAX_FRAME_SIDE`](protocol::MAX_FRAME_SIDE).
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    use protocol::frame::MAX_FRAME_SIDE as MAX;
+    use protocol::MAX_FRAME_SIDE as MAX;
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("{s:?} is not WxH"))?;

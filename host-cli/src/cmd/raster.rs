@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use host_cli::raster_file;
-use protocol::frame::Traversal;
+use protocol::raster::Traversal;
 
 use super::{phase_line, TargetArgs};
 

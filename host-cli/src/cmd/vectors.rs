@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use host_cli::vectors::{render, VectorSet};
-use protocol::fpga::LayoutId;
+use protocol::bus::LayoutId;
 use protocol::frame::Numeric;
 
 use super::parse_size;

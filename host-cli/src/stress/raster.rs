@@ -2,7 +2,7 @@
 //! once, single adversarial triangles checked against the top-left oracle, and every
 //! other primitive with extreme values.
 
-use protocol::frame::{
+use protocol::raster::{
     Aa, AaPattern, Bezier, BezierPatch, Circle, Connectivity, Cull, FillRule, Filter, Line,
     LineAlgo, Pixel, Point, Polygon, RasterCmd, RasterSetup, Rgb, SeedFill, Shade, TexRef,
     Traversal, Triangle, Wrap, MAX_SUBPIXEL_BITS,
@@ -539,7 +539,7 @@ fn raster_prims(rng: &mut SmallRng, w: u32, h: u32, bits: u8, r: &mut CaseResult
             }),
             3 => {
                 let mut points = heapless::Vec::new();
-                for _ in 0..rng.gen_range(0..=protocol::frame::MAX_POLYGON) {
+                for _ in 0..rng.gen_range(0..=protocol::raster::MAX_POLYGON) {
                     let _ = points.push(p(rng));
                 }
                 RasterCmd::Polygon(Polygon {

@@ -17,10 +17,10 @@ use embedded_hal::delay::DelayNs;
 use embedded_hal::spi::{ErrorKind, ErrorType, Operation, SpiDevice};
 use firmware::{FitkitSpi, FitkitSpiError, FpgaBus};
 use protocol::axi_lite;
+use protocol::bus::LayoutId;
 use protocol::bus::{rgb332_encode, BusLayout};
 use protocol::fitkit_spi::{Status, ADDR_STATUS, FIFO_RECORDS, FLAG_FIFO_EMPTY, RECORD_BITS};
-use protocol::fpga::LayoutId;
-use protocol::frame::{RasterSetup, Rgb, Traversal};
+use protocol::raster::{RasterSetup, Rgb, Traversal};
 use serde::Serialize;
 use sim_target::raster::{FbWrite, Stats};
 
@@ -35,7 +35,7 @@ const RUN_IVERILOG: &str = include_str!("run-iverilog.sh");
 const RUN_VERILATOR: &str = include_str!("run-verilator.sh");
 
 /// Bits of a fragment word's x and y fields: 12, for frames up to 4096 pixels a side
-/// (`protocol::frame::MAX_FRAME_SIDE`), so each is three hex digits a reader can see.
+/// (`protocol::MAX_FRAME_SIDE`), so each is three hex digits a reader can see.
 const COORD_BITS: u32 = 12;
 
 /// Writes `job_text` (the raster job `file`, as `fpgfx raster` reads it) as test

@@ -1,4 +1,4 @@
-//! The controller with its FPGA behind the serial FPGA link (`protocol::fpga` over
+//! The controller with its FPGA behind the serial FPGA link (`protocol::fpga_link` over
 //! `protocol::link`, as on a QEMU board) must produce exactly the images of the in-process
 //! bus: the link changes the transport, never a bit.
 

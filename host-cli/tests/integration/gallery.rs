@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use host_cli::raster_file;
 use host_cli::session::Session;
-use protocol::frame::{AaPattern, Traversal};
+use protocol::raster::{AaPattern, Traversal};
 
 use crate::common;
 

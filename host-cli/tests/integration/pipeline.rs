@@ -9,9 +9,9 @@ use host_cli::raster_file;
 use host_cli::session::{Session, SessionError};
 use protocol::bus::{unpack, BusLayout, WIDE};
 use protocol::frame::{
-    Caps, DeviceCounters, ErrorCode, FrameDone, NumericSet, RasterCmd, RasterSetup, ReadRequest,
-    StartFrame,
+    Caps, DeviceCounters, ErrorCode, FrameDone, NumericSet, ReadRequest, StartFrame,
 };
+use protocol::raster::{RasterCmd, RasterSetup};
 use sim_board::in_process::BuiltIn;
 
 use crate::common;
@@ -352,7 +352,8 @@ fn a_frame_without_aovs_refuses_their_read_back() {
 /// controller itself, so a foreign host cannot make the FPGA fault.
 #[test]
 fn controller_refuses_a_seed_outside_the_frame() {
-    use protocol::frame::{Connectivity, HostFrame, Pixel, Rgb, SeedFill};
+    use protocol::frame::HostFrame;
+    use protocol::raster::{Connectivity, Pixel, Rgb, SeedFill};
     let job = raster_file::parse("size = [16, 16]", "s.toml").expect("valid");
     let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");

@@ -4,7 +4,7 @@
 //! parser. Plus regression tests for what earlier stress runs found.
 
 use host_cli::stress::{self, AcneList, Category, Config};
-use protocol::frame::{
+use protocol::raster::{
     Aa, AaPattern, Cull, Filter, Point, RasterCmd, RasterSetup, Rgb, Shade, TexRef, Traversal,
     Triangle, Wrap,
 };

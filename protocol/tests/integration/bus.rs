@@ -11,7 +11,7 @@ use protocol::bus::{
     BusError, BusLayout, Decoded, Fragment, Kind, PackOptions, EXTENDED, FITKIT, LAYOUTS,
     MAX_RECORDS, WIDE,
 };
-use protocol::frame::{
+use protocol::raster::{
     Bezier, BezierPatch, Circle, Connectivity, FillRule, Filter, Line, LineAlgo, Pixel, Point,
     Polygon, RasterCmd, Rgb, SeedFill, Shade, TexRef, Triangle, Wrap,
 };

@@ -7,7 +7,7 @@ use protocol::fitkit_spi::{
     packet, read_header, BlockError, ErrorCode, Setup, SpiFrameError, Status, ADDR_LINE, FLAG_BUSY,
     FLAG_FIFO_EMPTY, FLAG_SETUP_DONE, STATUS_BYTES,
 };
-use protocol::frame::Cull;
+use protocol::raster::Cull;
 
 /// docs/protocol.md's example: CB = 1, line (1, 2) → (300, 400), colour 0xA9 is records
 /// `0x8_0405_2CC8, 0x5_4800_0000` (pinned in `bus.rs`); on SPI that is the address and

@@ -8,6 +8,7 @@
 use heapless::{String, Vec};
 use proptest::prelude::*;
 use protocol::frame::*;
+use protocol::raster::*;
 use protocol::{MAX_PAYLOAD, PROTOCOL_VERSION};
 
 fn vec<T: Clone, const N: usize>(items: &[T]) -> Vec<T, N> {
@@ -28,7 +29,7 @@ fn caps() -> Caps {
         max_objects: 8,
         max_lights: 2,
         texture_words: 65536,
-        raster_layout: Some(protocol::fpga::LayoutId::Fitkit),
+        raster_layout: Some(protocol::bus::LayoutId::Fitkit),
         float_regs: NumericSet(0b11),
     }
 }
@@ -733,9 +734,9 @@ fn hello_s() -> impl Strategy<Value = Hello> {
         "[a-z0-9 .]{0,32}",
         (
             proptest::option::of(prop_oneof![
-                Just(protocol::fpga::LayoutId::Fitkit),
-                Just(protocol::fpga::LayoutId::Extended),
-                Just(protocol::fpga::LayoutId::Wide),
+                Just(protocol::bus::LayoutId::Fitkit),
+                Just(protocol::bus::LayoutId::Extended),
+                Just(protocol::bus::LayoutId::Wide),
             ]),
             any::<u16>(),
         ),

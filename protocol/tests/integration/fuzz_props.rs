@@ -8,8 +8,9 @@
 //! random bytes almost never reach.
 
 use proptest::prelude::*;
-use protocol::frame::{decode, raster_commands, HostFrame, RasterBatcher, RasterCmd, Rgb};
+use protocol::frame::{decode, raster_commands, HostFrame, RasterBatcher};
 use protocol::link::{decode_frame, encode_frame, Config, Event, Header, Kind, Link, MAX_FRAME};
+use protocol::raster::{RasterCmd, Rgb};
 use protocol::MAX_PAYLOAD;
 
 /// Cases per property: 4 properties × 4000 = 16 000 inputs per `cargo test` run.
@@ -71,7 +72,7 @@ fn apply(bytes: &mut Vec<u8>, d: &[Damage]) {
 }
 
 fn raster_cmd() -> impl Strategy<Value = RasterCmd> {
-    use protocol::frame::{Circle, Line, LineAlgo, Point, Shade, Triangle};
+    use protocol::raster::{Circle, Line, LineAlgo, Point, Shade, Triangle};
     let p = || (any::<i32>(), any::<i32>()).prop_map(|(x, y)| Point { x, y });
     prop_oneof![
         (any::<u8>(), any::<u8>(), any::<u8>())

@@ -6,7 +6,7 @@
 
 mod bus;
 mod fitkit_spi;
-mod fpga;
+mod fpga_link;
 mod frame;
 mod fuzz_props;
 mod link;

@@ -1,8 +1,9 @@
 //! The spellings of the enums files and flags name: each value reads back from every one
 //! of its spellings and from its `Display`, and a misspelling lists the choices.
 
-use protocol::frame::{Numeric, Traversal};
+use protocol::frame::Numeric;
 use protocol::names::Named;
+use protocol::raster::Traversal;
 
 #[test]
 fn numeric_formats_read_as_the_cli_has_always_taken_them() {

@@ -3,7 +3,7 @@
 
 use protocol::fitkit_spi::ADDR_CLEAR;
 use protocol::fitkit_spi::{self as wire, BlockError, ErrorCode};
-use protocol::frame::{Cull, Rgb};
+use protocol::raster::{Cull, Rgb};
 
 use crate::cases;
 use crate::harness::{self, Pair};

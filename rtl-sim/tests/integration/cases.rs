@@ -1,7 +1,7 @@
 //! Seeded generators of FITkit commands: whole-pixel coordinates in 0..512, RGB332.
 
 use protocol::bus::rgb332_decode;
-use protocol::frame::{Line, LineAlgo, Point, RasterCmd, Rgb, Shade, Triangle};
+use protocol::raster::{Line, LineAlgo, Point, RasterCmd, Rgb, Shade, Triangle};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 

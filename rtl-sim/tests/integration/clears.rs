@@ -2,7 +2,7 @@
 //! frame cleared to the set-up's background first, seed 000).
 
 use protocol::fitkit_spi as wire;
-use protocol::frame::{Cull, RasterCmd, Rgb};
+use protocol::raster::{Cull, RasterCmd, Rgb};
 use rand::Rng;
 
 use crate::cases;

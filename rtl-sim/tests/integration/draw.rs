@@ -1,7 +1,7 @@
 //! Runs a class of generated commands through both sides: batches of commands on one
 //! frame each, every command's pixels and counters compared.
 
-use protocol::frame::{Cull, RasterCmd, RasterSetup};
+use protocol::raster::{Cull, RasterCmd, RasterSetup};
 use rand::rngs::SmallRng;
 use rand::Rng;
 

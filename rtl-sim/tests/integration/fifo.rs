@@ -2,7 +2,7 @@
 //! driver holding each packet until FIFO_FREE says it fits. Nothing is lost (no overrun,
 //! pixels equal) and the occupancy reached the top.
 
-use protocol::frame::Cull;
+use protocol::raster::Cull;
 
 use crate::cases;
 use crate::harness::{self, Pair};

@@ -4,7 +4,8 @@
 
 use firmware::{FitkitSpi, FpgaBus};
 use protocol::bus::{self, FITKIT};
-use protocol::frame::{Block, Cull, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame};
+use protocol::frame::{Block, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame};
+use protocol::raster::Cull;
 use rtl_sim::{RtlDelay, RtlSpi, SpiConfig};
 use sim_target::Device;
 

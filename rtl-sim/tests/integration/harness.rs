@@ -5,7 +5,7 @@
 use embedded_hal::spi::{Operation, SpiDevice};
 use protocol::bus::{self, PackOptions, FITKIT};
 use protocol::fitkit_spi::{self as wire, Status};
-use protocol::frame::{Cull, RasterCmd, RasterSetup, Rgb, Traversal};
+use protocol::raster::{Cull, RasterCmd, RasterSetup, Rgb, Traversal};
 use rtl_sim::{MemWait, Rtl, RtlSpi, SharedRtl, SpiConfig};
 use sim_target::Device;
 

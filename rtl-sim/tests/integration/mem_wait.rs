@@ -2,7 +2,7 @@
 //! switched on and off between commands. Pixels and fragment counts must not change;
 //! cycles only grow (the units stall on a full fragment FIFO).
 
-use protocol::frame::Cull;
+use protocol::raster::Cull;
 use rand::Rng;
 use rtl_sim::MemWait;
 
@@ -28,7 +28,7 @@ fn stalls_change_no_pixel() {
                     cases::point(&mut rng, 63, 47),
                     c,
                 ),
-                1 => protocol::frame::RasterCmd::Clear(c),
+                1 => protocol::raster::RasterCmd::Clear(c),
                 _ => cases::triangle([(); 3].map(|_| cases::point(&mut rng, 63, 47)), c),
             };
             // Every third command runs with the memory always ready.

@@ -4,7 +4,7 @@
 //! block's fragment counter equals their number (no pixel twice).
 
 use protocol::bus::rgb332_encode;
-use protocol::frame::Cull;
+use protocol::raster::Cull;
 use rand::Rng;
 
 use crate::cases;

@@ -73,7 +73,7 @@ fn a_soft_reset_clears_the_set_up() {
     let mut pair = harness::Pair::new(harness::setup(
         8,
         8,
-        protocol::frame::Rgb::new(0, 0, 0),
+        protocol::raster::Rgb::new(0, 0, 0),
         Default::default(),
     ));
     assert_ne!(pair.status().flags & wire::FLAG_SETUP_DONE, 0);

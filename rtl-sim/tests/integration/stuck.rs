@@ -1,6 +1,6 @@
 //! A block that never finishes is a bounded-wait error, not a hang.
 
-use protocol::frame::{Cull, Rgb};
+use protocol::raster::{Cull, Rgb};
 use rtl_sim::RtlError;
 
 use crate::cases;

@@ -1,7 +1,7 @@
 //! Flat triangles: random, tiny, slivers, edges through pixel centres, at the viewport
 //! limits, partly outside the frame, and culled by winding.
 
-use protocol::frame::Cull;
+use protocol::raster::Cull;
 use rand::Rng;
 
 use crate::cases::{self, MAX_COORD};

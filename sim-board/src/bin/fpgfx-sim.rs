@@ -38,7 +38,7 @@ struct Cli {
     /// one client at a time; prints the bound address on the first line of stdout.
     #[arg(long, value_name = "ADDR", conflicts_with = "pty")]
     tcp: Option<String>,
-    /// Serve only the FPGA (the serial FPGA link, `protocol::fpga`) on this serial port,
+    /// Serve only the FPGA (the serial FPGA link, `protocol::fpga_link`) on this serial port,
     /// e.g. the pty QEMU gives the board's USART2.
     #[arg(long, value_name = "PORT", conflicts_with_all = ["pty", "tcp"])]
     fpga_link: Option<String>,

@@ -5,7 +5,7 @@
 
 use super::fb::Framebuffer;
 use super::tri;
-use protocol::frame::{Aa, AaPattern, Cull, Point, Shade, Triangle};
+use protocol::raster::{Aa, AaPattern, Cull, Point, Shade, Triangle};
 
 /// Sample offsets inside the pixel in 1/256 px, deterministic for a pattern and count.
 /// Grid-based patterns round the count to a square `m²` (m ≥ 1).
@@ -162,8 +162,8 @@ pub(crate) fn draw_triangle(
         &mut Framebuffer,
         u32,
         u32,
-        protocol::frame::Rgb,
-    ) -> Option<protocol::frame::Rgb>,
+        protocol::raster::Rgb,
+    ) -> Option<protocol::raster::Rgb>,
 ) -> u64 {
     let Some(cw) = tri::is_clockwise(&t.v) else {
         return 0;
@@ -212,10 +212,10 @@ pub(crate) fn draw_triangle(
 fn gouraud_at(
     v: &[Point; 3],
     bits: u8,
-    c: &[protocol::frame::Rgb; 3],
+    c: &[protocol::raster::Rgb; 3],
     i: i64,
     j: i64,
-) -> protocol::frame::Rgb {
+) -> protocol::raster::Rgb {
     let s = (1u64 << bits) as f64;
     let p: Vec<(f64, f64)> = v.iter().map(|q| (q.x as f64 / s, q.y as f64 / s)).collect();
     let (x, y) = (i as f64 + 0.5, j as f64 + 0.5);
@@ -228,9 +228,9 @@ fn gouraud_at(
     ]
     .map(|w| w.clamp(0.0, 1.0));
     let sum: f64 = l.iter().sum();
-    let ch = |f: fn(&protocol::frame::Rgb) -> u8| -> u8 {
+    let ch = |f: fn(&protocol::raster::Rgb) -> u8| -> u8 {
         let v: f64 = (0..3).map(|k| f(&c[k]) as f64 * l[k]).sum::<f64>() / sum.max(1e-12);
         v.round().clamp(0.0, 255.0) as u8
     };
-    protocol::frame::Rgb::new(ch(|c| c.r), ch(|c| c.g), ch(|c| c.b))
+    protocol::raster::Rgb::new(ch(|c| c.r), ch(|c| c.g), ch(|c| c.b))
 }

@@ -2,7 +2,7 @@
 //! and y −= 1; eight-way symmetry; filled circles as one span per row.
 
 use super::fb::Framebuffer;
-use protocol::frame::Circle;
+use protocol::raster::Circle;
 
 /// The first-octant points (x, y), x ≤ y, of a midpoint circle of integer radius `r`.
 pub fn octant(r: i64) -> Vec<(i64, i64)> {

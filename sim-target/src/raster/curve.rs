@@ -3,7 +3,7 @@
 //! the patch watertight).
 
 use super::RasterError;
-use protocol::frame::{BezierPatch, Point};
+use protocol::raster::{BezierPatch, Point};
 
 /// Deepest subdivision: 2^16 segments bound the work of a tiny tolerance.
 pub(crate) const MAX_DEPTH: u32 = 16;

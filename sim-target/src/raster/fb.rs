@@ -1,6 +1,6 @@
 //! The framebuffer: RGB888 colour, an optional 24-bit depth plane and write counters.
 
-use protocol::frame::Rgb;
+use protocol::raster::Rgb;
 
 /// Depth value of a cleared z-buffer ("far"): the largest unorm24.
 pub const Z_FAR: u32 = (1 << 24) - 1;

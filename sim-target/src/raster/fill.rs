@@ -1,7 +1,7 @@
 //! Seed fill (span-based, explicit bounded stack) and scanline polygon fill.
 
 use super::{fb::Framebuffer, RasterError};
-use protocol::frame::{Connectivity, FillRule, Polygon, SeedFill};
+use protocol::raster::{Connectivity, FillRule, Polygon, SeedFill};
 
 /// Spans the seed fill may hold at once: the block's stack RAM. Span seeding needs at
 /// most a few entries per row boundary of the region, so mazes at the largest viewport

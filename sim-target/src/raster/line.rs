@@ -8,7 +8,7 @@
 //! same either way.
 
 use super::fb::Framebuffer;
-use protocol::frame::{Line, LineAlgo, Rgb};
+use protocol::raster::{Line, LineAlgo, Rgb};
 
 fn lerp(c0: Rgb, c1: Rgb, k: i64, n: i64) -> Rgb {
     if n == 0 {

@@ -30,10 +30,10 @@ pub use fb::{FbWrite, Framebuffer, Z_FAR};
 pub use hw::{BlockCycles, Stats, CLOCK_HZ, FIFO_DEPTH};
 pub use tri::COORD_LIMIT;
 
-use protocol::frame::{
-    AaPattern, Point, RasterCmd, RasterSetup, Rgb, Shade, Traversal, Triangle, MAX_FRAME_SIDE,
-    MAX_SUBPIXEL_BITS,
+use protocol::raster::{
+    AaPattern, Point, RasterCmd, RasterSetup, Rgb, Shade, Traversal, Triangle, MAX_SUBPIXEL_BITS,
 };
+use protocol::MAX_FRAME_SIDE;
 use tri::{TravCounters, TriSetup};
 
 /// Why a command or set-up was refused. Nothing from outside may panic the model.
@@ -270,14 +270,14 @@ impl Raster {
                 let pts = curve::flatten(&b.points, b.tolerance)?;
                 let mut busy = 0;
                 for (k, w) in pts.windows(2).enumerate() {
-                    let l = protocol::frame::Line {
+                    let l = protocol::raster::Line {
                         from: w[0],
                         to: w[1],
                         color: b.color,
                         color_to: None,
                         width: 0,
                         aa: false,
-                        algo: protocol::frame::LineAlgo::Bresenham,
+                        algo: protocol::raster::LineAlgo::Bresenham,
                     };
                     // Joints are shared: skip each segment's first pixel after the first.
                     busy += line::draw_skip_first(&mut self.fb, &l, bits, k > 0);
@@ -453,7 +453,7 @@ struct Shader<'a> {
     z: Option<[u32; 3]>,
     /// Perspective weights w_j·w_k per vertex (so that l_i/w_i ∝ l_i·w_j·w_k).
     pw: Option<[u128; 3]>,
-    tex: Option<(protocol::frame::TexRef, u32)>,
+    tex: Option<(protocol::raster::TexRef, u32)>,
     texture: &'a [u32],
 }
 

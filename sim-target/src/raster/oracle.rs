@@ -7,7 +7,7 @@
 //! read off the outward normal of each edge. Slow (three 128-bit edge evaluations per
 //! pixel) and meant for small frames or sampled rows.
 
-use protocol::frame::{Cull, Point};
+use protocol::raster::{Cull, Point};
 
 /// Whether the centre of pixel (`px`, `py`) is covered by the triangle `v` (vertices in
 /// sub-pixel units with `subpixel_bits` fractional bits), under the top-left rule (docs/requirements.md §0): a centre

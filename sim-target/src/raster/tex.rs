@@ -2,7 +2,7 @@
 //! 8-bit weights, trilinear between MIP levels stored after the base level.
 
 use super::{tri::TriSetup, RasterError};
-use protocol::frame::{Filter, Rgb, TexRef, Wrap};
+use protocol::raster::{Filter, Rgb, TexRef, Wrap};
 
 /// Texels of the whole MIP chain (or just the base level when not trilinear).
 pub fn footprint(t: &TexRef) -> u64 {

@@ -11,10 +11,10 @@
 //! `i64` with 11 bits to spare, so the hot loops never widen; the exact reference in the
 //! tests uses `i128` and `tests/raster_tri.rs` checks vertices at the limits.
 //!
-//! [`MAX_FRAME_SIDE`]: protocol::frame::MAX_FRAME_SIDE
-//! [`MAX_SUBPIXEL_BITS`]: protocol::frame::MAX_SUBPIXEL_BITS
+//! [`MAX_FRAME_SIDE`]: protocol::MAX_FRAME_SIDE
+//! [`MAX_SUBPIXEL_BITS`]: protocol::raster::MAX_SUBPIXEL_BITS
 
-use protocol::frame::{Cull, Point, Traversal};
+use protocol::raster::{Cull, Point, Traversal};
 
 /// Largest magnitude of a vertex coordinate in sub-pixel units.
 pub const COORD_LIMIT: i32 = 1 << 23;

@@ -1,6 +1,6 @@
 //! Anti-aliasing error against exact area, and texture sampling.
 
-use protocol::frame::*;
+use protocol::raster::*;
 use sim_target::raster::{aa, tex, tri, Raster};
 
 fn lcg(seed: &mut u64) -> u32 {

@@ -2,7 +2,7 @@
 //! tested once per pixel at its centre, the texture is sampled at the centre, and the
 //! result is blended by the sample coverage.
 
-use protocol::frame::*;
+use protocol::raster::*;
 use sim_target::raster::{aa, Raster, Z_FAR};
 
 const BITS: u8 = 4;

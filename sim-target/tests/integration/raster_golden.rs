@@ -3,7 +3,7 @@
 //! The hash was recorded from this model after the property tests above passed; it is
 //! a change detector, not an independent reference.
 
-use protocol::frame::*;
+use protocol::raster::*;
 use sim_target::raster::Raster;
 
 fn fnv(bytes: &[u8]) -> u64 {

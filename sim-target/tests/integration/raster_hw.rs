@@ -1,6 +1,6 @@
 //! The hardware model: FIFO back-pressure, cycle counts, board time.
 
-use protocol::frame::*;
+use protocol::raster::*;
 use sim_target::raster::{records, Raster, FIFO_DEPTH};
 
 fn raster(t: Traversal) -> Raster {

@@ -1,7 +1,7 @@
 //! Lines, circles, fills, polygons, Bézier curves and patches.
 
 use proptest::prelude::*;
-use protocol::frame::*;
+use protocol::raster::*;
 use sim_target::raster::{circle, curve, line, Raster};
 use std::collections::BTreeSet;
 

@@ -1,7 +1,8 @@
 //! Triangle coverage against an exact brute-force reference, for every traversal.
 
 use proptest::prelude::*;
-use protocol::frame::*;
+use protocol::raster::*;
+use protocol::MAX_FRAME_SIDE;
 use sim_target::raster::{oracle, tri, Raster, RasterError};
 
 const TRAVERSALS: [Traversal; 5] = [

@@ -2,11 +2,11 @@
 //! [`super::walk_oracle`], on random triangles of every kind the model meets.
 
 use proptest::prelude::*;
-use protocol::frame::{Cull, Point, Rgb, Traversal};
+use protocol::raster::{Cull, Point, Rgb, Traversal};
 
 use super::{setup, traverse, walk_oracle, TravCounters, COORD_LIMIT};
 use crate::raster::Framebuffer;
-use protocol::frame::MAX_SUBPIXEL_BITS;
+use protocol::raster::MAX_SUBPIXEL_BITS;
 
 const TRAVERSALS: [Traversal; 5] = [
     Traversal::BoundingBox,

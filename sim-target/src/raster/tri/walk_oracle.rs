@@ -2,7 +2,7 @@
 //! from cost: the oracle that the counters of [`super::traverse`] are checked against.
 //! Test-only, so that the model has one production path.
 
-use protocol::frame::Traversal;
+use protocol::raster::Traversal;
 
 use super::{classify, Class, TravCounters, TriSetup, TILE_SIZES, ZIGZAG_BLOCK};
 

@@ -19,14 +19,16 @@
 //! the last [`FpgaStatus::fifo_free`] allowed, minus what it pushed since, which is a lower
 //! bound of the real free space (the FPGA only ever drains the FIFO).
 
+use crate::bus::LayoutId;
+
 use heapless::Vec;
 use postcard_schema::Schema;
 use serde::{Deserialize, Serialize};
 
 use crate::frame::{
-    Caps, DeviceCounters, FrameDone, RasterSetup, ReadRequest, StartFrame, READ_CHUNK,
-    REG_WRITE_WORDS,
+    Caps, DeviceCounters, FrameDone, ReadRequest, StartFrame, READ_CHUNK, REG_WRITE_WORDS,
 };
+use crate::raster::RasterSetup;
 
 /// FIFO records in one [`FpgaRequest::Push`]: 24 worst-case 10-byte varints and the
 /// header stay within [`crate::MAX_PAYLOAD`]. Longer packets travel as several pushes, and
@@ -41,41 +43,6 @@ pub const FPGA_SCHEMA_HASH: u64 = u64::from_le_bytes(
     postcard_schema::key::Key::for_path::<(FpgaRequest<'static>, FpgaReply)>("fpgfx/fpga")
         .to_bytes(),
 );
-
-/// Which [`crate::bus`] layout the FPGA's input FIFO decodes. A number rather than the
-/// layout itself because both ends have the layouts compiled in; the wire only selects one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
-pub enum LayoutId {
-    /// [`crate::bus::FITKIT`].
-    Fitkit,
-    /// [`crate::bus::EXTENDED`].
-    Extended,
-    /// [`crate::bus::WIDE`].
-    Wide,
-}
-
-impl LayoutId {
-    /// Every layout this crate defines, in declaration order: the numbering of the C
-    /// library's `FPGFX_LAYOUT_*` codes and of raster test vectors' set-up words.
-    pub const ALL: [LayoutId; 3] = [LayoutId::Fitkit, LayoutId::Extended, LayoutId::Wide];
-
-    /// The layout this id names.
-    pub fn layout(self) -> &'static crate::bus::BusLayout {
-        match self {
-            LayoutId::Fitkit => &crate::bus::FITKIT,
-            LayoutId::Extended => &crate::bus::EXTENDED,
-            LayoutId::Wide => &crate::bus::WIDE,
-        }
-    }
-
-    /// The id of one of this crate's layouts (compared by name, since layouts are consts
-    /// and have no stable address), or `None` for a layout defined elsewhere.
-    pub fn of(layout: &crate::bus::BusLayout) -> Option<Self> {
-        LayoutId::ALL
-            .into_iter()
-            .find(|id| id.layout().name == layout.name)
-    }
-}
 
 /// Controller → FPGA: one message per operation of the firmware's `FpgaBus` trait; each
 /// variant says whether it is answered or posted.

@@ -4,10 +4,10 @@
 
 use heapless::Vec;
 use proptest::prelude::*;
+use protocol::bus::LayoutId;
 use protocol::bus::{EXTENDED, FITKIT, WIDE};
-use protocol::fpga::{
-    Fault, FaultCode, FpgaReply, FpgaRequest, FpgaStatus, Identity, LayoutId, FPGA_SCHEMA_HASH,
-    PUSH_RECORDS,
+use protocol::fpga_link::{
+    Fault, FaultCode, FpgaReply, FpgaRequest, FpgaStatus, Identity, FPGA_SCHEMA_HASH, PUSH_RECORDS,
 };
 use protocol::frame::{
     decode, encode, Caps, DeviceCounters, FrameDone, PixelFormat, Plane, ReadRequest, Rect,
