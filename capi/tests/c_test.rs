@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::OnceLock;
 
-use host_cli::vectors::render as vectors;
 use protocol::bus::LayoutId;
 use protocol::frame::Numeric;
+use vectors::render as render_vectors;
 
 /// The package root (`capi/`).
 fn capi() -> &'static Path {
@@ -150,13 +150,13 @@ fn summary(out: &Output) -> (u32, u32) {
 fn render_vectors(name: &str, scene: &str, size: (u32, u32), numeric: Numeric) -> PathBuf {
     let file = capi().join("../examples/rt").join(scene);
     let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-    let scene = sim_target::rt::scene_file::parse(&text, scene).expect("example scenes parse");
-    let opts = vectors::Options {
+    let scene = jobs::scene::parse(&text, scene).expect("example scenes parse");
+    let opts = render_vectors::Options {
         numeric,
         size: Some(size),
     };
     let dir = scratch(name);
-    vectors::render(&scene, &opts)
+    render_vectors::render(&scene, &opts)
         .and_then(|v| v.set(&file.display().to_string()))
         .and_then(|set| set.write_to(&dir))
         .unwrap_or_else(|e| panic!("vectors for {name}: {e}"));
@@ -169,7 +169,7 @@ fn raster_vectors(name: &str, job_file: &str, layout: LayoutId) -> PathBuf {
     let file = capi().join("../examples/raster").join(job_file);
     let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
     let dir = scratch(name);
-    host_cli::vectors::raster::raster(&text, job_file, layout)
+    vectors::raster::raster(&text, job_file, layout)
         .and_then(|set| set.write_to(&dir))
         .unwrap_or_else(|e| panic!("raster vectors for {name}: {e}"));
     dir

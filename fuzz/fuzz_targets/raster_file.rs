@@ -8,7 +8,7 @@
 //!   (and the line, for a TOML command).
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use host_cli::raster_file::{self, RasterFileError, RasterJob, GUARD_BAND};
+use jobs::raster::{self, RasterFileError, RasterJob, GUARD_BAND};
 use protocol::frame::{decode, HostFrame, RasterBatcher};
 use protocol::raster::{AaPattern, Point, RasterCmd, MAX_POLYGON, MAX_SUBPIXEL_BITS};
 use protocol::MAX_FRAME_SIDE;
@@ -67,7 +67,7 @@ fn check(job: &RasterJob) {
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
     for name in ["fuzz.toml", "fuzz.json"] {
-        match raster_file::parse(text, name) {
+        match jobs::raster::parse(text, name) {
             Ok(job) => {
                 check(&job);
                 let w = u32::from(job.setup.width).min(64);

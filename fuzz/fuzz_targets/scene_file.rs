@@ -7,14 +7,14 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use sim_target::rt::{DiffuseModel, Reflection, Scene};
-use sim_target::rt::{render, scene_file, Numeric, RenderOptions};
+use sim_target::rt::{render, Numeric, RenderOptions};
 
 fn finite(xs: &[f64]) -> bool {
     xs.iter().all(|x| x.is_finite())
 }
 
 fn check(s: &Scene) {
-    let limits = scene_file::Limits::default();
+    let limits = jobs::scene::Limits::default();
     assert!(s.width > 0 && s.height > 0 && s.depth >= 1 && s.spp >= 1);
     assert!(s.camera.fov_y > 0.0 && s.camera.fov_y < 180.0);
     assert!(finite(&[s.bias, s.max_distance, s.camera.fov_y]));
@@ -59,7 +59,7 @@ fn check(s: &Scene) {
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
-    match scene_file::parse(text, "fuzz.toml") {
+    match jobs::scene::parse(text, "fuzz.toml") {
         Ok(scene) => {
             check(&scene);
             // Depth is bounded only by u32; a 4 × 4 render at depth 10⁹ between two

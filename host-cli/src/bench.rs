@@ -16,9 +16,7 @@ use protocol::names::Named;
 use protocol::raster::{Aa, AaPattern, RasterSetup};
 use sim_target::num::instrumented::{self, Counted, OpKind};
 use sim_target::raster::Raster;
-use sim_target::rt::{self, scene_file, Math, Numeric, RenderOptions, Scene};
-
-use crate::raster_file;
+use sim_target::rt::{self, Math, Numeric, RenderOptions, Scene};
 
 /// Errors of a bench run. Every one names the file or point it is about.
 #[derive(Debug, thiserror::Error)]
@@ -34,7 +32,7 @@ pub enum BenchError {
     },
     /// A scene file is invalid.
     #[error(transparent)]
-    Scene(#[from] scene_file::SceneFileError),
+    Scene(#[from] jobs::scene::SceneFileError),
     /// The ray tracer refused a scene at one of the swept configurations.
     #[error("{scene}: {source}")]
     Render {
@@ -429,7 +427,7 @@ pub fn sweep_rt(
     let mut scenes = Vec::new();
     for p in &paths {
         let name = p.display().to_string();
-        let scene = scene_file::parse(&read(p)?, &name)?;
+        let scene = jobs::scene::parse(&read(p)?, &name)?;
         let reference = rt::render(&scene, &opts(Numeric::F64, Math::EXACT)).map_err(|source| {
             BenchError::Render {
                 scene: name.clone(),
@@ -544,7 +542,7 @@ fn raster_job(
     file: &str,
     bits: u8,
     aa: Aa,
-) -> Result<raster_file::RasterJob, BenchError> {
+) -> Result<jobs::raster::RasterJob, BenchError> {
     let err = |message: String| BenchError::Raster {
         file: file.into(),
         message,
@@ -561,11 +559,14 @@ fn raster_job(
     }
     v.insert("aa".into(), toml::Value::Table(a));
     let edited = toml::to_string(&v).map_err(|e| err(e.to_string()))?;
-    raster_file::parse(&edited, file).map_err(|e| err(e.to_string()))
+    jobs::raster::parse(&edited, file).map_err(|e| err(e.to_string()))
 }
 
 /// Draws a job on the golden model; returns RGB and per-pixel write counts.
-fn raster_draw(job: &raster_file::RasterJob, file: &str) -> Result<(Vec<u8>, Vec<u8>), BenchError> {
+fn raster_draw(
+    job: &jobs::raster::RasterJob,
+    file: &str,
+) -> Result<(Vec<u8>, Vec<u8>), BenchError> {
     let err = |message: String| BenchError::Raster {
         file: file.into(),
         message,

@@ -9,7 +9,7 @@
 //!   the link over any [`session::Transport`] (serial ports, TCP, the built-in target);
 //!   [`ports`] lists this machine's serial ports;
 //! * the files the user writes: [`raster_file`] (raster commands) and, through
-//!   `sim_target::rt::scene_file`, ray-tracer scenes;
+//!   `jobs::scene`, ray-tracer scenes;
 //! * one module per command that has a library side: [`raster`], [`render`],
 //!   [`animate`], [`bench`](mod@bench), [`stress`], [`flash`], [`vectors`].
 #![warn(missing_docs)]
@@ -21,11 +21,9 @@ pub mod flash;
 pub mod frames;
 pub mod ports;
 pub mod raster;
-pub mod raster_file;
 pub mod render;
 pub mod session;
 pub mod stress;
-pub mod vectors;
 
 mod builtin;
 mod serial;

@@ -229,7 +229,7 @@ pub fn scene_regs<T: Transport>(
     let format = session.peer().map_or(ValueFormat::Q16_16, |p| {
         ValueFormat::for_caps(&p.caps, numeric)
     });
-    sim_target::scene_regs::to_regs_as(scene, format)
+    jobs::scene::to_regs_as(scene, format)
 }
 
 /// Keeps the register image the target holds, so each frame sends only the difference.

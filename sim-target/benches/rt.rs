@@ -5,7 +5,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use sim_target::num::{self, AcosKind, AtanKind, SqrtKind};
-use sim_target::rt::{self, scene_file, Kernel, Numeric, RenderOptions, Subset};
+use sim_target::rt::{self, Kernel, Numeric, RenderOptions, Subset};
 use std::time::Duration;
 
 /// Planned against general kernel, side by side, on the feature subsets of the reference
@@ -13,7 +13,7 @@ use std::time::Duration;
 /// register words/bytes each scene costs on the wire.
 fn plan(c: &mut Criterion) {
     let text = include_str!("../../examples/reference.toml");
-    let Ok(scene) = scene_file::parse(text, "examples/reference.toml") else {
+    let Ok(scene) = jobs::scene::parse(text, "examples/reference.toml") else {
         return;
     };
     let mut g = c.benchmark_group("plan");
@@ -40,7 +40,7 @@ fn plan(c: &mut Criterion) {
             "{}: planned and general differ",
             sub.label()
         );
-        if let Ok((full, planned)) = rt::scene_wire_cost(&s) {
+        if let Ok((full, planned)) = jobs::scene::scene_wire_cost(&s) {
             eprintln!(
                 "{}: kernel {}, {} rays; wire today {} words / {} msgs / {} B, planned {} words ({} needed) / {} msgs / {} B",
                 sub.label(),
@@ -180,7 +180,7 @@ fn approx(c: &mut Criterion) {
 
 fn bench(c: &mut Criterion) {
     let text = include_str!("../../examples/reference.toml");
-    let scene = match scene_file::parse(text, "examples/reference.toml") {
+    let scene = match jobs::scene::parse(text, "examples/reference.toml") {
         Ok(s) => s,
         Err(e) => panic!("{e}"),
     };

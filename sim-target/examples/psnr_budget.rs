@@ -12,7 +12,7 @@
 #[path = "../tests/integration/common.rs"]
 mod common;
 
-use sim_target::rt::{self, scene_file, Frame, Numeric, Reflection, Scene};
+use sim_target::rt::{self, Frame, Numeric, Reflection, Scene};
 
 /// With AOVs, culled: the render the tests compare (`tests/integration/common.rs`, shared by path).
 fn render(scene: &Scene, numeric: Numeric, w: u32, h: u32) -> Frame {
@@ -91,7 +91,7 @@ fn main() {
         .unwrap_or_else(|| "examples/reference.toml".into());
     let heat = args.get(4).cloned();
     let text = std::fs::read_to_string(&path).expect("scene file");
-    let scene = scene_file::parse(&text, &path).expect("scene parses");
+    let scene = jobs::scene::parse(&text, &path).expect("scene parses");
     let npx = (w * h) as f64;
     let denom = npx * 3.0;
 

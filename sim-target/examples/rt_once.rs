@@ -5,7 +5,7 @@
 //! [general|nocull] [seed] [aovs] [spheres|noshadows|notextures|depth1]` (the last: a feature
 //! subset, `rt::Subset`; `aovs` also fills the depth and normal planes, as the device does).
 
-use sim_target::rt::{self, scene_file, Kernel, RenderOptions, Subset};
+use sim_target::rt::{self, Kernel, RenderOptions, Subset};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -13,7 +13,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Err("usage: rt_once SCENE.toml FORMAT [WxH] [general|nocull] [seed] [aovs] [spheres|noshadows|notextures|depth1]".into());
     };
     let text = std::fs::read_to_string(path)?;
-    let mut scene = scene_file::parse(&text, path)?;
+    let mut scene = jobs::scene::parse(&text, path)?;
     let numeric: rt::Numeric = format.parse()?;
     let mut opts = RenderOptions {
         numeric,

@@ -5,7 +5,6 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use host_cli::animate::{CameraMove, Kind, Output, Script};
-use host_cli::raster_file;
 use host_cli::render::{scene_regs, Aovs, Packing, Renderer};
 use protocol::frame::Numeric;
 
@@ -157,7 +156,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
         let started = std::time::Instant::now();
         let (image, what) = match script.kind() {
             Kind::Scene => {
-                let mut scene = sim_target::rt::scene_file::parse(&text, &label)?;
+                let mut scene = jobs::scene::parse(&text, &label)?;
                 if let Some((w, h)) = a.size {
                     scene.width = w;
                     scene.height = h;
@@ -175,7 +174,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
                 (out.image, format!("{words:>4} register words"))
             }
             Kind::Raster => {
-                let job = raster_file::parse(&text, &label)?;
+                let job = jobs::raster::parse(&text, &label)?;
                 let out = host_cli::raster::run(&mut session, &job, &label)?;
                 (out.image, format!("{:>4} commands", job.cmds.len()))
             }

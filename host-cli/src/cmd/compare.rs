@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use anyhow::{bail, ensure, Context, Result};
 use compare::{Coverage, Errors, Frame, Mismatch, Options, Pixels, Report};
-use host_cli::{frames, raster_file};
+use host_cli::frames;
 use serde_json::{json, Value};
 
 /// Arguments of `fpgfx compare`.
@@ -125,7 +125,7 @@ fn allowance(a: &Args, expected: &Frame) -> Result<Option<Allowance>> {
     };
     let name = job.display().to_string();
     let text = std::fs::read_to_string(&job).with_context(|| format!("cannot read {name}"))?;
-    let parsed = raster_file::parse(&text, &name)?;
+    let parsed = jobs::raster::parse(&text, &name)?;
     let size = (
         u32::from(parsed.setup.width),
         u32::from(parsed.setup.height),

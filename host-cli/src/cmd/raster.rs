@@ -3,7 +3,6 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use host_cli::raster_file;
 use protocol::raster::Traversal;
 
 use super::{phase_line, TargetArgs};
@@ -29,7 +28,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
     let mut session = target.connect()?;
     let name = a.file.display().to_string();
     let text = std::fs::read_to_string(&a.file).with_context(|| format!("cannot read {name}"))?;
-    let mut job = raster_file::parse(&text, &name)?;
+    let mut job = jobs::raster::parse(&text, &name)?;
     if let Some(t) = a.traversal {
         job.setup.traversal = t;
     }
@@ -74,7 +73,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
 /// layout, beside the RTL's measured cycles, and whether the two frames agree. The model
 /// walks the bounding box, as the RTL's triangle unit does, whatever the file asks for.
 fn model_beside_rtl(
-    job: &raster_file::RasterJob,
+    job: &jobs::raster::RasterJob,
     name: &str,
     rtl: &host_cli::raster::RasterOutput,
 ) -> Result<()> {

@@ -42,7 +42,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
     let mut session = target.connect()?;
     let name = a.scene.display().to_string();
     let text = std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read {name}"))?;
-    let mut scene = sim_target::rt::scene_file::parse(&text, &name)?;
+    let mut scene = jobs::scene::parse(&text, &name)?;
     if let Some((w, h)) = a.size {
         scene.width = w;
         scene.height = h;
@@ -127,8 +127,8 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
 /// fixed-point datapath saturates and a float one overflows, either way silently, so the
 /// user hears it here, field by field, largest first.
 fn warn_out_of_range(name: &str, scene: &sim_target::rt::Scene, numeric: Numeric) {
+    use jobs::scene::range::{format_max, out_of_range};
     use protocol::names::Named;
-    use sim_target::rt::range::{format_max, out_of_range};
     let format = numeric.spellings()[0];
     for d in out_of_range(scene, numeric) {
         eprintln!(

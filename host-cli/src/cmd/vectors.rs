@@ -3,9 +3,9 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use host_cli::vectors::{render, VectorSet};
 use protocol::bus::LayoutId;
 use protocol::frame::Numeric;
+use vectors::{render, VectorSet};
 
 use super::parse_size;
 
@@ -87,7 +87,7 @@ pub fn run(a: &Args) -> Result<()> {
 fn raster(a: &RasterArgs) -> Result<()> {
     let name = a.file.display().to_string();
     let text = std::fs::read_to_string(&a.file).with_context(|| format!("cannot read {name}"))?;
-    let set = host_cli::vectors::raster::raster(&text, &name, a.layout.into())?;
+    let set = vectors::raster::raster(&text, &name, a.layout.into())?;
     set.write_to(&a.output)?;
     list(&set);
     eprintln!("wrote {}", a.output.display());
@@ -98,7 +98,7 @@ fn raster(a: &RasterArgs) -> Result<()> {
 fn render(a: &RenderArgs) -> Result<()> {
     let name = a.scene.display().to_string();
     let text = std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read {name}"))?;
-    let scene = sim_target::rt::scene_file::parse(&text, &name)?;
+    let scene = jobs::scene::parse(&text, &name)?;
     let opts = render::Options {
         numeric: a.numeric,
         size: a.size,

@@ -126,7 +126,7 @@ pub(super) fn parse_case(rng: &mut SmallRng) -> CaseResult {
         }
     }
     let ok = if scene_file {
-        match rt::scene_file::parse(&text, "stress.toml") {
+        match jobs::scene::parse(&text, "stress.toml") {
             Ok(scene) => {
                 // What parses must also render (tiny, f32) without panicking.
                 let opts = RenderOptions {
@@ -142,7 +142,7 @@ pub(super) fn parse_case(rng: &mut SmallRng) -> CaseResult {
             Err(_) => false,
         }
     } else {
-        match crate::raster_file::parse(&text, "stress.toml") {
+        match jobs::raster::parse(&text, "stress.toml") {
             Ok(job) => {
                 if rng.gen_ratio(1, 4) {
                     let w = u32::from(job.setup.width).min(64);

@@ -33,12 +33,12 @@ mod runner;
 
 use protocol::names::{Named, UnknownName};
 
+pub use jobs::scene::range::range_demand;
 pub use report::{
     AcneCase, AcneDetail, AcneList, AcnePixel, CaseResult, Counts, Failure, FormatCounts, Report,
     MAX_FAILURES,
 };
 pub use runner::{category_of, run, run_case};
-pub use sim_target::rt::range::range_demand;
 
 /// Which kernels a case attacks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -3,6 +3,7 @@
 //! hard: grazing and parallel rays, huge and tiny scales, near-coincident surfaces, and
 //! scenes where no lit pixel can be in shadow (acne).
 
+use jobs::scene::range::{format_max, range_demand};
 use protocol::frame::Numeric;
 use protocol::names::Named;
 use rand::rngs::SmallRng;
@@ -10,7 +11,6 @@ use rand::Rng;
 use sim_target::num::instrumented::{self, Probe};
 use sim_target::num::{Q16_16, Q24_8, Q32_32, Q8_24};
 use sim_target::rt::f;
-use sim_target::rt::range::{format_max, range_demand};
 use sim_target::rt::{
     self, Camera, DiffuseModel, Filter as TexFilter, Frame, Light, Mapping, Material, Object,
     Reflection, RenderOptions, Scene, Shape, Specular, SpecularModel, Spot, Term, Texture,

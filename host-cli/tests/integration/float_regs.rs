@@ -7,7 +7,6 @@ use host_cli::render::{scene_regs, Aovs, Packing, Renderer};
 use host_cli::session::Session;
 use protocol::frame::Numeric;
 use protocol::scene::ValueFormat;
-use sim_target::rt::scene_file;
 
 use crate::common::{self, ok};
 
@@ -134,7 +133,7 @@ fn worst_relative_error(depth: &[f32], exact: &[Option<f64>]) -> (f64, usize) {
 
 #[test]
 fn binary32_registers_put_an_f64_render_on_the_exact_geometry() {
-    let scene = scene_file::parse(ANALYTIC, "analytic.toml").expect("parses");
+    let scene = jobs::scene::parse(ANALYTIC, "analytic.toml").expect("parses");
     let exact = exact_depth(&scene);
     let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");
@@ -152,7 +151,7 @@ fn binary32_registers_put_an_f64_render_on_the_exact_geometry() {
         .expect("renders");
     let (float_err, n) = worst_relative_error(out.depth.as_deref().expect("depth"), &exact);
     // The old path: the same frame from Q16.16 registers.
-    let q16 = sim_target::scene_regs::to_regs_as(&scene, ValueFormat::Q16_16).expect("fits");
+    let q16 = jobs::scene::to_regs_as(&scene, ValueFormat::Q16_16).expect("fits");
     let (out, _) = renderer
         .frame(&mut session, &q16, Numeric::F64, Packing::Rgb888, aovs)
         .expect("renders");
@@ -198,11 +197,11 @@ fn saturations(numeric: &str) -> u64 {
 /// gets (the device renders the scene its registers hold).
 fn direct_saturations(numeric: Numeric) -> u64 {
     let text = std::fs::read_to_string(common::example("reference.toml")).expect("reads");
-    let mut scene = scene_file::parse(&text, "reference.toml").expect("parses");
+    let mut scene = jobs::scene::parse(&text, "reference.toml").expect("parses");
     (scene.width, scene.height) = (96, 54);
     let caps = sim_target::Device::new(&protocol::bus::WIDE).caps();
-    let regs = sim_target::scene_regs::to_regs_as(&scene, ValueFormat::for_caps(&caps, numeric))
-        .expect("fits");
+    let regs =
+        jobs::scene::to_regs_as(&scene, ValueFormat::for_caps(&caps, numeric)).expect("fits");
     let held = sim_target::scene_regs::from_regs(&regs).expect("decodes");
     let opts = sim_target::rt::RenderOptions {
         numeric,

@@ -4,7 +4,6 @@
 
 use std::path::Path;
 
-use host_cli::raster_file;
 use host_cli::render::{Aovs, Packing, Renderer};
 use host_cli::session::{Session, Transport};
 use sim_board::in_process::{sim_target, sim_target_via_fpga_link};
@@ -17,7 +16,7 @@ fn read(path: &Path) -> String {
 
 fn raster_image<T: Transport>(target: T, file: &Path) -> (Vec<u8>, u64) {
     let name = file.display().to_string();
-    let job = raster_file::parse(&read(file), &name).expect("example parses");
+    let job = jobs::raster::parse(&read(file), &name).expect("example parses");
     let mut session = Session::new(target);
     session.handshake().expect("handshake");
     let out = host_cli::raster::run(&mut session, &job, &name).expect("draws");
@@ -40,10 +39,10 @@ fn raster_gallery_over_the_fpga_link_is_identical() {
 #[test]
 fn render_over_the_fpga_link_is_identical_and_sends_only_changes() {
     let text = read(Path::new(&common::example("reference.toml")));
-    let mut scene = sim_target::rt::scene_file::parse(&text, "reference.toml").expect("parses");
+    let mut scene = jobs::scene::parse(&text, "reference.toml").expect("parses");
     scene.width = 64;
     scene.height = 36;
-    let regs = sim_target::scene_regs::to_regs(&scene).expect("fits");
+    let regs = jobs::scene::to_regs(&scene).expect("fits");
     let numeric = protocol::frame::Numeric::Q16_16;
     let aovs = Aovs {
         depth: true,
@@ -68,7 +67,7 @@ fn render_over_the_fpga_link_is_identical_and_sends_only_changes() {
     assert!(words > 200, "first frame sends the scene ({words} words)");
 
     scene.objects[1].translate[1] += 0.25;
-    let moved = sim_target::scene_regs::to_regs(&scene).expect("fits");
+    let moved = jobs::scene::to_regs(&scene).expect("fits");
     let words = common::words_for_next_frame(&mut renderer, &mut session, &moved, numeric);
     assert_eq!(words, 1, "one register changed");
 }

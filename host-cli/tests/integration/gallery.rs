@@ -5,7 +5,6 @@
 
 use std::path::{Path, PathBuf};
 
-use host_cli::raster_file;
 use host_cli::session::Session;
 use protocol::raster::{AaPattern, Traversal};
 
@@ -22,7 +21,7 @@ fn draw(
 ) -> image::RgbImage {
     let name = file.display().to_string();
     let text = std::fs::read_to_string(file).expect("example readable");
-    let mut job = raster_file::parse(&text, &name).expect("example parses");
+    let mut job = jobs::raster::parse(&text, &name).expect("example parses");
     job.setup.traversal = traversal;
     let mut session = Session::new(sim_board::in_process::sim_target_with(layout));
     session.handshake().expect("handshake");
@@ -62,7 +61,7 @@ fn gallery_matches_golden_pngs_for_every_traversal() {
         );
         // AA ignores the traversal; every other file must not depend on it.
         let text = std::fs::read_to_string(&file).expect("readable");
-        let aa = raster_file::parse(&text, &stem)
+        let aa = jobs::raster::parse(&text, &stem)
             .expect("parses")
             .setup
             .aa

@@ -13,7 +13,6 @@
 //! them, and they run first on every later run.
 
 mod common;
-mod hostile_text;
 
 mod animate;
 mod bench;
@@ -29,7 +28,6 @@ mod ports;
 mod pty;
 mod qemu;
 mod qemu_riscv;
-mod raster_file_props;
 mod rtl;
 mod stress;
 mod vectors;

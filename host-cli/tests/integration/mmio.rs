@@ -136,14 +136,14 @@ fn model() -> (RegisterFile, protocol::frame::Caps) {
 
 fn reference_scene() -> sim_target::rt::Scene {
     let text = std::fs::read_to_string(example("reference.toml")).expect("reference scene");
-    let mut scene = sim_target::rt::scene_file::parse(&text, "reference.toml").expect("parses");
+    let mut scene = jobs::scene::parse(&text, "reference.toml").expect("parses");
     scene.width = 32;
     scene.height = 18;
     scene
 }
 
 fn reference_regs() -> sim_target::scene_regs::Regs {
-    sim_target::scene_regs::to_regs(&reference_scene()).expect("fits")
+    jobs::scene::to_regs(&reference_scene()).expect("fits")
 }
 
 /// One frame of the reference scene, or the session's message.
@@ -167,7 +167,7 @@ fn render<T: Transport>(target: T) -> Result<Vec<u8>, String> {
 fn draw<T: Transport>(target: T) -> Result<Vec<u8>, String> {
     let path = example("raster/gallery.toml");
     let text = std::fs::read_to_string(&path).expect("gallery");
-    let job = host_cli::raster_file::parse(&text, &path).expect("parses");
+    let job = jobs::raster::parse(&text, &path).expect("parses");
     let mut session = Session::new(target);
     session.handshake().map_err(|e| e.to_string())?;
     host_cli::raster::run(&mut session, &job, &path)
@@ -319,7 +319,7 @@ fn mmio_bus_words_per_frame() {
     assert_eq!(reads, frame_reads, "first frame");
     let mut scene = reference_scene();
     scene.objects[1].translate[1] += 0.25;
-    let moved = sim_target::scene_regs::to_regs(&scene).expect("fits");
+    let moved = jobs::scene::to_regs(&scene).expect("fits");
     let (words, writes, reads) = frame(&mut session, &moved);
     assert_eq!(
         (words, writes),

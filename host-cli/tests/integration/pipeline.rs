@@ -5,7 +5,6 @@
 use std::convert::Infallible;
 
 use firmware::FpgaBus;
-use host_cli::raster_file;
 use host_cli::session::{Session, SessionError};
 use protocol::bus::{unpack, BusLayout, WIDE};
 use protocol::frame::{
@@ -144,7 +143,7 @@ fn many_triangles(n: usize) -> String {
 #[test]
 fn every_command_reaches_the_fifo_in_order_under_back_pressure() {
     let text = many_triangles(200);
-    let job = raster_file::parse(&text, "tri.toml").expect("valid");
+    let job = jobs::raster::parse(&text, "tri.toml").expect("valid");
     // A FIFO of 4 records draining 1 per wait: the controller must stall, never overrun.
     let mut session = Session::new(BuiltIn::new(Recorder::new(4, 1), caps(), &WIDE));
     session.handshake().expect("handshake");
@@ -174,7 +173,7 @@ fn refusals_name_the_command() {
     // anything (the controller would refuse it too, by index, but only after drawing the
     // commands before it).
     let text = "size = [64, 64]\n[[cmd]]\nop = \"clear\"\ncolor = \"#000000\"\n[[cmd]]\nop = \"circle\"\ncenter = [5.0, 5.0]\nradius = 3.0\ncolor = \"#ffffff\"\n";
-    let job = raster_file::parse(text, "c.toml").expect("valid");
+    let job = jobs::raster::parse(text, "c.toml").expect("valid");
     let mut session = Session::new(BuiltIn::new(
         Recorder::new(512, 512),
         caps(),
@@ -200,7 +199,7 @@ fn refusals_name_the_command() {
 
 #[test]
 fn capability_refusal_before_anything_is_sent() {
-    let job = raster_file::parse("size = [4000, 10]", "big.toml").expect("valid");
+    let job = jobs::raster::parse("size = [4000, 10]", "big.toml").expect("valid");
     let mut small = caps();
     small.max_width = 1024;
     let mut session = Session::new(BuiltIn::new(Recorder::new(512, 512), small, &WIDE));
@@ -215,7 +214,7 @@ fn capability_refusal_before_anything_is_sent() {
 #[test]
 fn built_in_target_matches_the_raster_block_exactly() {
     let text = common::every_primitive(192, 128, "");
-    let job = raster_file::parse(&text, "g.toml").expect("valid");
+    let job = jobs::raster::parse(&text, "g.toml").expect("valid");
     let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");
     let out = host_cli::raster::run(&mut session, &job, "g.toml").expect("runs");
@@ -234,8 +233,7 @@ fn built_in_target_matches_the_raster_block_exactly() {
 
 fn small_reference() -> sim_target::rt::Scene {
     let text = std::fs::read_to_string(common::example("reference.toml")).expect("reference scene");
-    let mut scene =
-        sim_target::rt::scene_file::parse(&text, "reference.toml").expect("reference parses");
+    let mut scene = jobs::scene::parse(&text, "reference.toml").expect("reference parses");
     scene.width = 96;
     scene.height = 54;
     scene
@@ -246,7 +244,8 @@ fn small_reference() -> sim_target::rt::Scene {
 #[test]
 fn built_in_render_matches_direct_and_sends_only_changes() {
     use host_cli::render::{Aovs, Packing, Renderer};
-    use sim_target::scene_regs::{from_regs, to_regs};
+    use jobs::scene::to_regs;
+    use sim_target::scene_regs::from_regs;
     let mut scene = small_reference();
     let regs = to_regs(&scene).expect("fits");
     let mut session = Session::new(sim_board::in_process::sim_target());
@@ -296,7 +295,7 @@ fn built_in_render_matches_direct_and_sends_only_changes() {
 fn a_frame_without_aovs_refuses_their_read_back() {
     use host_cli::render::{Aovs, Packing, Renderer};
     use protocol::frame::{PixelFormat, Plane, ReadRequest, Rect};
-    let regs = sim_target::scene_regs::to_regs(&small_reference()).expect("fits");
+    let regs = jobs::scene::to_regs(&small_reference()).expect("fits");
     let numeric = protocol::frame::Numeric::F32;
     let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");
@@ -354,7 +353,7 @@ fn a_frame_without_aovs_refuses_their_read_back() {
 fn controller_refuses_a_seed_outside_the_frame() {
     use protocol::frame::HostFrame;
     use protocol::raster::{Connectivity, Pixel, Rgb, SeedFill};
-    let job = raster_file::parse("size = [16, 16]", "s.toml").expect("valid");
+    let job = jobs::raster::parse("size = [16, 16]", "s.toml").expect("valid");
     let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");
     session

@@ -6,10 +6,10 @@ use std::path::Path;
 use crate::harness::{Pair, MODEL_TRAVERSAL};
 use crate::tally::Tally;
 
-fn job() -> host_cli::raster_file::RasterJob {
+fn job() -> jobs::raster::RasterJob {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/raster/fitkit.toml");
     let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-    host_cli::raster_file::parse(&text, "fitkit.toml").expect("the gallery file parses")
+    jobs::raster::parse(&text, "fitkit.toml").expect("the gallery file parses")
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! The ray-trace block (ViRAY, seed 002) as a golden model generic over number formats.
 //!
 //! Entry point: [`render`]. The scene ([`Scene`], or a TOML file through
-//! [`scene_file::parse`]) is compiled once into a [`Plan`] and a format-specific
+//! `jobs::scene::parse`) is compiled once into a [`Plan`] and a format-specific
 //! `Prepared` scene. The plan's feature set (shadows, textures, specular, reflection depth,
 //! spheres only) selects one of 32 monomorphised kernels (const generics), so a kernel's
 //! hot loop contains no test of a feature the scene does not use; the general kernel
@@ -22,11 +22,9 @@
 //! an f64 reference (the integration tests) and benched (`benches/rt.rs`), and their
 //! functions read right only qualified (`shapes::sphere`, `shade::fresnel`,
 //! `texture::texel`, `cull::bounds`). The scene file format is one too:
-//! [`scene_file::parse`].
+//! `jobs::scene::parse`.
 
 pub mod cull;
-pub mod range;
-pub mod scene_file;
 pub mod shade;
 pub mod shapes;
 pub mod texture;
@@ -36,7 +34,6 @@ mod pretest;
 mod scene;
 mod subset;
 mod vec;
-mod wire;
 
 /// PSNR for comparing formats: the comparison crate's, so that `fpgfx compare` and the
 /// numerics study measure with one definition.
@@ -52,7 +49,6 @@ pub use scene::{
 pub use shapes::Quadratic;
 pub use subset::Subset;
 pub use vec::{f, V3};
-pub use wire::{planned_scene, scene_wire_cost, WireCost};
 
 use crate::num::{AcosKind, AtanKind, Scalar, SqrtKind, Q16_16, Q24_8, Q32_32, Q8_24};
 use pretest::RayF32;

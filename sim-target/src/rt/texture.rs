@@ -319,31 +319,3 @@ pub fn sample_grey<S: Scalar>(mem: &[u32], slot: &TexSlot<S>, u: S, v: S) -> S {
         slot.levels[((w >> 16) & 255) as usize]
     })
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn memory_holds_each_texture_in_its_slot_in_material_order() {
-        let text = include_str!("../../../examples/rt/textures.toml");
-        let scene = super::super::scene_file::parse(text, "textures.toml").unwrap();
-        let kinds: Vec<TextureKind> = scene
-            .materials
-            .iter()
-            .filter_map(|m| m.texture.as_ref().map(|t| t.kind))
-            .collect();
-        assert_eq!(kinds.len(), 5);
-        let side = side_for(kinds.len());
-        assert_eq!(side, 64);
-        let mem = memory(&scene);
-        assert_eq!(mem.len(), TEXTURE_WORDS);
-        for (slot, &kind) in kinds.iter().enumerate() {
-            let base = slot_base(slot, side);
-            for (x, y) in [(0, 0), (5, 3), (side - 1, side - 1)] {
-                assert_eq!(mem[base + y * side + x], texel(kind, x, y, side));
-            }
-        }
-        assert!(mem[slot_base(kinds.len(), side)..].iter().all(|&w| w == 0));
-    }
-}

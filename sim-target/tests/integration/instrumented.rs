@@ -10,7 +10,7 @@ use protocol::frame::Numeric;
 use protocol::names::Named;
 use sim_target::num::instrumented::{self, Counted, Exact, OpKind, Probe};
 use sim_target::num::{Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
-use sim_target::rt::{self, scene_file, RenderOptions};
+use sim_target::rt::{self, RenderOptions};
 
 /// A format's raw bits: equality of results means equality of these (so −0 ≠ +0), except
 /// that every NaN is one value. Rust leaves the sign and payload of a NaN result
@@ -410,7 +410,7 @@ fn threads_count_apart() {
 fn instrumented_frames_are_counted_whole() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/reference.toml");
     let text = std::fs::read_to_string(path).expect("reference scene");
-    let scene = scene_file::parse(&text, path).expect("parses");
+    let scene = jobs::scene::parse(&text, path).expect("parses");
     let opts = RenderOptions {
         size: Some((16, 9)),
         cull: false,

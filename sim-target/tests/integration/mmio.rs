@@ -16,10 +16,10 @@ fn model() -> RegisterFile {
 fn with_scene() -> RegisterFile {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/reference.toml");
     let text = std::fs::read_to_string(path).expect("reference scene");
-    let mut scene = sim_target::rt::scene_file::parse(&text, "reference.toml").expect("parses");
+    let mut scene = jobs::scene::parse(&text, "reference.toml").expect("parses");
     scene.width = 8;
     scene.height = 6;
-    let regs = sim_target::scene_regs::to_regs(&scene).expect("fits");
+    let regs = jobs::scene::to_regs(&scene).expect("fits");
     let mut m = model();
     for (i, w) in regs.words().enumerate() {
         let addr = axi_lite::scene_word_addr(i).expect("in the image");

@@ -6,7 +6,7 @@
 //! end check the intersectors directly on rays that the culling would skip.
 
 use sim_target::num::{Scalar, Q16_16, Q32_32, Q8_24};
-use sim_target::rt::{self, cull, scene_file, shapes, Math, Numeric, Reflection, Scene, Shape, V3};
+use sim_target::rt::{self, cull, shapes, Math, Numeric, Reflection, Scene, Shape, V3};
 
 use crate::common;
 
@@ -76,7 +76,7 @@ fn probe<S: Scalar>(cone: bool, n: usize) -> usize {
 /// The reference scene's materials, light and settings with `objects` and a camera at
 /// `eye` looking at `at` with a field of view that frames a bound of radius `r`.
 fn scene(objects: Vec<rt::Object>, eye: [f64; 3], at: [f64; 3], r: f64) -> Scene {
-    let mut s = scene_file::parse(
+    let mut s = jobs::scene::parse(
         include_str!("../../../examples/reference.toml"),
         "reference",
     )

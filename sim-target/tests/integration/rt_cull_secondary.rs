@@ -12,7 +12,7 @@
 //!   culled and unculled, bit for bit, in every fixed format.
 
 use sim_target::num::{Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
-use sim_target::rt::{cull, scene_file, shapes, Math, Numeric, Reflection, Scene, V3};
+use sim_target::rt::{cull, shapes, Math, Numeric, Reflection, Scene, V3};
 use sim_target::rt::{Object, Shape};
 
 use crate::common;
@@ -32,7 +32,7 @@ fn obj(shape: Shape, t: [f64; 3], scale: [f64; 3], rotate: [f64; 3], material: u
 /// The reference scene's materials and light with `objects` and a camera at `eye`
 /// looking at `at`, framing a radius `r`.
 fn scene(objects: Vec<Object>, eye: [f64; 3], at: [f64; 3], r: f64) -> Scene {
-    let mut s = scene_file::parse(
+    let mut s = jobs::scene::parse(
         include_str!("../../../examples/reference.toml"),
         "reference",
     )
@@ -367,7 +367,7 @@ fn q24_8_has_no_gate() {
 /// the scene's shadow rays (≈ 0.3 for rays from the floor to the light).
 #[test]
 fn the_reference_scene_gates_its_quadrics() {
-    let s = scene_file::parse(
+    let s = jobs::scene::parse(
         include_str!("../../../examples/reference.toml"),
         "reference",
     )

@@ -4,7 +4,7 @@
 //! plane makes its shadow rays parallel to it), mirrors, tiny and large y scales, and a
 //! near-zero CORE_BIAS, rendered with and without culling in every format.
 
-use sim_target::rt::{scene_file, Numeric, Scene};
+use sim_target::rt::{Numeric, Scene};
 
 use crate::common;
 
@@ -56,7 +56,7 @@ scale = [0.7, 0.7, 0.7]
 material = "mirror"
 "#
     );
-    scene_file::parse(&text, "room").expect("room parses")
+    jobs::scene::parse(&text, "room").expect("room parses")
 }
 
 #[test]

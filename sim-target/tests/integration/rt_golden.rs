@@ -6,7 +6,7 @@
 //! `RT_GOLDEN_PRINT=1 cargo test -p sim-target --test integration rt_golden:: -- --nocapture`
 //! and paste.
 
-use sim_target::rt::{self, scene_file, Numeric, RenderOptions};
+use sim_target::rt::{self, Numeric, RenderOptions};
 
 use crate::common;
 
@@ -42,7 +42,7 @@ const GOLDEN: &[(&str, &str, u64)] = &[
 fn gallery_matches_golden_hashes() {
     let print = std::env::var("RT_GOLDEN_PRINT").is_ok();
     for (name, text, want) in GOLDEN {
-        let scene = scene_file::parse(text, name).expect("parses");
+        let scene = jobs::scene::parse(text, name).expect("parses");
         let opts = RenderOptions {
             numeric: Numeric::F64,
             size: Some((96, 54)),

@@ -7,7 +7,7 @@
 //! an intended change, run with `RT_GOLDEN_PRINT=1 cargo test -p sim-target --test
 //! integration rt_golden_formats:: -- --nocapture`, paste, and say why in docs/rt.md.
 
-use sim_target::rt::{self, scene_file, Math, Numeric, RenderOptions};
+use sim_target::rt::{self, Math, Numeric, RenderOptions};
 
 use crate::common;
 
@@ -99,7 +99,7 @@ const GOLDEN: &[(&str, &str, bool, u64)] = &[
 ];
 
 fn hash_of(name: &str, text: &str, numeric: Numeric, seed_math: bool) -> u64 {
-    let scene = scene_file::parse(text, name).expect("parses");
+    let scene = jobs::scene::parse(text, name).expect("parses");
     let opts = RenderOptions {
         numeric,
         size: Some((64, 36)),

@@ -7,7 +7,7 @@
 //! changed no bit. After an intended change: `RT_GOLDEN_PRINT=1 cargo test -p sim-target
 //! --test integration rt_golden_paths:: -- --nocapture`, paste, and say why in docs/rt.md.
 
-use sim_target::rt::{self, scene_file, Kernel, Numeric, RenderOptions, ToneMap};
+use sim_target::rt::{self, Kernel, Numeric, RenderOptions, ToneMap};
 
 use crate::common;
 
@@ -76,7 +76,7 @@ const GOLDEN: &[(&str, &str, u64)] = &[
 ];
 
 fn hash(numeric: Numeric, label: &str) -> u64 {
-    let scene = scene_file::parse(SCENE, "paths.toml").expect("parses");
+    let scene = jobs::scene::parse(SCENE, "paths.toml").expect("parses");
     let mut opts = RenderOptions {
         numeric,
         aovs: true,

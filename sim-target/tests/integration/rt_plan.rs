@@ -3,12 +3,10 @@
 //! feature subset of them, in f32 and Q16.16 (and with the seed's approximations); and the
 //! register image the plan sends must render the same image as the full one.
 
+use jobs::scene::{planned_scene, scene_wire_cost, to_regs};
 use sim_target::num::SqrtKind;
-use sim_target::rt::{
-    self, planned_scene, scene_file, scene_wire_cost, Kernel, Math, Numeric, RenderOptions, Scene,
-    Subset,
-};
-use sim_target::scene_regs::{from_regs, to_regs};
+use sim_target::rt::{self, Kernel, Math, Numeric, RenderOptions, Scene, Subset};
+use sim_target::scene_regs::from_regs;
 
 use crate::common;
 use common::assert_same_frame;
@@ -30,7 +28,7 @@ const SCENES: &[(&str, &str)] = &[
 fn scenes() -> Vec<(String, Scene)> {
     let mut out = Vec::new();
     for (name, text) in SCENES {
-        let scene = scene_file::parse(text, name).expect("gallery scene parses");
+        let scene = jobs::scene::parse(text, name).expect("gallery scene parses");
         for sub in Subset::ALL {
             out.push((format!("{name}/{}", sub.label()), sub.apply(&scene)));
         }
@@ -78,7 +76,7 @@ fn planned_kernels_are_bit_identical_to_the_general_one() {
 #[test]
 fn plan_features_follow_the_scene() {
     let text = SCENES[0].1;
-    let scene = scene_file::parse(text, "reference").expect("parses");
+    let scene = jobs::scene::parse(text, "reference").expect("parses");
     let full = rt::plan(&scene).features();
     assert!(full.shadows && full.textures && full.reflect && !full.spheres_only);
     let flat = rt::plan(&Subset::SpheresFlat.apply(&scene)).features();
@@ -118,7 +116,7 @@ fn planned_register_image_renders_the_same_and_sends_no_more() {
 
 #[test]
 fn depth1_plan_stops_sending_reflection_words() {
-    let scene = scene_file::parse(SCENES[1].1, "fresnel").expect("parses");
+    let scene = jobs::scene::parse(SCENES[1].1, "fresnel").expect("parses");
     let (f, p) = scene_wire_cost(&Subset::Depth1.apply(&scene)).expect("fits");
     assert!(p.changed < f.changed && p.bytes < f.bytes, "{f:?} {p:?}");
 }
@@ -127,7 +125,7 @@ fn depth1_plan_stops_sending_reflection_words() {
 /// camera, a tiny far sphere, a huge close one, rotated and anisotropic shapes, a cube
 /// seen edge-on, everything reflecting (secondary rays from every surface).
 fn cull_edge_scenes() -> Vec<(String, Scene)> {
-    let base = scene_file::parse(SCENES[2].1, "shapes").expect("parses");
+    let base = jobs::scene::parse(SCENES[2].1, "shapes").expect("parses");
     let mut out = Vec::new();
     // eye inside the bound of the first bounded object
     let mut s = base.clone();
@@ -170,7 +168,7 @@ fn cull_edge_scenes() -> Vec<(String, Scene)> {
 fn culling_is_bit_identical_in_every_admitted_format() {
     let mut list: Vec<(String, Scene)> = SCENES
         .iter()
-        .map(|(n, t)| (n.to_string(), scene_file::parse(t, n).expect("parses")))
+        .map(|(n, t)| (n.to_string(), jobs::scene::parse(t, n).expect("parses")))
         .collect();
     list.extend(cull_edge_scenes());
     for (name, scene) in &list {
@@ -201,7 +199,7 @@ fn culling_is_bit_identical_in_every_admitted_format() {
 
 #[test]
 fn culling_removes_work_where_it_is_admitted() {
-    let scene = scene_file::parse(SCENES[0].1, "reference").expect("parses");
+    let scene = jobs::scene::parse(SCENES[0].1, "reference").expect("parses");
     let n = scene.objects.len() as f64;
     let d = Math::default();
     // 8 objects, of which the wall plane is unbounded and the floor square wide: a tile

@@ -98,7 +98,7 @@ fn seamless_estimate_or_exact_sqrt_removes_it() {
     }
 }
 
-use sim_target::rt::{self, scene_file, Numeric, RenderOptions};
+use sim_target::rt::{self, Numeric, RenderOptions};
 
 /// Pixels whose colour differs from the f64 render by more than 24 levels in a channel.
 fn bad_pixels(scene: &rt::Scene, numeric: Numeric) -> usize {
@@ -119,7 +119,7 @@ fn bad_pixels(scene: &rt::Scene, numeric: Numeric) -> usize {
 #[test]
 fn f16_artefacts_are_not_cured_by_core_bias_but_by_a_bias_above_the_format_step() {
     let text = include_str!("../../../examples/rt/shapes.toml");
-    let mut scene = scene_file::parse(text, "shapes.toml").expect("parses");
+    let mut scene = jobs::scene::parse(text, "shapes.toml").expect("parses");
     let seed_bias = bad_pixels(&scene, Numeric::F16);
     // f16 has 10 fraction bits: at t ≈ 10 its step is 2⁻⁷ ≈ 0.008, eight times CORE_BIAS
     scene.bias = 0.05;

@@ -3,11 +3,11 @@
 
 use crate::common;
 
-use sim_target::rt::{self, scene_file, Frame, Numeric, RenderOptions};
+use sim_target::rt::{self, Frame, Numeric, RenderOptions};
 
 fn reference() -> rt::Scene {
     let text = include_str!("../../../examples/reference.toml");
-    scene_file::parse(text, "examples/reference.toml").expect("reference scene parses")
+    jobs::scene::parse(text, "examples/reference.toml").expect("reference scene parses")
 }
 
 /// With AOVs, culled (the default options at a size).
@@ -94,7 +94,7 @@ translate = [0.0, 0.0, -2.5]
 material = "m"
 "#
     );
-    scene_file::parse(&text, "sphere.toml").expect("parses")
+    jobs::scene::parse(&text, "sphere.toml").expect("parses")
 }
 
 #[test]
@@ -278,7 +278,7 @@ scale = [2.0, 2.0, 0.1]
 material = "glass"
 "#
     );
-    scene_file::parse(&text, "glass.toml").expect("parses")
+    jobs::scene::parse(&text, "glass.toml").expect("parses")
 }
 
 #[test]
@@ -303,6 +303,6 @@ fov_y = 2.0
 diffuse = { k = 0.0 }
 reflection = { mode = "fresnel", eta = 0.5, k = 3.0, transmit = true }
 "#;
-    let e = scene_file::parse(text, "m.toml").expect_err("conductors do not transmit");
+    let e = jobs::scene::parse(text, "m.toml").expect_err("conductors do not transmit");
     assert_eq!(e.key, "transmit");
 }

@@ -7,9 +7,11 @@
 
 use proptest::prelude::*;
 use sim_target::num::{Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
-use sim_target::rt::texture::{sample, sample_grey, side_for, TexSlot};
+use sim_target::rt::texture::{
+    sample, sample_grey, side_for, slot_base, texel, TexSlot, TEXTURE_WORDS,
+};
 use sim_target::rt::V3;
-use sim_target::rt::{Filter, Mapping};
+use sim_target::rt::{Filter, Mapping, TextureKind};
 
 /// The sampler as it was before session 5 (verbatim but for taking the slot's public
 /// fields): the reference the fast paths must reproduce.
@@ -217,4 +219,29 @@ fn reference_distinguishes_channels() {
     let c = sample_ref(&mem, &slot, 0.6, 0.3);
     assert_ne!(c.x, c.y);
     assert_eq!(sample_grey(&mem, &slot, 0.6, 0.3), c.x);
+}
+
+/// Texture memory holds each material's texture in its slot, in material order, and
+/// nothing after the last.
+#[test]
+fn memory_holds_each_texture_in_its_slot_in_material_order() {
+    let text = include_str!("../../../examples/rt/textures.toml");
+    let scene = jobs::scene::parse(text, "textures.toml").unwrap();
+    let kinds: Vec<TextureKind> = scene
+        .materials
+        .iter()
+        .filter_map(|m| m.texture.as_ref().map(|t| t.kind))
+        .collect();
+    assert_eq!(kinds.len(), 5);
+    let side = side_for(kinds.len());
+    assert_eq!(side, 64);
+    let mem = sim_target::rt::texture::memory(&scene);
+    assert_eq!(mem.len(), TEXTURE_WORDS);
+    for (slot, &kind) in kinds.iter().enumerate() {
+        let base = slot_base(slot, side);
+        for (x, y) in [(0, 0), (5, 3), (side - 1, side - 1)] {
+            assert_eq!(mem[base + y * side + x], texel(kind, x, y, side));
+        }
+    }
+    assert!(mem[slot_base(kinds.len(), side)..].iter().all(|&w| w == 0));
 }

@@ -3,15 +3,16 @@
 //! that rayon's row split does not change it, that it agrees with the exhaustive `Probe`,
 //! and that `Device` reports it.
 
+use jobs::scene::to_regs;
 use protocol::frame::{Block, StartFrame};
 use sim_target::num::instrumented::{self, Probe};
 use sim_target::num::{Q16_16, Q8_24};
-use sim_target::rt::{self, scene_file, Numeric, RenderOptions};
-use sim_target::scene_regs::{from_regs, to_regs};
+use sim_target::rt::{self, Numeric, RenderOptions};
+use sim_target::scene_regs::from_regs;
 
 fn reference() -> rt::Scene {
     let text = include_str!("../../../examples/reference.toml");
-    let mut scene = scene_file::parse(text, "reference.toml").expect("reference parses");
+    let mut scene = jobs::scene::parse(text, "reference.toml").expect("reference parses");
     scene.width = 96;
     scene.height = 54;
     scene

@@ -1,8 +1,9 @@
 //! Scene → registers → scene: what the device renders from the register image must be the
 //! scene the file described, up to Q16.16 quantisation.
 
-use sim_target::rt::{self, scene_file, Numeric, RenderOptions};
-use sim_target::scene_regs::{from_regs, to_regs, Regs};
+use jobs::scene::to_regs;
+use sim_target::rt::{self, Numeric, RenderOptions};
+use sim_target::scene_regs::{from_regs, Regs};
 
 fn reference() -> rt::Scene {
     let text = std::fs::read_to_string(concat!(
@@ -10,7 +11,7 @@ fn reference() -> rt::Scene {
         "/../examples/reference.toml"
     ))
     .expect("examples/reference.toml");
-    scene_file::parse(&text, "reference.toml").expect("reference parses")
+    jobs::scene::parse(&text, "reference.toml").expect("reference parses")
 }
 
 #[test]

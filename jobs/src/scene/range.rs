@@ -8,8 +8,7 @@
 
 use protocol::frame::Numeric;
 
-use super::scene::Scene;
-use super::vec::f;
+use sim_target::rt::{f, Scene};
 
 /// One magnitude the kernel forms, and the scene field that drives it.
 #[derive(Debug, Clone, PartialEq)]
@@ -106,7 +105,7 @@ mod tests {
 
     fn reference() -> Scene {
         let text = include_str!("../../../examples/reference.toml");
-        super::super::scene_file::parse(text, "reference.toml").expect("the reference scene parses")
+        super::super::parse(text, "reference.toml").expect("the reference scene parses")
     }
 
     #[test]

@@ -1,10 +1,7 @@
 //! Hostile-text helpers shared by the two file parsers' property tests
-//! (`host-cli/tests/integration/raster_file_props.rs` for raster command files,
-//! `sim-target/tests/integration/parser_props.rs` for scene files, which includes this
-//! file by path: a test cannot depend on another crate's tests, and both parsers take the
-//! same kind of TOML, so the literal finder and the damage model are one piece of code).
-// sim-target's test binary compiles this module too and uses a subset of it.
-#![allow(dead_code)]
+//! (`raster_file_props.rs` for raster command files, `scene_file_props.rs` for scene
+//! files): both parsers take the same kind of TOML, so the literal finder and the damage
+//! model are one piece of code.
 
 use proptest::prelude::*;
 

@@ -3,12 +3,8 @@
 //! in any field is refused, naming a key and a line (found by `fpgfx stress`: the parser
 //! used to accept them everywhere but in `scale`).
 
-#[path = "../../../host-cli/tests/integration/hostile_text.rs"]
-mod hostile_text;
-
-use hostile_text::{damage, edits, float_literals};
+use crate::hostile_text::{damage, edits, float_literals};
 use proptest::prelude::*;
-use sim_target::rt::scene_file;
 
 const EXAMPLES: [&str; 5] = [
     include_str!("../../../examples/reference.toml"),
@@ -25,7 +21,7 @@ fn every_non_finite_number_is_refused() {
     let mut tried = 0;
     for (e, text) in EXAMPLES.iter().enumerate() {
         assert!(
-            scene_file::parse(text, "ex.toml").is_ok(),
+            jobs::scene::parse(text, "ex.toml").is_ok(),
             "example {e} parses"
         );
         let lits = float_literals(text);
@@ -34,7 +30,7 @@ fn every_non_finite_number_is_refused() {
             for bad in ["nan", "-nan", "+inf", "-inf", "inf", "1e999", "-1.5e400"] {
                 let mut damaged = text.to_string();
                 damaged.replace_range(s..t, bad);
-                let err = scene_file::parse(&damaged, "bad.toml")
+                let err = jobs::scene::parse(&damaged, "bad.toml")
                     .expect_err(&format!("example {e}: {} -> {bad} accepted", &text[s..t]));
                 let line = text[..s].matches('\n').count() + 1;
                 // A float in an integer field fails as a type error, which is located
@@ -51,7 +47,7 @@ fn every_non_finite_number_is_refused() {
 #[test]
 fn the_error_names_the_key_and_line() {
     let text = "[camera]\nposition = [0.0, 1.0, 6.0]\nlook_at = [0.0, 0.0, 0.0]\nup = [0.0, 1.0, 0.0]\nfov_y = 45.0\n\n[[light]]\nposition = [1.0, 2.0, 3.0]\ncolor = [1.0, nan, 1.0]\n";
-    let err = scene_file::parse(text, "s.toml").expect_err("nan refused");
+    let err = jobs::scene::parse(text, "s.toml").expect_err("nan refused");
     assert_eq!(err.line, 9);
     assert_eq!(err.key, "light[0].color[1]");
     assert_eq!(err.file, "s.toml");
@@ -63,7 +59,7 @@ proptest! {
     /// Any text: a scene or an error with a line inside the text.
     #[test]
     fn any_text_parses_or_fails_located(text in "\\PC{0,400}") {
-        if let Err(e) = scene_file::parse(&text, "any.toml") {
+        if let Err(e) = jobs::scene::parse(&text, "any.toml") {
             prop_assert!(e.line >= 1 && e.line <= text.lines().count().max(1) + 1, "{e}");
         }
     }
@@ -75,7 +71,7 @@ proptest! {
         edits in edits(b"[]{}=\",.\n0-e#aZ "),
     ) {
         let text = damage(EXAMPLES[ex], &edits);
-        if let Ok(scene) = scene_file::parse(&text, "d.toml") {
+        if let Ok(scene) = jobs::scene::parse(&text, "d.toml") {
             // Whatever parses is finite everywhere the kernel will look.
             prop_assert!(scene.bias.is_finite() && scene.max_distance.is_finite());
             prop_assert!(scene.camera.position.iter().all(|v| v.is_finite()));
@@ -99,7 +95,7 @@ fn a_backtick_in_a_value_still_names_a_key() {
         damaged, EXAMPLES[0],
         "the reference scene has a constant reflection"
     );
-    let err = scene_file::parse(&damaged, "bad.toml").expect_err("unknown variant refused");
+    let err = jobs::scene::parse(&damaged, "bad.toml").expect_err("unknown variant refused");
     assert_eq!(err.line, 48, "{err}");
     assert_eq!(err.key, "mode", "{err}");
 }

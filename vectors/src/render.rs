@@ -67,7 +67,7 @@ pub fn render(scene: &Scene, opts: &Options) -> Result<RenderVectors, VectorsErr
     // The registers in the value format the built-in target's caps ask for, as
     // `fpgfx render --port builtin` sends them.
     let format = ValueFormat::for_caps(&device.caps(), opts.numeric);
-    let image = scene_regs::to_regs_as(&scene, format)?;
+    let image = jobs::scene::to_regs_as(&scene, format)?;
     let mut regs = [0u32; SCENE_WORDS];
     image.to_words(&mut regs).map_err(SceneRegsError::from)?;
     // The device renders the scene the registers describe (materials expanded per object),
@@ -152,8 +152,7 @@ struct Counts {
 /// CRC-32 (ISO-HDLC, the link's) of the register image as little-endian words: the
 /// image fixes the frame together with the number format, whatever file it came from.
 fn scene_hash(regs: &[u32]) -> String {
-    let crc = crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC);
-    let mut digest = crc.digest();
+    let mut digest = protocol::link::CRC32.digest();
     for w in regs {
         digest.update(&w.to_le_bytes());
     }
@@ -300,8 +299,8 @@ mod tests {
     use super::*;
 
     fn scene() -> Scene {
-        let text = include_str!("../../../examples/rt/textures.toml");
-        sim_target::rt::scene_file::parse(text, "textures.toml").unwrap()
+        let text = include_str!("../../examples/rt/textures.toml");
+        jobs::scene::parse(text, "textures.toml").unwrap()
     }
 
     #[test]

@@ -8,9 +8,10 @@
 //! when the ambient light is black, textures nothing samples. The device renders the same
 //! image from either image (tested in `tests/rt_plan.rs`).
 
-use super::scene::{Reflection, Scene};
-use super::{plan, Plan};
-use crate::scene_regs::{to_regs, Regs, SceneRegsError};
+use sim_target::rt::{plan, DiffuseModel, Plan, Reflection, Scene};
+use sim_target::scene_regs::{Regs, SceneRegsError};
+
+use super::compile::to_regs;
 use protocol::frame::{encode, HostFrame};
 use protocol::link::{encode_frame, Header, Kind};
 use protocol::scene::{diff_with_gap, DEFAULT_MERGE_GAP};
@@ -29,7 +30,7 @@ pub fn planned_scene(scene: &Scene, plan: &Plan) -> Scene {
             m.specular = None;
             m.diffuse.k = 0.0;
             m.diffuse.color = [0.0; 3];
-            m.diffuse_model = super::scene::DiffuseModel::Lambert;
+            m.diffuse_model = DiffuseModel::Lambert;
         }
         if !ambient_lit {
             m.ambient = None;

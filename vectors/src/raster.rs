@@ -4,7 +4,7 @@
 //!
 //! * the SPI stream comes from the controller's own FITkit driver
 //!   ([`firmware::FitkitSpi`]) run against a recording SPI device, fed the packets the
-//!   controller packs ([`crate::raster::pack_job`]), so the bytes are the board's;
+//!   controller packs ([`jobs::raster::pack_job`]), so the bytes are the board's;
 //! * the FIFO records are what the block's address decoder cuts from that stream (on
 //!   the FITkit) or the packets themselves (layouts without SPI framing);
 //! * the fragment stream and the framebuffer come from the golden model
@@ -25,14 +25,14 @@ use serde::Serialize;
 use sim_target::raster::{FbWrite, Stats};
 
 use super::{fill, job_hash, FileEntry, VectorFile, VectorSet, VectorsError};
-use crate::raster::Packet;
+use jobs::raster::Packet;
 
 /// The testbench template: sizes and expected counters are `@NAME@` placeholders.
-const TESTBENCH: &str = include_str!("tb_fpgfx.v");
+const TESTBENCH: &str = include_str!("../../hw/fitkit-raster/vectors/tb_fpgfx.v");
 /// The Icarus run script.
-const RUN_IVERILOG: &str = include_str!("run-iverilog.sh");
+const RUN_IVERILOG: &str = include_str!("../../hw/fitkit-raster/vectors/run-iverilog.sh");
 /// The Verilator run script.
-const RUN_VERILATOR: &str = include_str!("run-verilator.sh");
+const RUN_VERILATOR: &str = include_str!("../../hw/fitkit-raster/vectors/run-verilator.sh");
 
 /// Bits of a fragment word's x and y fields: 12, for frames up to 4096 pixels a side
 /// (`protocol::MAX_FRAME_SIDE`), so each is three hex digits a reader can see.
@@ -43,7 +43,7 @@ const COORD_BITS: u32 = 12;
 /// SPI stream, the Verilog testbench and its run scripts; the other layouts have no
 /// SPI framing and no RTL here, so their sets stop at records, fragments and frame.
 pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet, VectorsError> {
-    let mut job = crate::raster_file::parse(job_text, file)?;
+    let mut job = jobs::raster::parse(job_text, file)?;
     let fitkit = layout == LayoutId::Fitkit;
     if fitkit {
         // Coverage is the same for every traversal; the counters are the RTL's only for
@@ -51,7 +51,7 @@ pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet,
         job.setup.traversal = Traversal::BoundingBox;
     }
     let bus = layout.layout();
-    let packets = crate::raster::pack_job(&job, file, bus)?;
+    let packets = jobs::raster::pack_job(&job, file, bus)?;
     // The controller's refusals first: they name what the user can change.
     let transactions = fitkit
         .then(|| spi_transactions(&job.setup, &packets, file))
@@ -646,9 +646,9 @@ color = "#ff0000"
 
     #[test]
     fn the_decoder_records_are_the_packers() {
-        let job = crate::raster_file::parse(JOB_TEXT, "t.toml").expect("job");
+        let job = jobs::raster::parse(JOB_TEXT, "t.toml").expect("job");
         let packets =
-            crate::raster::pack_job(&job, "t.toml", &protocol::bus::FITKIT).expect("fitkit");
+            jobs::raster::pack_job(&job, "t.toml", &protocol::bus::FITKIT).expect("fitkit");
         let t = spi_transactions(&job.setup, &packets, "t.toml").expect("spi");
         assert_eq!(t.len(), 1 + packets.len(), "a set-up, then one per command");
         assert_eq!(t[0][0], protocol::fitkit_spi::ADDR_SETUP);

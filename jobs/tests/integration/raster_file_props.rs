@@ -4,11 +4,9 @@
 
 use std::sync::OnceLock;
 
-use host_cli::raster_file;
 use proptest::prelude::*;
 use sim_target::raster::Raster;
 
-use crate::common;
 use crate::hostile_text::{damage, edits, float_literals};
 
 /// The raster gallery's texts, read once: the property tests damage them thousands of
@@ -16,7 +14,7 @@ use crate::hostile_text::{damage, edits, float_literals};
 fn examples() -> &'static [String] {
     static TEXTS: OnceLock<Vec<String>> = OnceLock::new();
     TEXTS.get_or_init(|| {
-        common::raster_gallery()
+        crate::raster_gallery()
             .iter()
             .map(|p| std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())))
             .collect()
@@ -29,7 +27,7 @@ fn to_json(text: &str) -> String {
 }
 
 /// Draws a parsed job on the block (clipped to 64 × 64 to keep it quick).
-fn draw(job: &raster_file::RasterJob) {
+fn draw(job: &jobs::raster::RasterJob) {
     let w = u32::from(job.setup.width).min(64);
     let h = u32::from(job.setup.height).min(64);
     if let Ok(mut block) = Raster::new(w, h, &job.setup) {
@@ -45,7 +43,7 @@ fn draw(job: &raster_file::RasterJob) {
 fn every_non_finite_number_is_refused() {
     let mut tried = 0;
     for (e, text) in examples().iter().enumerate() {
-        assert!(raster_file::parse(text, "ex.toml").is_ok(), "example {e}");
+        assert!(jobs::raster::parse(text, "ex.toml").is_ok(), "example {e}");
         let lits = float_literals(text);
         assert!(!lits.is_empty(), "example {e} has floats");
         for &(s, t) in &lits {
@@ -53,7 +51,7 @@ fn every_non_finite_number_is_refused() {
                 let mut damaged = text.to_string();
                 damaged.replace_range(s..t, bad);
                 assert!(
-                    raster_file::parse(&damaged, "bad.toml").is_err(),
+                    jobs::raster::parse(&damaged, "bad.toml").is_err(),
                     "example {e}: {} -> {bad} accepted",
                     &text[s..t]
                 );
@@ -62,13 +60,13 @@ fn every_non_finite_number_is_refused() {
         }
         let json = to_json(text);
         assert!(
-            raster_file::parse(&json, "ex.json").is_ok(),
+            jobs::raster::parse(&json, "ex.json").is_ok(),
             "example {e} as JSON"
         );
         for &(s, t) in &float_literals(&json) {
             let mut damaged = json.clone();
             damaged.replace_range(s..t, "1e999");
-            assert!(raster_file::parse(&damaged, "bad.json").is_err());
+            assert!(jobs::raster::parse(&damaged, "bad.json").is_err());
             tried += 1;
         }
     }
@@ -82,7 +80,7 @@ proptest! {
     #[test]
     fn any_text_parses_or_fails(text in "\\PC{0,300}") {
         for name in ["any.toml", "any.json"] {
-            if let Ok(job) = raster_file::parse(&text, name) {
+            if let Ok(job) = jobs::raster::parse(&text, name) {
                 draw(&job);
             }
         }
@@ -97,7 +95,7 @@ proptest! {
     ) {
         let base = if json { to_json(&examples()[ex]) } else { examples()[ex].clone() };
         let text = damage(&base, &edits);
-        if let Ok(job) = raster_file::parse(&text, if json { "d.json" } else { "d.toml" }) {
+        if let Ok(job) = jobs::raster::parse(&text, if json { "d.json" } else { "d.toml" }) {
             draw(&job);
         }
     }

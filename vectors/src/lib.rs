@@ -1,6 +1,11 @@
-//! `fpgfx vectors`: test vectors for a hardware design, written from the golden model, so
-//! that an RTL (this repository's or a user's) can be held to the model in its own
-//! simulator without Rust in the loop. docs/vectors.md describes every file.
+//! Test vectors for a hardware design, written from the golden model, so that an RTL (this
+//! repository's or a user's) can be held to the model in its own simulator without Rust
+//! in the loop: what `fpgfx vectors` writes, and what the C library's and the RTL's tests
+//! read. docs/vectors.md describes every file.
+//!
+//! The FITkit raster block's self-checking Verilog testbench and its run scripts are
+//! templates kept with the block's hardware (`hw/fitkit-raster/vectors/`) and compiled
+//! into this crate.
 //!
 //! A vector set is a directory of files: `$readmemh` data ([`compare::memh`]), for the
 //! ray tracer the same data as raw little-endian bytes, a manifest, and for the FITkit a
@@ -8,6 +13,8 @@
 //! is pure ([`raster::raster`] and [`render::render`] return a [`VectorSet`]); only
 //! [`VectorSet::write_to`] touches the disk, so tests and other front ends can inspect the
 //! files before (or instead of) writing them.
+
+#![warn(missing_docs)]
 
 pub mod raster;
 pub mod render;
@@ -22,10 +29,10 @@ use serde::Serialize;
 pub enum VectorsError {
     /// The job file does not parse.
     #[error(transparent)]
-    Job(#[from] crate::raster_file::RasterFileError),
+    Job(#[from] jobs::raster::RasterFileError),
     /// A command the layout cannot carry, named by its index.
     #[error(transparent)]
-    Layout(#[from] crate::raster::LayoutError),
+    Layout(#[from] jobs::raster::LayoutError),
     /// The scene does not fit the ray tracer's register image.
     #[error("the scene does not fit the ray tracer's registers: {0}")]
     Registers(#[from] sim_target::scene_regs::SceneRegsError),

@@ -2,8 +2,11 @@
 //! tools. Unknown keys are errors (`deny_unknown_fields`) so that a typo never silently
 //! renders a different scene; every error names the file, the line and the key.
 
-use super::scene::*;
 use serde::Deserialize;
+use sim_target::rt::{
+    Camera, DiffuseModel, Filter, Light, Mapping, Material, Object, Reflection, Scene, Shape,
+    Specular, SpecularModel, Spot, Term, Texture, TextureKind,
+};
 use std::collections::BTreeMap;
 use toml::Spanned;
 
@@ -544,7 +547,7 @@ pub fn parse_with_limits(
             Some(s) => {
                 let exponent = s.exponent.as_ref().map(|e| (*e.get_ref(), e.span().start));
                 let (exponent, epos) = exponent.unwrap_or((32, pos));
-                if exponent > crate::num::MAX_POW_EXPONENT {
+                if exponent > sim_target::num::MAX_POW_EXPONENT {
                     return Err(err(epos, "exponent", "must be ≤ 1023".into()));
                 }
                 let model = match s.model.unwrap_or(SpecModelToml::BlinnPhong) {

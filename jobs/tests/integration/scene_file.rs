@@ -1,6 +1,6 @@
 //! Scene-file errors name file, line and key.
 
-use sim_target::rt::scene_file::{self, Limits};
+use jobs::scene::Limits;
 
 const BASE: &str = r#"[camera]
 position = [0.0, 0.0, 5.0]
@@ -17,7 +17,7 @@ fn obj(material: &str, scale: &str) -> String {
 
 #[test]
 fn parses_reference_and_examples() {
-    let s = scene_file::parse(
+    let s = jobs::scene::parse(
         include_str!("../../../examples/reference.toml"),
         "reference.toml",
     )
@@ -29,7 +29,7 @@ fn parses_reference_and_examples() {
     {
         let p = entry.expect("entry").path();
         let text = std::fs::read_to_string(&p).expect("read");
-        scene_file::parse(&text, &p.display().to_string()).expect("example parses");
+        jobs::scene::parse(&text, &p.display().to_string()).expect("example parses");
     }
 }
 
@@ -37,7 +37,7 @@ fn parses_reference_and_examples() {
 fn unknown_key_is_located() {
     let text = format!("{BASE}{}", obj("m", "[1.0, 1.0, 1.0]"))
         .replace("fov_y = 45.0", "fov_y = 45.0\nzoom = 2.0");
-    let e = scene_file::parse(&text, "a.toml").expect_err("unknown key");
+    let e = jobs::scene::parse(&text, "a.toml").expect_err("unknown key");
     assert_eq!(
         (e.file.as_str(), e.line, e.key.as_str()),
         ("a.toml", 6, "zoom"),
@@ -48,7 +48,7 @@ fn unknown_key_is_located() {
 #[test]
 fn missing_material_is_located() {
     let text = format!("{BASE}{}", obj("nope", "[1.0, 1.0, 1.0]"));
-    let e = scene_file::parse(&text, "b.toml").expect_err("missing material");
+    let e = jobs::scene::parse(&text, "b.toml").expect_err("missing material");
     assert_eq!((e.line, e.key.as_str()), (11, "material"), "{e}");
     assert!(e.to_string().starts_with("b.toml:11:"));
 }
@@ -56,7 +56,7 @@ fn missing_material_is_located() {
 #[test]
 fn non_positive_scale_is_located() {
     let text = format!("{BASE}{}", obj("m", "[1.0, 0.0, 1.0]"));
-    let e = scene_file::parse(&text, "c.toml").expect_err("scale");
+    let e = jobs::scene::parse(&text, "c.toml").expect_err("scale");
     assert_eq!((e.line, e.key.as_str()), (10, "scale"), "{e}");
 }
 
@@ -70,11 +70,11 @@ fn too_many_objects_and_lights() {
         max_objects: 2,
         max_lights: 2,
     };
-    let e = scene_file::parse_with_limits(&text, "d.toml", lim).expect_err("objects");
+    let e = jobs::scene::parse_with_limits(&text, "d.toml", lim).expect_err("objects");
     assert_eq!((e.line, e.key.as_str()), (16, "object"), "{e}");
     let light = "[[light]]\nposition = [0.0, 5.0, 0.0]\ncolor = [1.0, 1.0, 1.0]\n";
     let text = format!("{BASE}{light}{light}");
-    let e = scene_file::parse(&text, "e.toml").expect_err("lights");
+    let e = jobs::scene::parse(&text, "e.toml").expect_err("lights");
     assert_eq!((e.line, e.key.as_str()), (11, "light"), "{e}");
 }
 
@@ -87,7 +87,7 @@ fn garbage_never_panics() {
         "[[object]]\nshape = \"torus\"",
         "\u{0}\u{1}",
     ] {
-        assert!(scene_file::parse(text, "g.toml").is_err());
+        assert!(jobs::scene::parse(text, "g.toml").is_err());
     }
 }
 
@@ -108,14 +108,14 @@ fn materials_written_as_dotted_tables_parse() {
         "material.clay.diffuse.color = [0.7, 0.35, 0.3]\nmaterial.clay.diffuse.k = 0.9\n\
          {camera}{object}"
     );
-    let a = scene_file::parse(&headers, "headers.toml").expect("dotted headers parse");
-    let b = scene_file::parse(&inline, "inline.toml").expect("inline tables parse");
-    let c = scene_file::parse(&dotted, "dotted.toml").expect("dotted keys parse");
+    let a = jobs::scene::parse(&headers, "headers.toml").expect("dotted headers parse");
+    let b = jobs::scene::parse(&inline, "inline.toml").expect("inline tables parse");
+    let c = jobs::scene::parse(&dotted, "dotted.toml").expect("dotted keys parse");
     assert_eq!(a, b);
     assert_eq!(a, c);
     // An error inside such a material still names the file, line and key.
     let bad = headers.replace("k = 0.9", "k = 0.9\nsigma2 = -1.0\nmodel = \"oren-nayar\"");
-    let e = scene_file::parse(&bad, "bad.toml").expect_err("negative sigma2");
+    let e = jobs::scene::parse(&bad, "bad.toml").expect_err("negative sigma2");
     let text = e.to_string();
     assert!(text.starts_with("bad.toml:6:"), "{text}");
     assert!(text.contains("sigma2"), "{text}");
