@@ -8,7 +8,7 @@
 //!   (and the line, for a TOML command).
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use jobs::raster::{self, RasterFileError, RasterJob, GUARD_BAND};
+use jobs::raster::{RasterFileError, RasterJob, GUARD_BAND};
 use protocol::frame::{decode, HostFrame, RasterBatcher};
 use protocol::raster::{AaPattern, Point, RasterCmd, MAX_POLYGON, MAX_SUBPIXEL_BITS};
 use protocol::MAX_FRAME_SIDE;
