@@ -68,14 +68,10 @@ pub const FPGFX_PIXEL_RGB888: u32 = 0;
 /// Read-back format code: one byte per pixel, RRRGGGBB (the FITkit's memory word).
 pub const FPGFX_PIXEL_RGB332: u32 = 1;
 
-/// Each code's meaning, indexed by code: the C numbers are positions in these tables.
-/// protocol's `ALL` tables, so that raster test vectors (`fpgfx vectors raster`'s
-/// `raster_setup.hex`) and this library number them alike.
-const LAYOUTS: [LayoutId; 3] = LayoutId::ALL;
-const PATTERNS: [AaPattern; 6] = AaPattern::ALL;
-const CULLS: [Cull; 3] = Cull::ALL;
-/// The raster files' order, so a traversal's code is its index there too.
-const TRAVERSALS: [Traversal; 5] = Traversal::ALL;
+// A code's meaning is its position in protocol's `ALL` table of the enum (`LayoutId::ALL`,
+// `AaPattern::ALL`, `Cull::ALL`, `Traversal::ALL`), so that raster test vectors (`fpgfx
+// vectors raster`'s `raster_setup.hex`) and this library number them alike.
+
 const FORMATS: [(PixelFormat, usize); 2] = [(PixelFormat::Rgb888, 3), (PixelFormat::Rgb332, 1)];
 
 /// The frame-wide raster state, as `RasterSetup` carries it: size, sub-pixel bits,
@@ -122,16 +118,16 @@ pub fn c_setup(setup: &RasterSetup) -> fpgfx_raster_setup {
         height: setup.height,
         subpixel_bits: setup.subpixel_bits,
         background: [bg.r, bg.g, bg.b],
-        aa_pattern: position(&PATTERNS, &setup.aa.pattern),
+        aa_pattern: position(&AaPattern::ALL, &setup.aa.pattern),
         aa_samples: setup.aa.samples,
-        cull: position(&CULLS, &setup.cull),
-        traversal: position(&TRAVERSALS, &setup.traversal),
+        cull: position(&Cull::ALL, &setup.cull),
+        traversal: position(&Traversal::ALL, &setup.traversal),
     }
 }
 
 /// The `FPGFX_LAYOUT_*` code of `layout`.
 pub fn layout_code(layout: LayoutId) -> u32 {
-    position(&LAYOUTS, &layout)
+    position(&LayoutId::ALL, &layout)
 }
 
 fn code<T: Copy>(table: &[T], value: u32, name: &str, family: &str) -> Result<T, Failure> {
@@ -168,19 +164,24 @@ pub unsafe extern "C" fn fpgfx_raster_new(
         // block exists, so a failed call leaves nothing to free.
         unsafe { put(out, std::ptr::null_mut(), "out") }?;
         let s = unsafe { input(setup, 1, "setup") }?[0];
-        let layout = code(&LAYOUTS, layout, "layout", "FPGFX_LAYOUT_*")?;
+        let layout = code(&LayoutId::ALL, layout, "layout", "FPGFX_LAYOUT_*")?;
         let setup = RasterSetup {
             width: s.width,
             height: s.height,
             subpixel_bits: s.subpixel_bits,
             background: Rgb::new(s.background[0], s.background[1], s.background[2]),
             aa: Aa {
-                pattern: code(&PATTERNS, s.aa_pattern, "setup->aa_pattern", "FPGFX_AA_*")?,
+                pattern: code(
+                    &AaPattern::ALL,
+                    s.aa_pattern,
+                    "setup->aa_pattern",
+                    "FPGFX_AA_*",
+                )?,
                 samples: s.aa_samples,
             },
-            cull: code(&CULLS, s.cull, "setup->cull", "FPGFX_CULL_*")?,
+            cull: code(&Cull::ALL, s.cull, "setup->cull", "FPGFX_CULL_*")?,
             traversal: code(
-                &TRAVERSALS,
+                &Traversal::ALL,
                 s.traversal,
                 "setup->traversal",
                 "FPGFX_TRAVERSAL_*",
@@ -275,26 +276,38 @@ mod tests {
 
     #[test]
     fn codes_index_their_tables() {
-        assert_eq!(LAYOUTS[FPGFX_LAYOUT_FITKIT as usize], LayoutId::Fitkit);
-        assert_eq!(LAYOUTS[FPGFX_LAYOUT_WIDE as usize], LayoutId::Wide);
-        assert_eq!(PATTERNS[FPGFX_AA_COVERAGE as usize], AaPattern::Coverage);
         assert_eq!(
-            CULLS[FPGFX_CULL_COUNTER_CLOCKWISE as usize],
+            LayoutId::ALL[FPGFX_LAYOUT_FITKIT as usize],
+            LayoutId::Fitkit
+        );
+        assert_eq!(LayoutId::ALL[FPGFX_LAYOUT_WIDE as usize], LayoutId::Wide);
+        assert_eq!(
+            AaPattern::ALL[FPGFX_AA_COVERAGE as usize],
+            AaPattern::Coverage
+        );
+        assert_eq!(
+            Cull::ALL[FPGFX_CULL_COUNTER_CLOCKWISE as usize],
             Cull::CounterClockwise
         );
         assert_eq!(
-            TRAVERSALS[FPGFX_TRAVERSAL_BOUNDING_BOX as usize],
+            Traversal::ALL[FPGFX_TRAVERSAL_BOUNDING_BOX as usize],
             Traversal::BoundingBox
         );
-        assert_eq!(TRAVERSALS[FPGFX_TRAVERSAL_TILES as usize], Traversal::Tiles);
-        assert_eq!(TRAVERSALS[FPGFX_TRAVERSAL_SIMD8 as usize], Traversal::Simd8);
+        assert_eq!(
+            Traversal::ALL[FPGFX_TRAVERSAL_TILES as usize],
+            Traversal::Tiles
+        );
+        assert_eq!(
+            Traversal::ALL[FPGFX_TRAVERSAL_SIMD8 as usize],
+            Traversal::Simd8
+        );
         assert_eq!(FORMATS[FPGFX_PIXEL_RGB332 as usize].0, PixelFormat::Rgb332);
     }
 
     #[test]
     fn every_variant_has_a_code() {
         // A new variant must get a row, or `c_setup` would map it to code 0.
-        for p in PATTERNS {
+        for p in AaPattern::ALL {
             match p {
                 AaPattern::None
                 | AaPattern::Regular
@@ -304,13 +317,13 @@ mod tests {
                 | AaPattern::Coverage => {}
             }
         }
-        for c in CULLS {
+        for c in Cull::ALL {
             match c {
                 Cull::None | Cull::Clockwise | Cull::CounterClockwise => {}
             }
         }
-        for l in LAYOUTS {
-            assert_eq!(LAYOUTS[layout_code(l) as usize], l);
+        for l in LayoutId::ALL {
+            assert_eq!(LayoutId::ALL[layout_code(l) as usize], l);
         }
         let setup = RasterSetup {
             width: 3,

@@ -12,7 +12,7 @@ use protocol::frame::{
     Block, DeviceFrame, HostFrame, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame,
     Stats,
 };
-use protocol::names::{Named, UnknownName};
+
 use protocol::scene::{diff, ValueFormat};
 use sim_target::rt::Scene;
 use sim_target::scene_regs::{Regs, SceneRegsError};
@@ -28,41 +28,9 @@ pub enum Packing {
     Kcu116,
 }
 
-impl Named for Packing {
-    const WHAT: &'static str = "packing";
-    const VALUES: &'static [Self] = &[Packing::Rgb888, Packing::Kcu116];
-    const IGNORE_CASE: bool = false;
-
-    fn spellings(self) -> &'static [&'static str] {
-        match self {
-            Packing::Rgb888 => &["rgb888"],
-            Packing::Kcu116 => &["kcu116"],
-        }
-    }
-}
-
-impl fmt::Display for Packing {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for Packing {
-    type Err = UnknownName<Packing>;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Packing::from_name(s)
-    }
-}
-
-impl clap::ValueEnum for Packing {
-    fn value_variants<'a>() -> &'a [Self] {
-        Packing::VALUES
-    }
-
-    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
-        Some(protocol::names::possible_value(*self))
-    }
+protocol::named! {
+    Packing, what = "packing", ignore_case = false, values = [Packing::Rgb888, Packing::Kcu116],
+    { Rgb888 => ["rgb888"], Kcu116 => ["kcu116"] }
 }
 
 /// What to fetch besides the colour buffer.
@@ -412,7 +380,7 @@ mod tests {
 
     #[test]
     fn packings_are_spelled_as_the_flag_takes_them() {
-        for p in Packing::VALUES {
+        for p in <Packing as protocol::names::Named>::VALUES {
             assert_eq!(p.to_string().parse::<Packing>(), Ok(*p));
         }
         let e = "rgb565".parse::<Packing>().unwrap_err();

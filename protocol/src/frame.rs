@@ -16,7 +16,6 @@ use heapless::{String, Vec};
 use postcard_schema::Schema;
 use serde::{Deserialize, Serialize};
 
-use crate::names::{named_impls, Named};
 use crate::{MAX_PAYLOAD, PROTOCOL_VERSION};
 
 /// Raster commands per [`HostFrame::Raster`] batch. Batching keeps the per-frame link
@@ -112,25 +111,18 @@ impl Numeric {
     }
 }
 
-impl Named for Numeric {
-    const WHAT: &'static str = "number format";
-    const VALUES: &'static [Self] = &Numeric::ALL;
-    const IGNORE_CASE: bool = true;
-
-    fn spellings(self) -> &'static [&'static str] {
-        match self {
-            Numeric::F64 => &["f64"],
-            Numeric::F32 => &["f32"],
-            Numeric::F16 => &["f16"],
-            Numeric::Q16_16 => &["q16.16", "q16_16"],
-            Numeric::Q8_24 => &["q8.24", "q8_24"],
-            Numeric::Q24_8 => &["q24.8", "q24_8"],
-            Numeric::Q32_32 => &["q32.32", "q32_32"],
-        }
+crate::named! {
+    Numeric, what = "number format", ignore_case = true, values = Numeric::ALL,
+    {
+        F64 => ["f64"],
+        F32 => ["f32"],
+        F16 => ["f16"],
+        Q16_16 => ["q16.16", "q16_16"],
+        Q8_24 => ["q8.24", "q8_24"],
+        Q24_8 => ["q24.8", "q24_8"],
+        Q32_32 => ["q32.32", "q32_32"],
     }
 }
-
-named_impls!(Numeric);
 
 /// A set of [`Numeric`] formats as a bit mask (bit i = `Numeric::ALL[i]`), so that a
 /// capability list costs two bytes on the wire.

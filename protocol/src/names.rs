@@ -2,8 +2,9 @@
 //!
 //! The raster file parser, `fpgfx`'s flags and the tools' reports all go through
 //! [`Named`], so a value is spelled the same way everywhere and a misspelling is answered
-//! with the same list of choices. With the `clap` feature the same spellings become the
-//! flags' possible values ([`possible_value`]).
+//! with the same list of choices. [`named!`](crate::named) writes an enum's table once and
+//! derives the rest from it (`Display`, `FromStr`, and with the `clap` feature the flags'
+//! possible values), for this crate's enums and for other crates' alike.
 
 use core::fmt;
 use core::marker::PhantomData;
@@ -107,10 +108,46 @@ pub fn possible_value<T: Named>(v: T) -> clap::builder::PossibleValue {
     clap::builder::PossibleValue::new(v.name()).aliases(v.spellings()[1..].iter().copied())
 }
 
-/// `Display`, `FromStr` and (with the `clap` feature) `clap::ValueEnum` through [`Named`],
-/// for this crate's enums.
-macro_rules! named_impls {
-    ($($t:ty),*) => {$(
+/// Gives an enum its words: [`Named`] from one table (what it is, whether case matters,
+/// the list of values, each value's spellings with the written one first), and through
+/// it `Display`, `FromStr` and, where protocol is built with its `clap` feature,
+/// `clap::ValueEnum`. Every user-facing enum of fpgfx goes through this one macro, in
+/// this crate or in the crate that owns the enum, so a value is spelled once:
+///
+/// ```
+/// #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// enum Fruit { Apple, Pear }
+///
+/// protocol::named! {
+///     Fruit, what = "fruit", ignore_case = false, values = [Fruit::Apple, Fruit::Pear],
+///     { Apple => ["apple"], Pear => ["pear", "poire"] }
+/// }
+///
+/// assert_eq!("poire".parse::<Fruit>(), Ok(Fruit::Pear));
+/// assert_eq!(Fruit::Apple.to_string(), "apple");
+/// assert_eq!(
+///     "plum".parse::<Fruit>().unwrap_err().to_string(),
+///     "unknown fruit (expected apple, pear)"
+/// );
+/// ```
+#[macro_export]
+macro_rules! named {
+    (
+        $t:ident, what = $what:literal, ignore_case = $ic:literal, values = $values:expr,
+        { $($v:ident => [$($s:literal),+ $(,)?]),+ $(,)? }
+    ) => {
+        impl $crate::names::Named for $t {
+            const WHAT: &'static str = $what;
+            const VALUES: &'static [Self] = &$values;
+            const IGNORE_CASE: bool = $ic;
+
+            fn spellings(self) -> &'static [&'static str] {
+                match self {
+                    $($t::$v => &[$($s),+],)+
+                }
+            }
+        }
+
         impl core::fmt::Display for $t {
             fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
                 f.write_str($crate::names::Named::name(*self))
@@ -125,16 +162,39 @@ macro_rules! named_impls {
             }
         }
 
-        #[cfg(feature = "clap")]
-        impl clap::ValueEnum for $t {
+        $crate::__named_value_enum!($t);
+    };
+}
+
+/// `clap::ValueEnum` through [`Named`] for [`named!`]: expands to the impl only when
+/// protocol has its `clap` feature, so the caller's own features do not matter, and
+/// names clap through protocol so the caller needs no clap dependency of its own.
+#[cfg(feature = "clap")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __named_value_enum {
+    ($t:ident) => {
+        impl $crate::names::clap::ValueEnum for $t {
             fn value_variants<'a>() -> &'a [Self] {
                 <$t as $crate::names::Named>::VALUES
             }
 
-            fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+            fn to_possible_value(&self) -> Option<$crate::names::clap::builder::PossibleValue> {
                 Some($crate::names::possible_value(*self))
             }
         }
-    )*};
+    };
 }
-pub(crate) use named_impls;
+
+/// Without the `clap` feature there are no flags to give values to.
+#[cfg(not(feature = "clap"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __named_value_enum {
+    ($t:ident) => {};
+}
+
+/// clap as [`named!`] names it (not part of the API).
+#[cfg(feature = "clap")]
+#[doc(hidden)]
+pub use clap;

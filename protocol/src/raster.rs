@@ -12,8 +12,6 @@ use heapless::Vec;
 use postcard_schema::Schema;
 use serde::{Deserialize, Serialize};
 
-use crate::names::{named_impls, Named};
-
 /// Vertices of one scanline-filled polygon. Larger polygons are split by the host.
 pub const MAX_POLYGON: usize = 16;
 /// Largest [`RasterSetup::subpixel_bits`] a target accepts: the raster block's
@@ -93,6 +91,18 @@ impl AaPattern {
     ];
 }
 
+crate::named! {
+    AaPattern, what = "pattern", ignore_case = false, values = AaPattern::ALL,
+    {
+        None => ["none"],
+        Regular => ["regular"],
+        Jitter => ["jitter"],
+        Rotated => ["rotated"],
+        Poisson => ["poisson"],
+        Coverage => ["coverage"],
+    }
+}
+
 /// Anti-aliasing settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, Schema)]
 pub struct Aa {
@@ -118,6 +128,15 @@ impl Cull {
     /// Every mode, in declaration order: the numbering of the C library's `FPGFX_CULL_*`
     /// codes and of raster test vectors' set-up words.
     pub const ALL: [Cull; 3] = [Cull::None, Cull::Clockwise, Cull::CounterClockwise];
+}
+
+crate::named! {
+    Cull, what = "culling", ignore_case = false, values = Cull::ALL,
+    {
+        None => ["none"],
+        Clockwise => ["cw", "clockwise"],
+        CounterClockwise => ["ccw", "counter-clockwise"],
+    }
 }
 
 /// How the triangle block walks the pixels of a triangle. All strategies must give
@@ -149,23 +168,16 @@ impl Traversal {
     ];
 }
 
-impl Named for Traversal {
-    const WHAT: &'static str = "traversal";
-    const VALUES: &'static [Self] = &Traversal::ALL;
-    const IGNORE_CASE: bool = false;
-
-    fn spellings(self) -> &'static [&'static str] {
-        match self {
-            Traversal::BoundingBox => &["bbox"],
-            Traversal::Scanline => &["scanline"],
-            Traversal::Zigzag => &["zigzag"],
-            Traversal::Tiles => &["tiles"],
-            Traversal::Simd8 => &["simd8"],
-        }
+crate::named! {
+    Traversal, what = "traversal", ignore_case = false, values = Traversal::ALL,
+    {
+        BoundingBox => ["bbox"],
+        Scanline => ["scanline"],
+        Zigzag => ["zigzag"],
+        Tiles => ["tiles"],
+        Simd8 => ["simd8"],
     }
 }
-
-named_impls!(Traversal);
 
 /// Frame-wide raster state. Sent before the first raster command of a frame; a new one
 /// resets the framebuffer size and clears it to `background`.
@@ -261,6 +273,16 @@ pub enum LineAlgo {
     Dda,
 }
 
+impl LineAlgo {
+    /// Every algorithm, in the order raster files list them.
+    pub const ALL: [LineAlgo; 2] = [LineAlgo::Bresenham, LineAlgo::Dda];
+}
+
+crate::named! {
+    LineAlgo, what = "line algorithm", ignore_case = false, values = LineAlgo::ALL,
+    { Bresenham => ["bresenham"], Dda => ["dda"] }
+}
+
 /// A line segment, end points inclusive.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
 pub struct Line {
@@ -321,6 +343,16 @@ pub enum FillRule {
     EvenOdd,
     /// Inside where the winding number is not zero.
     NonZero,
+}
+
+impl FillRule {
+    /// Both rules, in the order raster files list them.
+    pub const ALL: [FillRule; 2] = [FillRule::EvenOdd, FillRule::NonZero];
+}
+
+crate::named! {
+    FillRule, what = "fill rule", ignore_case = false, values = FillRule::ALL,
+    { EvenOdd => ["even-odd"], NonZero => ["non-zero"] }
 }
 
 /// A closed polygon filled by scanlines.

@@ -31,8 +31,6 @@ mod report;
 mod rt;
 mod runner;
 
-use protocol::names::{Named, UnknownName};
-
 pub use jobs::scene::range::range_demand;
 pub use report::{
     AcneCase, AcneDetail, AcneList, AcnePixel, CaseResult, Counts, Failure, FormatCounts, Report,
@@ -56,44 +54,10 @@ impl Category {
     pub const ALL: [Category; 3] = [Category::Raster, Category::Rt, Category::Parse];
 }
 
-/// The one spelling of each category (`--only`, the table, a failure's reproduce line).
-impl Named for Category {
-    const WHAT: &'static str = "category";
-    const VALUES: &'static [Self] = &Category::ALL;
-    const IGNORE_CASE: bool = false;
-
-    fn spellings(self) -> &'static [&'static str] {
-        match self {
-            Category::Raster => &["raster"],
-            Category::Rt => &["rt"],
-            Category::Parse => &["parse"],
-        }
-    }
-}
-
-impl std::fmt::Display for Category {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for Category {
-    type Err = UnknownName<Category>;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Category::from_name(s)
-    }
-}
-
-/// `--only` parses straight into a category.
-impl clap::ValueEnum for Category {
-    fn value_variants<'a>() -> &'a [Self] {
-        Category::VALUES
-    }
-
-    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
-        Some(protocol::names::possible_value(*self))
-    }
+// The one spelling of each category (`--only`, the table, a failure's reproduce line).
+protocol::named! {
+    Category, what = "category", ignore_case = false, values = Category::ALL,
+    { Raster => ["raster"], Rt => ["rt"], Parse => ["parse"] }
 }
 
 /// Errors of the stress runner itself (not of the kernels, which are counted).

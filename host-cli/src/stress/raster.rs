@@ -13,14 +13,6 @@ use sim_target::raster::{oracle, Raster, COORD_LIMIT};
 
 use super::report::CaseResult;
 
-const TRAVERSALS: [Traversal; 5] = [
-    Traversal::BoundingBox,
-    Traversal::Scanline,
-    Traversal::Zigzag,
-    Traversal::Tiles,
-    Traversal::Simd8,
-];
-
 fn rgb(rng: &mut SmallRng) -> Rgb {
     Rgb::new(rng.gen(), rng.gen(), rng.gen())
 }
@@ -248,7 +240,7 @@ fn setup(rng: &mut SmallRng, w: u32, h: u32, bits: u8) -> RasterSetup {
         background: Rgb::new(0, 0, 0),
         aa: Aa::default(),
         cull: Cull::None,
-        traversal: TRAVERSALS[rng.gen_range(0..TRAVERSALS.len())],
+        traversal: Traversal::ALL[rng.gen_range(0..Traversal::ALL.len())],
     }
 }
 

@@ -225,22 +225,12 @@ pub fn parse(text: &str, file: &str) -> Result<RasterJob, RasterFileError> {
     let aa = match &top.aa {
         None => Aa::default(),
         Some(a) => {
-            let pattern = match a.pattern.as_str() {
-                "none" => AaPattern::None,
-                "regular" => AaPattern::Regular,
-                "jitter" => AaPattern::Jitter,
-                "rotated" => AaPattern::Rotated,
-                "poisson" => AaPattern::Poisson,
-                "coverage" => AaPattern::Coverage,
-                other => {
-                    return Err(setting(
-                        "aa.pattern",
-                        format!(
-                            "unknown pattern {other:?} (none, regular, jitter, rotated, poisson, coverage)"
-                        ),
-                    ))
-                }
-            };
+            let pattern = a.pattern.parse().map_err(|e: UnknownName<AaPattern>| {
+                setting(
+                    "aa.pattern",
+                    format!("unknown pattern {:?} ({})", a.pattern, e.expected()),
+                )
+            })?;
             let samples = a
                 .samples
                 .unwrap_or(if pattern == AaPattern::None { 1 } else { 4 });
@@ -254,15 +244,13 @@ pub fn parse(text: &str, file: &str) -> Result<RasterJob, RasterFileError> {
         }
     };
     let cull = match top.cull.as_deref() {
-        None | Some("none") => Cull::None,
-        Some("cw") | Some("clockwise") => Cull::Clockwise,
-        Some("ccw") | Some("counter-clockwise") => Cull::CounterClockwise,
-        Some(other) => {
-            return Err(setting(
+        None => Cull::None,
+        Some(name) => name.parse().map_err(|e: UnknownName<Cull>| {
+            setting(
                 "cull",
-                format!("unknown culling {other:?} (none, cw, ccw)"),
-            ))
-        }
+                format!("unknown culling {name:?} ({})", e.expected()),
+            )
+        })?,
     };
     let traversal = match top.traversal.as_deref() {
         None => Traversal::default(),
@@ -472,9 +460,10 @@ impl Ctx {
 
     fn line(&self, l: LineCmd) -> Result<RasterCmd, String> {
         let algo = match l.algorithm.as_deref() {
-            None | Some("bresenham") => LineAlgo::Bresenham,
-            Some("dda") => LineAlgo::Dda,
-            Some(other) => return Err(format!("`algorithm`: unknown {other:?} (bresenham, dda)")),
+            None => LineAlgo::default(),
+            Some(name) => name.parse().map_err(|e: UnknownName<LineAlgo>| {
+                format!("`algorithm`: unknown {name:?} ({})", e.expected())
+            })?,
         };
         Ok(RasterCmd::Line(Line {
             from: self.point("from", l.from)?,
@@ -553,9 +542,10 @@ impl Ctx {
             ));
         }
         let rule = match p.rule.as_deref() {
-            None | Some("even-odd") => FillRule::EvenOdd,
-            Some("non-zero") => FillRule::NonZero,
-            Some(other) => return Err(format!("`rule`: unknown {other:?} (even-odd, non-zero)")),
+            None => FillRule::EvenOdd,
+            Some(name) => name.parse().map_err(|e: UnknownName<FillRule>| {
+                format!("`rule`: unknown {name:?} ({})", e.expected())
+            })?,
         };
         let mut points = heapless::Vec::new();
         for (i, q) in p.points.iter().enumerate() {

@@ -43,3 +43,49 @@ fn traversals_read_as_raster_files_spell_them() {
         "bbox, scanline, zigzag, tiles, simd8"
     );
 }
+
+/// Every spelling of every value of `T` reads back as that value, no spelling names two
+/// values, and `VALUES` lists each value once: what `named!` promises for any table.
+fn spellings_are_one_to_one<T: Named + PartialEq + core::fmt::Debug + core::str::FromStr>(
+) -> Vec<String>
+where
+    <T as core::str::FromStr>::Err: core::fmt::Debug,
+{
+    let mut seen: Vec<&str> = Vec::new();
+    for (i, v) in T::VALUES.iter().enumerate() {
+        assert!(!T::VALUES[..i].contains(v), "{v:?} listed twice");
+        for s in v.spellings() {
+            assert!(!seen.contains(s), "{s:?} names two {}s", T::WHAT);
+            seen.push(s);
+            assert_eq!(s.parse::<T>().expect("spelling parses"), *v, "{s}");
+        }
+    }
+    T::VALUES.iter().map(|v| v.name().to_string()).collect()
+}
+
+#[test]
+fn raster_file_enums_read_as_raster_files_spell_them() {
+    use protocol::raster::{AaPattern, Cull, FillRule, LineAlgo};
+    assert_eq!(
+        spellings_are_one_to_one::<AaPattern>(),
+        ["none", "regular", "jitter", "rotated", "poisson", "coverage"]
+    );
+    assert_eq!(spellings_are_one_to_one::<Cull>(), ["none", "cw", "ccw"]);
+    assert_eq!("clockwise".parse::<Cull>(), Ok(Cull::Clockwise));
+    assert_eq!(
+        "counter-clockwise".parse::<Cull>(),
+        Ok(Cull::CounterClockwise)
+    );
+    assert_eq!(spellings_are_one_to_one::<LineAlgo>(), ["bresenham", "dda"]);
+    assert_eq!(
+        spellings_are_one_to_one::<FillRule>(),
+        ["even-odd", "non-zero"]
+    );
+    spellings_are_one_to_one::<Traversal>();
+    spellings_are_one_to_one::<Numeric>();
+    // The lists are the enums' ALL tables, the numbering the C library and vectors use.
+    assert_eq!(<AaPattern as Named>::VALUES, &AaPattern::ALL);
+    assert_eq!(<Cull as Named>::VALUES, &Cull::ALL);
+    let e = "diagonal".parse::<Cull>().unwrap_err();
+    assert_eq!(e.to_string(), "unknown culling (expected none, cw, ccw)");
+}

@@ -5,14 +5,6 @@ use protocol::raster::*;
 use protocol::MAX_FRAME_SIDE;
 use sim_target::raster::{oracle, tri, Raster, RasterError};
 
-const TRAVERSALS: [Traversal; 5] = [
-    Traversal::BoundingBox,
-    Traversal::Scanline,
-    Traversal::Zigzag,
-    Traversal::Tiles,
-    Traversal::Simd8,
-];
-
 fn setup(w: u16, h: u16, bits: u8, t: Traversal) -> RasterSetup {
     RasterSetup {
         width: w,
@@ -60,7 +52,7 @@ fn render(tris: &[[Point; 3]], bits: u8, w: u16, h: u16, t: Traversal) -> (Vec<u
 
 fn check(v: [Point; 3], bits: u8, w: u16, h: u16) -> Result<(), TestCaseError> {
     let want = reference(&v, bits, w, h);
-    for t in TRAVERSALS {
+    for t in Traversal::ALL {
         let (got, over) = render(&[v], bits, w, h, t);
         prop_assert_eq!(over, 0);
         prop_assert!(
@@ -169,7 +161,7 @@ fn viewport_limit_vertices() {
                 );
             }
         }
-        for t in TRAVERSALS {
+        for t in Traversal::ALL {
             let mut rows = vec![Vec::new(); dim as usize];
             let mut c = tri::TravCounters::default();
             tri::traverse(&s, t, &mut c, &mut |y, x0, x1| {
@@ -294,7 +286,7 @@ fn mesh_is_watertight_for_every_traversal() {
             assert_eq!(want[j * w + i], 1, "crack at {i},{j}");
         }
     }
-    for t in TRAVERSALS {
+    for t in Traversal::ALL {
         let (got, over) = render(&tris, 8, w as u16, h as u16, t);
         assert_eq!(over, 0, "{t:?} overdraw");
         assert_eq!(got, want, "{t:?}");
@@ -490,7 +482,7 @@ fn viewport_clipping_of_partly_outside_triangles() {
         Point { x: 50, y: 1000 },
     ];
     let want = reference(&v, 4, 32, 32);
-    for t in TRAVERSALS {
+    for t in Traversal::ALL {
         let (got, _) = render(&[v], 4, 32, 32, t);
         assert_eq!(got, want);
     }

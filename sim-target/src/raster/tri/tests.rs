@@ -8,14 +8,6 @@ use super::{setup, traverse, walk_oracle, TravCounters, COORD_LIMIT};
 use crate::raster::Framebuffer;
 use protocol::raster::MAX_SUBPIXEL_BITS;
 
-const TRAVERSALS: [Traversal; 5] = [
-    Traversal::BoundingBox,
-    Traversal::Scanline,
-    Traversal::Zigzag,
-    Traversal::Tiles,
-    Traversal::Simd8,
-];
-
 /// Spans drawn into a write-tracked framebuffer: the order-insensitive result, with
 /// every pixel's write count.
 fn drawn(w: u32, h: u32, spans: &[(u32, u32, u32)]) -> Framebuffer {
@@ -33,7 +25,7 @@ fn check(v: &[Point; 3], bits: u8, w: u32, h: u32) -> Result<bool, TestCaseError
     let Some(s) = setup(v, bits, w, h, Cull::None) else {
         return Ok(false);
     };
-    for t in TRAVERSALS {
+    for t in Traversal::ALL {
         let (mut got, mut want) = (TravCounters::default(), TravCounters::default());
         let (mut got_spans, mut want_spans) = (Vec::new(), Vec::new());
         traverse(&s, t, &mut got, &mut |y, a, b| got_spans.push((y, a, b)));
