@@ -11,6 +11,7 @@ use std::process::Command;
 
 use anyhow::{bail, Context, Result};
 
+mod layers;
 mod synth;
 
 /// The MCU target the protocol crate must build for on its own (the board binaries below
@@ -308,6 +309,7 @@ fn test() -> Result<()> {
     setup()?;
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     run(&cargo, &["fmt", "--all", "--check"])?;
+    layers::check(&cargo)?;
     run(
         &cargo,
         &[

@@ -10,5 +10,6 @@ mod fpga_link;
 mod frame;
 mod fuzz_props;
 mod link;
+mod modules;
 mod names;
 mod scene;
