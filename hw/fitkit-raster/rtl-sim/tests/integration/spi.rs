@@ -1,8 +1,8 @@
 //! The SPI master and the status block on a fresh block: what a driver sees first.
 
 use embedded_hal::spi::{Operation, SpiDevice};
+use fitkit_rtl_sim::{RtlSpi, SpiConfig, SpiError};
 use protocol::fitkit_spi::{self as wire, Status};
-use rtl_sim::{RtlSpi, SpiConfig, SpiError};
 
 use crate::harness;
 
@@ -87,7 +87,7 @@ fn a_soft_reset_clears_the_set_up() {
 fn the_delay_runs_the_clock_within_its_cap() {
     use embedded_hal::delay::DelayNs;
     let rtl = harness::rtl();
-    let mut delay = rtl_sim::RtlDelay::new(rtl.clone(), SpiConfig::default())
+    let mut delay = fitkit_rtl_sim::RtlDelay::new(rtl.clone(), SpiConfig::default())
         .expect("delay")
         .with_max_cycles(1_000);
     let start = rtl.borrow().cycle();

@@ -2,9 +2,9 @@
 //! switched on and off between commands. Pixels and fragment counts must not change;
 //! cycles only grow (the units stall on a full fragment FIFO).
 
+use fitkit_rtl_sim::MemWait;
 use protocol::frame::Cull;
 use rand::Rng;
-use rtl_sim::MemWait;
 
 use crate::cases;
 use crate::harness::{self, Pair};

@@ -1,7 +1,7 @@
 //! A block that never finishes is a bounded-wait error, not a hang.
 
+use fitkit_rtl_sim::RtlError;
 use protocol::frame::{Cull, Rgb};
-use rtl_sim::RtlError;
 
 use crate::cases;
 use crate::harness::{self, Pair};

@@ -3,10 +3,10 @@
 //! framebuffers and counters side by side.
 
 use embedded_hal::spi::{Operation, SpiDevice};
+use fitkit_rtl_sim::{MemWait, Rtl, RtlSpi, SharedRtl, SpiConfig};
 use protocol::bus::{self, PackOptions, FITKIT};
 use protocol::fitkit_spi::{self as wire, Status};
 use protocol::frame::{Cull, RasterCmd, RasterSetup, Rgb, Traversal};
-use rtl_sim::{MemWait, Rtl, RtlSpi, SharedRtl, SpiConfig};
 use sim_target::Device;
 
 /// Cycle bound of every wait on the RTL: above the longest case (a 512 × 512 bounding

@@ -1,10 +1,12 @@
-//! Verilates `rtl/` (top `fitkit_sim_top`) and compiles it with Verilator's runtime and
-//! the C shim into a static library the crate links.
+//! Verilates the block's `rtl/` and `sim/` (`hw/fitkit-raster/`, top `fitkit_sim_top`) and
+//! compiles it with Verilator's runtime and the C shim into a static library the crate
+//! links.
 //!
-//! Without verilator, or before `rtl/sim/` has a top, the crate still builds (the rest
+//! Without verilator, or before `sim/` has a top, the crate still builds (the rest
 //! of the workspace must not need Verilator): `rtl_sim_verilated` stays unset and
 //! `RTL_SIM_MISSING` names what was missing, which `Rtl::new` turns into its error.
-//! `FPGFX_RTL_DIR` points it at another copy of `rtl/`.
+//! `FPGFX_RTL_DIR` points it at another copy of `rtl/` (the simulation top stays the
+//! block's own `sim/`: what is under test is the synthesisable part).
 //!
 //! The generated C++ is compiled optimised whatever the Cargo profile: a debug build of
 //! it would make the differential tests several times slower.
@@ -33,7 +35,7 @@ fn main() {
     let rtl = env::var_os("FPGFX_RTL_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| manifest.join("../rtl"));
-    let sources = rtl_sources(&rtl);
+    let sources = rtl_sources(&rtl, &manifest.join("../sim"));
     let Some(verilator) = find_verilator() else {
         println!("cargo::rerun-if-env-changed=PATH");
         println!("cargo::rerun-if-changed={DEBIAN_VERILATOR}");
@@ -65,7 +67,8 @@ fn main() {
     let _ = fs::write(&log, &text);
     if !run.status.success() {
         panic!(
-            "verilator failed on rtl/ ({}):\n{}",
+            "verilator failed on {} ({}):\n{}",
+            rtl.display(),
             run.status,
             String::from_utf8_lossy(&text)
         );
@@ -109,12 +112,12 @@ fn missing(what: &str) {
     println!("cargo::rustc-env=RTL_SIM_MISSING={what}");
 }
 
-/// `rtl/*.v` then `rtl/sim/*.v`, sorted, each watched (and the folders, for added files).
-fn rtl_sources(rtl: &Path) -> Vec<PathBuf> {
+/// `rtl/*.v` then `sim/*.v`, sorted, each watched (and the folders, for added files).
+fn rtl_sources(rtl: &Path, sim: &Path) -> Vec<PathBuf> {
     let mut all = Vec::new();
-    for dir in [rtl.to_path_buf(), rtl.join("sim")] {
+    for dir in [rtl, sim] {
         println!("cargo::rerun-if-changed={}", dir.display());
-        let Ok(entries) = fs::read_dir(&dir) else {
+        let Ok(entries) = fs::read_dir(dir) else {
             continue;
         };
         let mut files: Vec<PathBuf> = entries

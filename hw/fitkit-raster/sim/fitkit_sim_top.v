@@ -1,4 +1,5 @@
-// fitkit_sim_top -- fitkit_raster with the simulation RAM behind it: what rtl-sim Verilates.
+// fitkit_sim_top -- fitkit_raster with the simulation RAM behind it: what the bridge crate
+// (fitkit-rtl-sim) Verilates.
 //
 // Ports: fitkit_raster's clk, rst, SPI pins, fifo_free and busy; mem_wait drives the
 // memory port's wait input (tests toggle it to exercise the stall path); bd_addr /

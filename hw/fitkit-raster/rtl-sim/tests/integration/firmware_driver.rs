@@ -3,9 +3,9 @@
 //! by status polling and the framebuffer read back, against the model.
 
 use firmware::{FitkitSpi, FpgaBus};
+use fitkit_rtl_sim::{RtlDelay, RtlSpi, SpiConfig};
 use protocol::bus::{self, FITKIT};
 use protocol::frame::{Block, Cull, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame};
-use rtl_sim::{RtlDelay, RtlSpi, SpiConfig};
 use sim_target::Device;
 
 use crate::cases;

@@ -1,6 +1,7 @@
-//! The FITkit raster block's Verilog (`rtl/`), Verilated, as a Rust library: what the
-//! differential tests drive to hold the RTL to the golden model (`sim-target`), and what
-//! a driver written against `embedded-hal` can talk to before there is a board.
+//! The FITkit raster block's Verilog (`hw/fitkit-raster/rtl/`), Verilated, as a Rust
+//! library: what the differential tests drive to hold the RTL to the golden model
+//! (`sim-target`), and what a driver written against `embedded-hal` can talk to before
+//! there is a board.
 //!
 //! [`Rtl`] owns the model and is clocked one cycle at a time; its inputs are the pins of
 //! docs/rtl.md's `fitkit_raster` plus the memory's `mem_wait` (held low, or a seeded
@@ -41,11 +42,11 @@ pub type SharedRtl = Rc<RefCell<Rtl>>;
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum RtlError {
     /// The crate was built where verilator could not be found, so it holds no model.
-    #[error("verilator not found when rtl-sim was built: run `cargo xtask setup` (installs verilator from Debian), then rebuild")]
+    #[error("verilator not found when fitkit-rtl-sim was built: run `cargo xtask setup` (installs verilator from Debian), then rebuild")]
     NoVerilator,
-    /// The crate was built before `rtl/sim/` had the `fitkit_sim_top` module.
+    /// The crate was built before `hw/fitkit-raster/sim/` had the `fitkit_sim_top` module.
     #[error(
-        "rtl/ had no `fitkit_sim_top` module when rtl-sim was built: the RTL is not there yet"
+        "hw/fitkit-raster/sim/ had no `fitkit_sim_top` module when fitkit-rtl-sim was built: the RTL is not there yet"
     )]
     NoRtl,
     /// The Verilated model has no single public 2^18-byte array to read the framebuffer

@@ -1,19 +1,19 @@
 //! How fast the Verilated block runs here: clock cycles, fragments and SPI bits per
 //! second of wall time, over a fixed seeded mix of set-ups, lines and triangles.
 //!
-//! `cargo run -p rtl-sim --release --example throughput` (the C++ is -O3 in any
+//! `cargo run -p fitkit-rtl-sim --release --example throughput` (the C++ is -O3 in any
 //! profile; `--release` only speeds up the Rust side).
 
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use embedded_hal::spi::SpiDevice;
+use fitkit_rtl_sim::{Rtl, RtlSpi, SpiConfig};
 use protocol::bus::{self, FITKIT};
 use protocol::fitkit_spi::{self as wire, Status};
 use protocol::frame::{Cull, Line, LineAlgo, Point, RasterCmd, Shade, Triangle};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
-use rtl_sim::{Rtl, RtlSpi, SpiConfig};
 
 /// Cycle bound of every wait: far above the longest command here.
 const BOUND: u64 = 50_000_000;
@@ -98,7 +98,7 @@ fn main() -> Result<()> {
 
 /// Waits for FIFO_FREE, then writes one packet; adds the SPI part's wall time.
 fn send(
-    rtl: &rtl_sim::SharedRtl,
+    rtl: &fitkit_rtl_sim::SharedRtl,
     spi: &mut RtlSpi,
     address: u8,
     records: &[u64],
