@@ -8,6 +8,8 @@
 # (RTL_SIM=iverilog or RTL_SIM=verilator forces one). Paths below are relative to this
 # block's folder; build products go to $RTL_BUILD (default target/rtl at the workspace
 # root, beside cargo's output; a relative $RTL_BUILD is taken from the workspace root).
+# Every compile gets -I rtl: the modules and testbenches include the generated map header
+# rtl/fitkit_map.vh.
 set -eu
 cd "$(dirname "$0")/../.."
 BUILD=${RTL_BUILD:-target/rtl}
@@ -19,9 +21,9 @@ if [ "$SIM" = auto ]; then
     if command -v iverilog >/dev/null 2>&1; then SIM=iverilog; else SIM=verilator; fi
 fi
 
-verilator --lint-only -Wall rtl/*.v --top-module fitkit_raster
-verilator --lint-only -Wall rtl/*.v sim/*.v --top-module fitkit_sim_top
-verilator --lint-only -Wall -GTRI_LANES=8 rtl/*.v --top-module fitkit_raster
+verilator --lint-only -Wall -Irtl rtl/*.v --top-module fitkit_raster
+verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top
+verilator --lint-only -Wall -Irtl -GTRI_LANES=8 rtl/*.v --top-module fitkit_raster
 echo "lint: clean"
 
 # testbench, build name, LANES parameter of tb_tri (or -), then the RTL files it needs
@@ -32,12 +34,12 @@ run() {
     shift 3
     if [ "$SIM" = iverilog ]; then
         [ "$lanes" = - ] || set -- -P "$tb.LANES=$lanes" "$@"
-        iverilog -g2012 -I tb -s "$tb" -o "$BUILD/$name.vvp" "tb/$tb.v" "$@"
+        iverilog -g2012 -I tb -I rtl -s "$tb" -o "$BUILD/$name.vvp" "tb/$tb.v" "$@"
         # vvp exits 0 after $fatal; the testbench's summary line decides.
         vvp -n "$BUILD/$name.vvp" | tee "$BUILD/$name.log"
     else
         [ "$lanes" = - ] || set -- -GLANES="$lanes" "$@"
-        verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style -Itb \
+        verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style -Itb -Irtl \
             --top-module "$tb" "tb/$tb.v" "$@" -Mdir "$BUILD/$name" -o "$tb" \
             -MAKEFLAGS "OPT_FAST=-O0 OPT_SLOW=-O0 OPT_GLOBAL=-O0" >"$BUILD/$name.build.log"
         "$BUILD/$name/$tb" | tee "$BUILD/$name.log"

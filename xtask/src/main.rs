@@ -274,7 +274,8 @@ fn rtl_checks() -> Result<()> {
         .iter()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    let mut lint = vec!["--lint-only", "-Wall", "--top-module", synth::TOP];
+    let include = format!("-I{}", synth::rtl_dir(&root).display());
+    let mut lint = vec!["--lint-only", "-Wall", &include, "--top-module", synth::TOP];
     lint.extend(files.iter().map(String::as_str));
     run("verilator", &lint)?;
     let script = root.join(synth::BLOCK).join("run-tests.sh");

@@ -40,10 +40,16 @@ pub struct Cells {
     pub dsps: u64,
 }
 
+/// The block's `rtl/`: its synthesisable sources and the generated map header
+/// (`fitkit_map.vh`) they include, so every tool reading them needs it as an include path.
+pub fn rtl_dir(root: &Path) -> PathBuf {
+    root.join(BLOCK).join("rtl")
+}
+
 /// The synthesisable sources: the block's `rtl/*.v`, sorted (its `sim/` and `tb/` are
 /// simulation only).
 pub fn sources(root: &Path) -> Result<Vec<PathBuf>> {
-    let dir = root.join(BLOCK).join("rtl");
+    let dir = rtl_dir(root);
     let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
         .with_context(|| format!("cannot list {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -136,7 +142,11 @@ pub fn synth(root: &Path) -> Result<()> {
         .iter()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    let read = format!("read_verilog {}", files.join(" "));
+    let read = format!(
+        "read_verilog -I{} {}",
+        rtl_dir(root).display(),
+        files.join(" ")
+    );
     tool_output(
         "yosys",
         &[

@@ -58,6 +58,9 @@ fn main() {
     let run = Command::new(&verilator)
         .args(["--cc", "-O3", "--top-module", TOP, "-Wno-fatal", "--Mdir"])
         .arg(&mdir)
+        // The modules include the generated map header (fitkit_map.vh) that sits beside
+        // them, so a scratch copy of rtl/ brings its own.
+        .arg(format!("-I{}", rtl.display()))
         .args(&sources)
         .output()
         .unwrap_or_else(|e| panic!("cannot run {}: {e}", verilator.display()));
@@ -112,7 +115,8 @@ fn missing(what: &str) {
     println!("cargo::rustc-env=RTL_SIM_MISSING={what}");
 }
 
-/// `rtl/*.v` then `sim/*.v`, sorted, each watched (and the folders, for added files).
+/// `rtl/*.v` then `sim/*.v`, sorted, each watched with the headers beside them (and the
+/// folders, for added files).
 fn rtl_sources(rtl: &Path, sim: &Path) -> Vec<PathBuf> {
     let mut all = Vec::new();
     for dir in [rtl, sim] {
@@ -122,13 +126,17 @@ fn rtl_sources(rtl: &Path, sim: &Path) -> Vec<PathBuf> {
         };
         let mut files: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "v"))
+            .filter(|p| p.extension().is_some_and(|x| x == "v" || x == "vh"))
             .collect();
         files.sort();
         for f in &files {
             println!("cargo::rerun-if-changed={}", f.display());
         }
-        all.extend(files);
+        all.extend(
+            files
+                .into_iter()
+                .filter(|p| p.extension().is_some_and(|x| x == "v")),
+        );
     }
     all
 }

@@ -18,6 +18,9 @@
 // Timing (not counted in any unit's busy cycles): 2 cycles to pop a 1-record packet and
 // 3 for a 2-record one from a primed FIFO, 1 to start each unit (the CB clear too);
 // a set-up adds the drain wait and 1 cycle to latch.
+// The tags are the record channels' addresses and the power-on frame is the map's side
+// (fitkit_map.vh).
+`include "fitkit_map.vh"
 module cmd_exec (
     input  wire        clk,
     input  wire        rst,
@@ -45,6 +48,14 @@ module cmd_exec (
     localparam [3:0] IDLE = 4'd0, GET1 = 4'd1, DISPATCH = 4'd2, DRAIN = 4'd3,
                      SETUP_CLR = 4'd4, WAIT_SETUP = 4'd5, WAIT_CB = 4'd6, DRAW = 4'd7,
                      WAIT_DRAW = 4'd8, WAIT_CLR = 4'd9;
+    // A record's tag is the low two bits of its channel's address.
+    localparam [7:0] A_SETUP = `FITKIT_ADDR_SETUP, A_LINE = `FITKIT_ADDR_LINE,
+                     A_TRI = `FITKIT_ADDR_TRIANGLE, A_CLEAR = `FITKIT_ADDR_CLEAR;
+    localparam [1:0] T_SETUP = A_SETUP[1:0], T_LINE = A_LINE[1:0], T_TRI = A_TRI[1:0],
+                     T_CLEAR = A_CLEAR[1:0];
+    // Width - 1 and height - 1 before the first set-up: the whole frame.
+    localparam integer FRAME_M1 = `FITKIT_FRAME_SIDE - 1;
+    localparam [8:0]   SIDE_M1  = FRAME_M1[8:0];
 
     reg [3:0]  state;
     reg [1:0]  tag;
@@ -68,8 +79,8 @@ module cmd_exec (
             tag        <= 2'd0;
             r0         <= 36'd0;
             r1         <= 27'd0;
-            wm1        <= 9'd511;
-            hm1        <= 9'd511;
+            wm1        <= SIDE_M1;
+            hm1        <= SIDE_M1;
             bg         <= 8'd0;
             cull       <= 2'd0;
             setup_done <= 1'b0;
@@ -79,8 +90,8 @@ module cmd_exec (
                 IDLE: if (DATA_VLD) begin
                     r0    <= DATA_OUT[35:0];
                     tag   <= DATA_OUT[37:36];
-                    state <= (DATA_OUT[37:36] == 2'd1 || DATA_OUT[37:36] == 2'd2) ? GET1
-                                                                                : DISPATCH;
+                    state <= (DATA_OUT[37:36] == T_LINE || DATA_OUT[37:36] == T_TRI) ? GET1
+                                                                                  : DISPATCH;
                 end
                 GET1: if (DATA_VLD) begin
                     r1    <= DATA_OUT[35:9];
@@ -88,8 +99,8 @@ module cmd_exec (
                 end
                 DISPATCH: begin
                     case (tag)
-                        2'd0: state <= DRAIN;
-                        2'd3: begin
+                        T_SETUP: state <= DRAIN;
+                        T_CLEAR: begin
                             clr_color <= r0[34:27];
                             clr_start <= 1'b1;
                             state     <= WAIT_CLR;
@@ -123,8 +134,8 @@ module cmd_exec (
                 end
                 WAIT_CB: if (clr_done) state <= DRAW;
                 DRAW: begin
-                    line_start <= tag == 2'd1;
-                    tri_start  <= tag == 2'd2;
+                    line_start <= tag == T_LINE;
+                    tri_start  <= tag == T_TRI;
                     state      <= WAIT_DRAW;
                 end
                 WAIT_DRAW: if (line_done | tri_done) begin

@@ -20,61 +20,71 @@
 // read, no reset), so yosys maps it to block RAM (five 512 x 8 EBRs on iCE40).
 // Timing: a committed record reaches DATA_OUT 2 cycles after COMMIT (pointer, RAM read);
 // back-to-back records come one per cycle.
+// Depth, record width and the FIFO_FREE threshold are the generated map's
+// (fitkit_map.vh): the host sizes its writes by them.
+`include "fitkit_map.vh"
 module fifo36 (
     input  wire        clk,
     input  wire        rst,
-    input  wire [37:0] DATA_IN,
+    input  wire [`FITKIT_RECORD_BITS+1:0] DATA_IN,
     input  wire        DATA_WE,
     input  wire        COMMIT,
     input  wire        DISCARD,
     input  wire        FIFO_NEXT,
-    output wire [37:0] DATA_OUT,
+    output wire [`FITKIT_RECORD_BITS+1:0] DATA_OUT,
     output wire        DATA_VLD,
     output wire        FIFO_FREE,
     output wire        room,
-    output wire [9:0]  free_count,
-    output wire [9:0]  occupancy
+    output wire [$clog2(`FITKIT_FIFO_RECORDS):0] free_count,
+    output wire [$clog2(`FITKIT_FIFO_RECORDS):0] occupancy
 );
-    reg [37:0] mem [0:511];
-    reg [9:0]  wr_ptr;     // tentative
-    reg [9:0]  wr_commit;  // visible to the reader
-    reg [9:0]  rd_ptr;     // next RAM word to read
-    reg        out_valid;
-    reg [37:0] out_data;
+    localparam W     = `FITKIT_RECORD_BITS + 2;         // record + tag
+    localparam DEPTH = `FITKIT_FIFO_RECORDS;
+    localparam AW    = $clog2(DEPTH);                    // pointers carry one more bit
+    localparam [AW:0] DEPTH_C  = DEPTH;
+    // Records of the widest packet: what FIFO_FREE promises room for.
+    localparam [AW:0] PACKET_C = (`FITKIT_MAX_PACKET_BYTES * 8) / `FITKIT_RECORD_BITS;
 
-    wire [9:0] used_tent = (wr_ptr - rd_ptr) + {9'd0, out_valid};
-    wire [9:0] used_comm = (wr_commit - rd_ptr) + {9'd0, out_valid};
-    wire       do_write  = DATA_WE & room;
-    wire       avail     = wr_commit != rd_ptr;
-    wire       do_read   = avail & (~out_valid | FIFO_NEXT);
+    reg [W-1:0] mem [0:DEPTH-1];
+    reg [AW:0]  wr_ptr;     // tentative
+    reg [AW:0]  wr_commit;  // visible to the reader
+    reg [AW:0]  rd_ptr;     // next RAM word to read
+    reg         out_valid;
+    reg [W-1:0] out_data;
 
-    assign room       = used_tent != 10'd512;
+    wire [AW:0] used_tent = (wr_ptr - rd_ptr) + {{AW{1'b0}}, out_valid};
+    wire [AW:0] used_comm = (wr_commit - rd_ptr) + {{AW{1'b0}}, out_valid};
+    wire        do_write  = DATA_WE & room;
+    wire        avail     = wr_commit != rd_ptr;
+    wire        do_read   = avail & (~out_valid | FIFO_NEXT);
+
+    assign room       = used_tent != DEPTH_C;
     assign occupancy  = used_comm;
-    assign free_count = 10'd512 - used_comm;
-    assign FIFO_FREE  = free_count >= 10'd2;
+    assign free_count = DEPTH_C - used_comm;
+    assign FIFO_FREE  = free_count >= PACKET_C;
     assign DATA_VLD   = out_valid;
     assign DATA_OUT   = out_data;
 
     always @(posedge clk) begin
-        if (do_write) mem[wr_ptr[8:0]] <= DATA_IN;
+        if (do_write) mem[wr_ptr[AW-1:0]] <= DATA_IN;
     end
 
     always @(posedge clk) begin
-        if (do_read) out_data <= mem[rd_ptr[8:0]];
+        if (do_read) out_data <= mem[rd_ptr[AW-1:0]];
     end
 
     always @(posedge clk) begin
         if (rst) begin
-            wr_ptr    <= 10'd0;
-            wr_commit <= 10'd0;
-            rd_ptr    <= 10'd0;
+            wr_ptr    <= {(AW+1){1'b0}};
+            wr_commit <= {(AW+1){1'b0}};
+            rd_ptr    <= {(AW+1){1'b0}};
             out_valid <= 1'b0;
         end else begin
             if (DISCARD) wr_ptr <= wr_commit;
-            else if (do_write) wr_ptr <= wr_ptr + 10'd1;
+            else if (do_write) wr_ptr <= wr_ptr + 1'b1;
             if (COMMIT) wr_commit <= wr_ptr;
             if (do_read) begin
-                rd_ptr    <= rd_ptr + 10'd1;
+                rd_ptr    <= rd_ptr + 1'b1;
                 out_valid <= 1'b1;
             end else if (FIFO_NEXT) begin
                 out_valid <= 1'b0;

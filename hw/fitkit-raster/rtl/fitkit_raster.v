@@ -11,6 +11,7 @@
 // Ports: docs/rtl.md "Top level". rst and the SPI reset (channel 0x7F) reset everything
 // but the SPI slave and decoder, which are idle when the reset transaction ends.
 // Timing: per unit in its own header; the cycle formulas are collected in docs/rtl.md.
+`include "fitkit_map.vh"
 module fitkit_raster #(
     parameter TRI_LANES = 1     // tri_unit's pixel tests per cycle: 1 (seed), 2, 4 or 8
 ) (
@@ -43,7 +44,7 @@ module fitkit_raster #(
     wire [7:0]  chan, dec_chan;
     wire        chan_valid, fifo_we, fifo_commit, fifo_discard, dec_err, soft_rst, snap;
     wire [37:0] fifo_din;
-    wire [2:0]  dec_code;
+    wire [`FITKIT_ERR_BITS-1:0] dec_code;
     wire        fifo_room;
     spi_decoder u_dec (
         .clk(clk), .rst(rst), .cs_start(cs_start), .cs_end(cs_end), .cs_partial(cs_partial),
@@ -60,7 +61,7 @@ module fitkit_raster #(
     // Input FIFO and the executor.
     wire [37:0] data_out;
     wire        data_vld, fifo_next;
-    wire [9:0]  free_count, occupancy;
+    wire [$clog2(`FITKIT_FIFO_RECORDS):0] free_count, occupancy;
     fifo36 u_fifo (
         .clk(clk), .rst(crst), .DATA_IN(fifo_din), .DATA_WE(fifo_we), .COMMIT(fifo_commit),
         .DISCARD(fifo_discard), .FIFO_NEXT(fifo_next), .DATA_OUT(data_out),
@@ -138,7 +139,7 @@ module fitkit_raster #(
     );
 
     assign pipe_idle = frag_empty & ~write_pending;
-    assign busy      = exec_busy | (occupancy != 10'd0) | ~frag_empty | write_pending;
+    assign busy      = exec_busy | (|occupancy) | ~frag_empty | write_pending;
 
     status u_status (
         .clk(clk), .rst(crst), .cnt_clr(cnt_clr), .pkt_done(pkt_done), .any_done(any_done),
@@ -150,8 +151,8 @@ module fitkit_raster #(
     );
 
     always @* begin
-        if (chan_valid && chan == 8'h20) tx_byte = st_byte;
-        else if (chan_valid && chan == 8'h30) tx_byte = rb_byte;
+        if (chan_valid && chan == `FITKIT_ADDR_STATUS) tx_byte = st_byte;
+        else if (chan_valid && chan == `FITKIT_ADDR_READ) tx_byte = rb_byte;
         else tx_byte = 8'd0;
     end
 endmodule

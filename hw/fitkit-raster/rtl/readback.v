@@ -11,6 +11,9 @@
 //
 // Ports: the spi_slave's events and chan / chan_valid from spi_decoder in; tx_byte is
 // the byte for the slave while channel 0x30 is selected; rd_* to / from fb_writer.
+// The channel and the header's length (address, start address, turnaround) are the
+// generated map's (fitkit_map.vh), which the host reads by.
+`include "fitkit_map.vh"
 module readback (
     input  wire        clk,
     input  wire        rst,
@@ -39,13 +42,17 @@ module readback (
     reg        drop;         // ... and belongs to an earlier transaction
     reg        missing;      // the byte loaded last had no data
 
-    wire active = chan_valid & (chan == 8'h30);
-    wire pop    = active & tx_load & (byte_index >= 8'd5);
+    // Byte indices in the transaction: the last start-address byte, the first pixel.
+    localparam [7:0] LAST_ADDR   = `FITKIT_READ_HEADER_BYTES - `FITKIT_READ_TURNAROUND - 1;
+    localparam [7:0] FIRST_PIXEL = `FITKIT_READ_HEADER_BYTES;
+
+    wire active = chan_valid & (chan == `FITKIT_ADDR_READ);
+    wire pop    = active & tx_load & (byte_index >= FIRST_PIXEL);
     wire push   = rd_valid & ~drop;
 
     assign rd_req  = en & ~pend & (cnt != 2'd2);
     assign rd_addr = addr;
-    assign tx_byte = (byte_index >= 8'd5 && cnt != 2'd0) ? b0 : 8'd0;
+    assign tx_byte = (byte_index >= FIRST_PIXEL && cnt != 2'd0) ? b0 : 8'd0;
 
     always @(posedge clk) begin
         underrun <= 1'b0;
@@ -72,9 +79,9 @@ module readback (
                 missing <= 1'b0;
                 drop    <= (pend & ~rd_valid) | rd_ack;
             end else begin
-                if (rx_valid && active && rx_index >= 8'd1 && rx_index <= 8'd3) begin
+                if (rx_valid && active && rx_index >= 8'd1 && rx_index <= LAST_ADDR) begin
                     addr <= {addr[9:0], rx_byte};
-                    en   <= rx_index == 8'd3;
+                    en   <= rx_index == LAST_ADDR;
                 end
                 // Queue: pop the head and / or push at the tail.
                 case ({push, pop & (cnt != 2'd0)})

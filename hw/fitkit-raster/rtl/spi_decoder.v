@@ -22,6 +22,9 @@
 // the FIFO, counted for the status block's packet index).
 // Timing: one record write per completed byte at most; commit/discard the cycle after
 // cs_end.
+// Addresses, error codes and packet lengths are the generated map's (fitkit_map.vh), so
+// the decoder and protocol::fitkit_spi cannot drift apart.
+`include "fitkit_map.vh"
 module spi_decoder (
     input  wire        clk,
     input  wire        rst,
@@ -39,15 +42,15 @@ module spi_decoder (
     output reg         fifo_commit,
     output reg         fifo_discard,
     output reg         err_valid,
-    output reg  [2:0]  err_code,
+    output reg  [`FITKIT_ERR_BITS-1:0] err_code,
     output reg  [7:0]  err_chan,
     output reg         soft_rst,
     output reg         snap
 );
-    localparam [7:0] CH_LINE = 8'h01, CH_TRI = 8'h02, CH_CLEAR = 8'h03,
-                     CH_STATUS = 8'h20, CH_READ = 8'h30, CH_RESET = 8'h7F;
-    localparam [2:0] E_LENGTH = 3'd1, E_PADDING = 3'd2, E_OVERRUN = 3'd3, E_NOCB = 3'd4,
-                     E_ADDRESS = 3'd5;
+    // Payload bytes of a 1-record packet (set-up, clear) and of a 2-record one (line,
+    // triangle): the records' bits padded to whole bytes.
+    localparam [7:0] BYTES1 = (`FITKIT_RECORD_BITS + 7) / 8;
+    localparam [7:0] BYTES2 = `FITKIT_MAX_PACKET_BYTES;
 
     // The last 5 payload bytes, newest at the bottom. Bits 38..32 are shifted through
     // but not read: they are the colour of a clear, which has no check.
@@ -57,14 +60,20 @@ module spi_decoder (
     reg [7:0]  nbytes;   // payload bytes, saturating
     reg        ovr;
 
-    wire is_rec  = chan_valid & (chan[7:2] == 6'd0);          // set-up, line, tri, clear
-    wire is_two  = chan_valid & ((chan == CH_LINE) | (chan == CH_TRI));
-    wire is_rst  = chan_valid & (chan == CH_RESET);
-    wire known   = (rx_byte[7:2] == 6'd0) | (rx_byte == CH_STATUS) | (rx_byte == CH_READ)
-                 | (rx_byte == CH_RESET);
+    // The record channels are the addresses 0..3 (set-up, line, triangle, clear): their
+    // low two bits are the FIFO tag.
+    wire is_rec  = chan_valid & (chan[7:2] == 6'd0);
+    wire is_two  = chan_valid
+                 & ((chan == `FITKIT_ADDR_LINE) | (chan == `FITKIT_ADDR_TRIANGLE));
+    wire is_rst  = chan_valid & (chan == `FITKIT_ADDR_RESET);
+    wire known   = (rx_byte[7:2] == 6'd0) | (rx_byte == `FITKIT_ADDR_STATUS)
+                 | (rx_byte == `FITKIT_ADDR_READ) | (rx_byte == `FITKIT_ADDR_RESET);
 
     // Checks at CS_n rise, on the final bytes (5-byte packets sit in acc[39:0]).
-    wire [7:0] expect_n = is_two ? 8'd9 : (is_rst ? 8'd0 : 8'd5);
+    wire [7:0] expect_n = is_two ? BYTES2 : (is_rst ? 8'd0 : BYTES1);
+    // The payload byte now completing ends record 0 / record 1.
+    wire       rec0_end = nbytes == BYTES1 - 8'd1;
+    wire       rec1_end = nbytes == BYTES2 - 8'd1;
     wire       len_ok   = (nbytes == expect_n) & ~cs_partial;
     reg        pad_ok;
     always @* begin
@@ -75,7 +84,7 @@ module spi_decoder (
             default: pad_ok = acc[30:0] == 31'd0;   // 27 record bits + 4 byte bits
         endcase
     end
-    wire cb_ok = (chan != CH_CLEAR) | acc[39];
+    wire cb_ok = (chan != `FITKIT_ADDR_CLEAR) | acc[39];
 
     always @(posedge clk) begin
         fifo_we      <= 1'b0;
@@ -91,7 +100,7 @@ module spi_decoder (
             nbytes     <= 8'd0;
             ovr        <= 1'b0;
             fifo_din   <= 38'd0;
-            err_code   <= 3'd0;
+            err_code   <= {`FITKIT_ERR_BITS{1'b0}};
             err_chan   <= 8'd0;
         end else if (cs_start) begin
             chan_valid <= 1'b0;
@@ -102,18 +111,18 @@ module spi_decoder (
             if (rx_index == 8'd0) begin
                 chan       <= rx_byte;
                 chan_valid <= 1'b1;
-                snap       <= rx_byte == CH_STATUS;
+                snap       <= rx_byte == `FITKIT_ADDR_STATUS;
                 if (!known) begin
                     err_valid <= 1'b1;
-                    err_code  <= E_ADDRESS;
+                    err_code  <= `FITKIT_ERR_UNKNOWN_ADDRESS;
                     err_chan  <= rx_byte;
                 end
             end else if (is_rec | is_rst) begin
                 acc <= {acc[31:0], rx_byte};
                 if (nbytes != 8'hFF) nbytes <= nbytes + 8'd1;
-                if (is_rec & ((nbytes == 8'd4) | (is_two & (nbytes == 8'd8)))) begin
-                    fifo_din <= (nbytes == 8'd4) ? {chan[1:0], acc[31:0], rx_byte[7:4]}
-                                                 : {chan[1:0], acc[27:0], rx_byte};
+                if (is_rec & (rec0_end | (is_two & rec1_end))) begin
+                    fifo_din <= rec0_end ? {chan[1:0], acc[31:0], rx_byte[7:4]}
+                                         : {chan[1:0], acc[27:0], rx_byte};
                     fifo_we  <= fifo_room;
                     if (!fifo_room) ovr <= 1'b1;
                 end
@@ -121,13 +130,13 @@ module spi_decoder (
         end else if (cs_end & chan_valid & (is_rec | is_rst)) begin
             chan_valid <= 1'b0;
             if (!len_ok) begin
-                err_code <= E_LENGTH;
+                err_code <= `FITKIT_ERR_LENGTH;
             end else if (is_rec & !pad_ok) begin
-                err_code <= E_PADDING;
+                err_code <= `FITKIT_ERR_PADDING;
             end else if (!cb_ok) begin
-                err_code <= E_NOCB;
+                err_code <= `FITKIT_ERR_CLEAR_WITHOUT_CB;
             end else if (ovr) begin
-                err_code <= E_OVERRUN;
+                err_code <= `FITKIT_ERR_OVERRUN;
             end
             err_chan <= chan;
             if (!len_ok | (is_rec & (!pad_ok | !cb_ok | ovr))) begin

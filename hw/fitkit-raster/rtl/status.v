@@ -17,6 +17,9 @@
 //
 // Ports: byte_index selects tx_byte = snapshot byte byte_index - 1 (bytes after the
 // address), 0 past byte 31.
+// The layout (byte offsets, flag bits), the underrun's error code and channel are the
+// generated map's (fitkit_map.vh), which the host decodes the block by.
+`include "fitkit_map.vh"
 module status (
     input  wire       clk,
     input  wire       rst,
@@ -33,7 +36,7 @@ module status (
     input  wire       busy,
     input  wire       setup_done,
     input  wire       dec_err,
-    input  wire [2:0] dec_code,
+    input  wire [`FITKIT_ERR_BITS-1:0] dec_code,
     input  wire [7:0] dec_chan,
     input  wire       underrun,
     input  wire       snap,
@@ -44,26 +47,54 @@ module status (
     reg [9:0]  max_occ;
     reg [15:0] commits;
     reg        err;
-    reg [2:0]  err_code;
+    reg [`FITKIT_ERR_BITS-1:0] err_code;
     reg [7:0]  err_chan;
     reg [15:0] err_pkt;
-    reg [255:0] snapshot;
+
+    // The block is big-endian: byte 0 is the top byte, a field's first byte its most
+    // significant. TOP is bit 7 of byte 0; a field at byte offset o is [TOP - 8o -: width].
+    localparam BYTES = `FITKIT_STATUS_BYTES;
+    localparam TOP   = 8 * BYTES - 1;
+    localparam KW    = $clog2(BYTES);
+    localparam [7:0] LAST_BYTE = BYTES;   // byte_index of the block's last byte
+
+    reg [TOP:0] snapshot;
 
     wire [7:0] occ_half = (max_occ[9:1] > 9'd255) ? 8'd255 : max_occ[8:1];
-    wire [7:0] flags    = {4'd0, setup_done, fifo_occ == 10'd0, err, busy};
-    wire [255:0] block  = {6'd0, fifo_free, flags, 5'd0, err_code, err_chan, err_pkt,
-                           packets, fragments, line_cyc, tri_cyc, clr_cyc, last, occ_half};
+    wire [7:0] err_code_byte = {{(8 - `FITKIT_ERR_BITS){1'b0}}, err_code};
+    reg  [7:0] flags;
+    reg  [TOP:0] block;
+    always @* begin
+        flags = 8'd0;
+        flags[`FITKIT_FLAG_BUSY]       = busy;
+        flags[`FITKIT_FLAG_ERROR]      = err;
+        flags[`FITKIT_FLAG_FIFO_EMPTY] = fifo_occ == 10'd0;
+        flags[`FITKIT_FLAG_SETUP_DONE] = setup_done;
+        block = {(TOP + 1){1'b0}};
+        block[TOP - 8 * `FITKIT_STATUS_FREE -: 16]           = {6'd0, fifo_free};
+        block[TOP - 8 * `FITKIT_STATUS_FLAGS -: 8]           = flags;
+        block[TOP - 8 * `FITKIT_STATUS_ERROR_CODE -: 8]      = err_code_byte;
+        block[TOP - 8 * `FITKIT_STATUS_ERROR_CHANNEL -: 8]   = err_chan;
+        block[TOP - 8 * `FITKIT_STATUS_ERROR_PACKET -: 16]   = err_pkt;
+        block[TOP - 8 * `FITKIT_STATUS_PACKETS -: 32]        = packets;
+        block[TOP - 8 * `FITKIT_STATUS_FRAGMENTS -: 32]      = fragments;
+        block[TOP - 8 * `FITKIT_STATUS_LINE_CYCLES -: 32]    = line_cyc;
+        block[TOP - 8 * `FITKIT_STATUS_TRIANGLE_CYCLES -: 32] = tri_cyc;
+        block[TOP - 8 * `FITKIT_STATUS_CLEAR_CYCLES -: 32]   = clr_cyc;
+        block[TOP - 8 * `FITKIT_STATUS_END_CYCLE -: 32]      = last;
+        block[TOP - 8 * `FITKIT_STATUS_FIFO_MAX_PAIRS -: 8]  = occ_half;
+    end
 
-    wire [4:0] k = byte_index[4:0] - 5'd1;
-    assign tx_byte = (byte_index >= 8'd1 && byte_index <= 8'd32)
-                   ? snapshot[8'd255 - {k, 3'd0} -: 8] : 8'd0;
+    wire [KW-1:0] k = byte_index[KW-1:0] - 1'b1;
+    assign tx_byte = (byte_index >= 8'd1 && byte_index <= LAST_BYTE)
+                   ? snapshot[TOP - {k, 3'd0} -: 8] : 8'd0;
 
     always @(posedge clk) begin
         if (rst) begin
             packets <= 32'd0; fragments <= 32'd0; line_cyc <= 32'd0; tri_cyc <= 32'd0;
             clr_cyc <= 32'd0; cycle <= 32'd0; last <= 32'd0; max_occ <= 10'd0;
-            commits <= 16'd0; err <= 1'b0; err_code <= 3'd0; err_chan <= 8'd0;
-            err_pkt <= 16'd0; snapshot <= 256'd0;
+            commits <= 16'd0; err <= 1'b0; err_code <= {`FITKIT_ERR_BITS{1'b0}};
+            err_chan <= 8'd0; err_pkt <= 16'd0; snapshot <= {(TOP + 1){1'b0}};
         end else begin
             if (cnt_clr) begin
                 packets <= 32'd0; fragments <= 32'd0; line_cyc <= 32'd0; tri_cyc <= 32'd0;
@@ -81,8 +112,8 @@ module status (
             if (commit) commits <= commits + 16'd1;
             if (!err && (dec_err || underrun)) begin
                 err      <= 1'b1;
-                err_code <= dec_err ? dec_code : 3'd6;
-                err_chan <= dec_err ? dec_chan : 8'h30;
+                err_code <= dec_err ? dec_code : `FITKIT_ERR_READ_UNDERRUN;
+                err_chan <= dec_err ? dec_chan : `FITKIT_ADDR_READ;
                 err_pkt  <= commits;
             end
             if (snap) snapshot <= block;

@@ -7,7 +7,11 @@
 // (capacity exactly 512, the output register included), nothing lost at full.
 // frag_fifo: 16 entries fit, the 17th waits, order kept. Prints "N passed, M failed".
 `timescale 1ns / 1ps
+`include "fitkit_map.vh"
 module tb_fifo;
+    localparam integer DEPTH  = `FITKIT_FIFO_RECORDS;
+    // FIFO_FREE promises room for the widest packet.
+    localparam integer PACKET = (`FITKIT_MAX_PACKET_BYTES * 8) / `FITKIT_RECORD_BITS;
     reg clk = 1'b0;
     reg rst = 1'b1;
     always #5 clk = ~clk;
@@ -85,8 +89,8 @@ module tb_fifo;
             @(negedge clk);
             pop_rate = 0;
             repeat (3) @(negedge clk);
-            note(occ == tail - head && free_count == 512 - (tail - head)
-                 && ffree == (512 - (tail - head) >= 2) && vld == (tail > head), what);
+            note(occ == tail - head && free_count == DEPTH - (tail - head)
+                 && ffree == (DEPTH - (tail - head) >= PACKET) && vld == (tail > head), what);
         end
     endtask
 
@@ -110,11 +114,11 @@ module tb_fifo;
         pop_rate = 100;
         repeat (1100) @(negedge clk);
         counts("drained");
-        // Fill without reading: exactly 512 records fit; a packet past that is refused.
+        // Fill without reading: exactly DEPTH records fit; a packet past that is refused.
         pop_rate = 0;
         lost = 0;
-        for (i = 0; i < 256; i = i + 1) packet(2, 1);
-        note(lost == 0 && !room && !ffree && free_count == 0 && occ == 512, "full at 512");
+        for (i = 0; i < DEPTH / 2; i = i + 1) packet(2, 1);
+        note(lost == 0 && !room && !ffree && free_count == 0 && occ == DEPTH, "full at DEPTH");
         e0 = errors;
         packet(2, 0);
         note(lost == 2, "writes refused when full");

@@ -8,7 +8,9 @@
 // random); done comes once. Cases: all octants and the diagonals, reversed end points,
 // zero length, the frame's corners, random lines. Prints "N passed, M failed".
 `timescale 1ns / 1ps
+`include "fitkit_map.vh"
 module tb_line;
+    localparam integer SIDE = `FITKIT_FRAME_SIDE;   // the frame the coordinates address
     reg clk = 1'b0;
     reg rst = 1'b1;
     always #5 clk = ~clk;
@@ -28,7 +30,7 @@ module tb_line;
     );
 
     integer passed = 0, failed = 0;
-    reg [1:0] mark [0:262143];     // 1 expected, 2 expected and seen
+    reg [1:0] mark [0:SIDE * SIDE - 1];   // 1 expected, 2 expected and seen
     integer   list [0:1023];
     integer   nref;
     integer   random_ready = 0;
@@ -52,8 +54,8 @@ module tb_line;
                 nk = dm == 0 ? 0 : (2 * k * dn + dm) / (2 * dm);
                 px = xmaj ? sx + k : sx + sn * nk;
                 py = xmaj ? sy + sn * nk : sy + k;
-                list[k] = py * 512 + px;
-                mark[py * 512 + px] = 2'd1;
+                list[k] = py * SIDE + px;
+                mark[py * SIDE + px] = 2'd1;
             end
             // The unit.
             @(negedge clk);
@@ -68,7 +70,7 @@ module tb_line;
                 cycles = cycles + 1;
                 if (fv && !ready) stalls = stalls + 1;
                 if (fv && ready) begin
-                    a = fy * 512 + fx;
+                    a = fy * SIDE + fx;
                     if (mark[a] != 2'd1 || fc != color) bad = bad + 1;
                     else mark[a] = 2'd2;
                     got = got + 1;
@@ -94,7 +96,7 @@ module tb_line;
     integer i, k;
     integer cx, cy;
     initial begin
-        for (k = 0; k < 262144; k = k + 1) mark[k] = 2'd0;
+        for (k = 0; k < SIDE * SIDE; k = k + 1) mark[k] = 2'd0;
         repeat (3) @(posedge clk);
         rst = 1'b0;
         // Octants around (100, 100), both directions, and the axes / diagonals.
@@ -110,12 +112,14 @@ module tb_line;
         run(100, 100, 141, 120); run(141, 120, 100, 100);   // ties at p = 0
         run(100, 100, 110, 105); run(110, 105, 100, 100);
         run(7, 7, 7, 7);
-        run(0, 0, 511, 511); run(511, 0, 0, 511); run(0, 511, 511, 510); run(511, 511, 0, 0);
-        run(0, 0, 511, 1); run(3, 511, 0, 0);
+        // The frame's corners (coordinates 0 and SIDE - 1).
+        run(0, 0, SIDE - 1, SIDE - 1); run(SIDE - 1, 0, 0, SIDE - 1);
+        run(0, SIDE - 1, SIDE - 1, SIDE - 2); run(SIDE - 1, SIDE - 1, 0, 0);
+        run(0, 0, SIDE - 1, 1); run(3, SIDE - 1, 0, 0);
         for (i = 0; i < 400; i = i + 1) begin
             random_ready = i >= 200;
-            run($unsigned($random) % 512, $unsigned($random) % 512,
-                $unsigned($random) % 512, $unsigned($random) % 512);
+            run($unsigned($random) % SIDE, $unsigned($random) % SIDE,
+                $unsigned($random) % SIDE, $unsigned($random) % SIDE);
         end
         for (i = 0; i < 200; i = i + 1) begin
             cx = $unsigned($random) % 500;

@@ -8,8 +8,12 @@
 // records 0x8_0405_2CC8 and 0x5_4800_0000 tagged 1, and a clear on 0x03 as one record
 // tagged 3. Prints "N passed, M failed".
 `timescale 1ns / 1ps
+`include "fitkit_map.vh"
 module tb_spi;
     parameter HALF = 40;         // 4 clk cycles
+    // A record's FIFO tag is the low two bits of its channel's address.
+    localparam [7:0] A_LINE = `FITKIT_ADDR_LINE, A_CLEAR = `FITKIT_ADDR_CLEAR;
+    localparam integer BYTES1 = (`FITKIT_RECORD_BITS + 7) / 8;   // a 1-record packet
 
     reg clk = 1'b0;
     reg rst = 1'b1;
@@ -31,7 +35,7 @@ module tb_spi;
     wire [7:0]  chan, err_chan;
     wire        chan_valid, fwe, fcommit, fdiscard, err_valid, soft_rst, snap;
     wire [37:0] fdin, dout;
-    wire [2:0]  err_code;
+    wire [`FITKIT_ERR_BITS-1:0] err_code;
     wire        room, vld, ffree;
     wire [9:0]  free_count, occ;
     reg         next = 1'b0;
@@ -79,10 +83,10 @@ module tb_spi;
         #3;   // the master's edges fall between clk edges from here on
         for (i = 0; i < 40; i = i + 1) begin
             n = 1 + ($unsigned($random) % 40);
-            // Channel 0x20 keeps the decoder out of the FIFO.
+            // The status channel keeps the decoder out of the FIFO.
             spi_begin;
             for (k = 0; k < n; k = k + 1) begin
-                sent[k] = (k == 0) ? 8'h20 : $random;
+                sent[k] = (k == 0) ? `FITKIT_ADDR_STATUS : $random;
                 spi_xfer(sent[k], rx);
                 back[k] = rx;
             end
@@ -102,7 +106,7 @@ module tb_spi;
         // A transaction ending after 3 bits of its second byte.
         e = nend;
         spi_begin;
-        spi_xfer(8'h20, rx);
+        spi_xfer(`FITKIT_ADDR_STATUS, rx);
         for (k = 0; k < 3; k = k + 1) begin
             spi_mosi = 1'b1;
             #(HALF) spi_sck = 1'b1;
@@ -113,21 +117,22 @@ module tb_spi;
 
         // The test vector through the decoder into the FIFO.
         spi_begin;
-        spi_xfer(8'h01, rx);
-        for (k = 0; k < 9; k = k + 1) spi_xfer(72'h8_0405_2CC8_5_4800_0000 >> (64 - 8 * k), rx);
+        spi_xfer(`FITKIT_ADDR_LINE, rx);
+        for (k = 0; k < `FITKIT_MAX_PACKET_BYTES; k = k + 1)
+            spi_xfer(72'h8_0405_2CC8_5_4800_0000 >> (64 - 8 * k), rx);
         spi_end;
-        check(vld && dout == {2'd1, 36'h8_0405_2CC8}, "test vector record 0");
+        check(vld && dout == {A_LINE[1:0], 36'h8_0405_2CC8}, "test vector record 0");
         @(negedge clk) next = 1'b1;
         @(negedge clk) next = 1'b0;
         #1;
-        check(vld && dout == {2'd1, 36'h5_4800_0000}, "test vector record 1");
+        check(vld && dout == {A_LINE[1:0], 36'h5_4800_0000}, "test vector record 1");
         @(negedge clk) next = 1'b1;
         @(negedge clk) next = 1'b0;
         spi_begin;
-        spi_xfer(8'h03, rx);
-        for (k = 0; k < 5; k = k + 1) spi_xfer(40'hD4_8000_0000 >> (32 - 8 * k), rx);
+        spi_xfer(`FITKIT_ADDR_CLEAR, rx);
+        for (k = 0; k < BYTES1; k = k + 1) spi_xfer(40'hD4_8000_0000 >> (32 - 8 * k), rx);
         spi_end;
-        check(vld && dout == {2'd3, 36'hD_4800_0000}, "clear record");
+        check(vld && dout == {A_CLEAR[1:0], 36'hD_4800_0000}, "clear record");
         @(negedge clk) next = 1'b1;
         @(negedge clk) next = 1'b0;
         #1;

@@ -16,8 +16,15 @@
 // then the 2^18-byte RAM is written with $writememh to the dump file (default
 // rtl-frame.hex).
 `timescale 1ns / 1ps
+`include "fitkit_map.vh"
 module tb_top;
     parameter HALF = 50;           // SCK half period: 5 clk cycles (f_SCK = f_clk / 10)
+    // Addresses, codes, the status layout and packet lengths are the generated map's, as
+    // the host uses them.
+    localparam integer SIDE     = `FITKIT_FRAME_SIDE;
+    localparam integer ST_BYTES = `FITKIT_STATUS_BYTES;
+    localparam integer BYTES1   = (`FITKIT_RECORD_BITS + 7) / 8;   // set-up, clear
+    localparam integer BYTES2   = `FITKIT_MAX_PACKET_BYTES;        // line, triangle
 
     reg clk = 1'b0;
     reg rst = 1'b1;
@@ -40,15 +47,15 @@ module tb_top;
     `include "check.vh"
 
     // ---- Reference model -------------------------------------------------------------
-    reg [7:0] refm [0:262143];
-    integer fw = 512, fh = 512, fbg = 0, fcull = 0;
+    reg [7:0] refm [0:SIDE * SIDE - 1];
+    integer fw = SIDE, fh = SIDE, fbg = 0, fcull = 0;
     integer r_frags = 0, r_line = 0, r_tri = 0, r_clear = 0, r_pkts = 0;
 
     task ref_fill(input integer c);
         integer x, y;
         begin
             for (y = 0; y < fh; y = y + 1)
-                for (x = 0; x < fw; x = x + 1) refm[y * 512 + x] = c;
+                for (x = 0; x < fw; x = x + 1) refm[y * SIDE + x] = c;
             r_clear = r_clear + fw * fh;
         end
     endtask
@@ -56,7 +63,7 @@ module tb_top;
     task ref_put(input integer x, input integer y, input integer c);
         begin
             if (x >= 0 && x < fw && y >= 0 && y < fh) begin
-                refm[y * 512 + x] = c;
+                refm[y * SIDE + x] = c;
                 r_frags = r_frags + 1;
             end
         end
@@ -138,7 +145,8 @@ module tb_top;
 
     task setup(input integer w, input integer h, input integer bg, input integer cull);
         begin
-            send(8'h00, 5, {w[8:0] - 9'd1, h[8:0] - 9'd1, bg[7:0], cull[1:0], 8'd0, 4'd0, 32'd0});
+            send(`FITKIT_ADDR_SETUP, BYTES1,
+                 {w[8:0] - 9'd1, h[8:0] - 9'd1, bg[7:0], cull[1:0], 8'd0, 4'd0, 32'd0});
             fw = w; fh = h; fbg = bg; fcull = cull;
             r_frags = 0; r_line = 0; r_tri = 0; r_clear = 0; r_pkts = 0;
             ref_fill(bg);
@@ -148,7 +156,8 @@ module tb_top;
     task line(input cb, input integer x0, input integer y0, input integer x1, input integer y1,
               input integer c);
         begin
-            send(8'h01, 9, {cb, x0[8:0], y0[8:0], x1[8:0], y1[8:0], c[7:0], 27'd0});
+            send(`FITKIT_ADDR_LINE, BYTES2,
+                 {cb, x0[8:0], y0[8:0], x1[8:0], y1[8:0], c[7:0], 27'd0});
             if (cb) ref_fill(fbg);
             ref_line(x0, y0, x1, y1, c);
             r_pkts = r_pkts + 1;
@@ -158,8 +167,8 @@ module tb_top;
     task triangle(input cb, input integer x0, input integer y0, input integer x1, input integer y1,
              input integer x2, input integer y2, input integer c);
         begin
-            send(8'h02, 9, {cb, x0[8:0], y0[8:0], x1[8:0], y1[8:0], x2[8:0], y2[8:0], c[7:0],
-                            9'd0});
+            send(`FITKIT_ADDR_TRIANGLE, BYTES2,
+                 {cb, x0[8:0], y0[8:0], x1[8:0], y1[8:0], x2[8:0], y2[8:0], c[7:0], 9'd0});
             if (cb) ref_fill(fbg);
             ref_tri(x0, y0, x1, y1, x2, y2, c);
             r_pkts = r_pkts + 1;
@@ -168,7 +177,7 @@ module tb_top;
 
     task clear(input integer c);
         begin
-            send(8'h03, 5, {1'b1, c[7:0], 31'd0, 32'd0});
+            send(`FITKIT_ADDR_CLEAR, BYTES1, {1'b1, c[7:0], 31'd0, 32'd0});
             ref_fill(c);
             r_pkts = r_pkts + 1;
         end
@@ -186,13 +195,13 @@ module tb_top;
         end
     endtask
 
-    reg [7:0] st [0:33];
+    reg [7:0] st [0:ST_BYTES + 1];   // the block and two bytes past it
     task read_status;
         integer k;
         begin
             spi_begin;
-            spi_xfer(8'h20, rx);
-            for (k = 0; k < 34; k = k + 1) begin
+            spi_xfer(`FITKIT_ADDR_STATUS, rx);
+            for (k = 0; k < ST_BYTES + 2; k = k + 1) begin
                 spi_xfer(8'h00, rx);
                 st[k] = rx;
             end
@@ -204,24 +213,38 @@ module tb_top;
         st32 = {st[k], st[k + 1], st[k + 2], st[k + 3]};
     endfunction
 
+    function [15:0] st16(input integer k);
+        st16 = {st[k], st[k + 1]};
+    endfunction
+
+    function flag(input integer b);
+        flag = st[`FITKIT_STATUS_FLAGS][b];
+    endfunction
+
     task check_counters;
         begin
             read_status;
-            check(st[3] == 0, "no error");
-            check(st[2][3] == 1'b1, "set-up done");
-            check(st[2][0] == 1'b0 && st[2][2] == 1'b1, "idle, FIFO empty");
-            check({st[0], st[1]} == 16'd512, "512 free records");
-            check(st32(7) == r_pkts, "packets executed");
-            check(st32(11) == r_frags, "fragments written");
-            check(st32(15) == r_line, "line cycles");
-            check(st32(19) == r_tri, "triangle cycles");
-            check(st32(23) == r_clear, "clear cycles");
-            check(st[32] == 0 && st[33] == 0, "zeros past byte 31");
-            if (st32(15) != r_line || st32(19) != r_tri || st32(23) != r_clear
-                || st32(11) != r_frags || st32(7) != r_pkts)
+            check(st[`FITKIT_STATUS_ERROR_CODE] == 0, "no error");
+            check(flag(`FITKIT_FLAG_SETUP_DONE) == 1'b1, "set-up done");
+            check(flag(`FITKIT_FLAG_BUSY) == 1'b0 && flag(`FITKIT_FLAG_FIFO_EMPTY) == 1'b1,
+                  "idle, FIFO empty");
+            check(st16(`FITKIT_STATUS_FREE) == `FITKIT_FIFO_RECORDS, "every record free");
+            check(st32(`FITKIT_STATUS_PACKETS) == r_pkts, "packets executed");
+            check(st32(`FITKIT_STATUS_FRAGMENTS) == r_frags, "fragments written");
+            check(st32(`FITKIT_STATUS_LINE_CYCLES) == r_line, "line cycles");
+            check(st32(`FITKIT_STATUS_TRIANGLE_CYCLES) == r_tri, "triangle cycles");
+            check(st32(`FITKIT_STATUS_CLEAR_CYCLES) == r_clear, "clear cycles");
+            check(st[ST_BYTES] == 0 && st[ST_BYTES + 1] == 0, "zeros past the block");
+            if (st32(`FITKIT_STATUS_LINE_CYCLES) != r_line
+                || st32(`FITKIT_STATUS_TRIANGLE_CYCLES) != r_tri
+                || st32(`FITKIT_STATUS_CLEAR_CYCLES) != r_clear
+                || st32(`FITKIT_STATUS_FRAGMENTS) != r_frags
+                || st32(`FITKIT_STATUS_PACKETS) != r_pkts)
                 $display("  status: pk %0d/%0d fr %0d/%0d line %0d/%0d tri %0d/%0d clr %0d/%0d",
-                         st32(7), r_pkts, st32(11), r_frags, st32(15), r_line, st32(19), r_tri,
-                         st32(23), r_clear);
+                         st32(`FITKIT_STATUS_PACKETS), r_pkts, st32(`FITKIT_STATUS_FRAGMENTS),
+                         r_frags, st32(`FITKIT_STATUS_LINE_CYCLES), r_line,
+                         st32(`FITKIT_STATUS_TRIANGLE_CYCLES), r_tri,
+                         st32(`FITKIT_STATUS_CLEAR_CYCLES), r_clear);
         end
     endtask
 
@@ -229,10 +252,10 @@ module tb_top;
         integer k, bad;
         begin
             bad = 0;
-            for (k = 0; k < 262144; k = k + 1)
+            for (k = 0; k < SIDE * SIDE; k = k + 1)
                 if (u_top.u_ram.mem[k] !== refm[k]) begin
                     if (bad < 5)
-                        $display("  pixel (%0d, %0d): rtl %h, ref %h", k % 512, k / 512,
+                        $display("  pixel (%0d, %0d): rtl %h, ref %h", k % SIDE, k / SIDE,
                                  u_top.u_ram.mem[k], refm[k]);
                     bad = bad + 1;
                 end
@@ -244,16 +267,20 @@ module tb_top;
                       input [8*48-1:0] what);
         begin
             read_status;
-            check(st[2][1] == 1'b1 && st[3] == code && st[4] == chan && {st[5], st[6]} == pkt,
-                  what);
-            if (st[3] != code || st[4] != chan || {st[5], st[6]} != pkt)
-                $display("  error code %0d chan %h packet %0d", st[3], st[4], {st[5], st[6]});
+            check(flag(`FITKIT_FLAG_ERROR) == 1'b1 && st[`FITKIT_STATUS_ERROR_CODE] == code
+                  && st[`FITKIT_STATUS_ERROR_CHANNEL] == chan
+                  && st16(`FITKIT_STATUS_ERROR_PACKET) == pkt, what);
+            if (st[`FITKIT_STATUS_ERROR_CODE] != code
+                || st[`FITKIT_STATUS_ERROR_CHANNEL] != chan
+                || st16(`FITKIT_STATUS_ERROR_PACKET) != pkt)
+                $display("  error code %0d chan %h packet %0d", st[`FITKIT_STATUS_ERROR_CODE],
+                         st[`FITKIT_STATUS_ERROR_CHANNEL], st16(`FITKIT_STATUS_ERROR_PACKET));
         end
     endtask
 
     task soft_reset;
         begin
-            send(8'h7F, 0, 72'd0);
+            send(`FITKIT_ADDR_RESET, 0, 72'd0);
             repeat (4) @(posedge clk);
         end
     endtask
@@ -306,21 +333,24 @@ module tb_top;
             $finish;
         end
 
-        for (k = 0; k < 262144; k = k + 1) refm[k] = 8'd0;
+        for (k = 0; k < SIDE * SIDE; k = k + 1) refm[k] = 8'd0;
 
         // Power-on status.
         read_status;
-        check(st[2] == 8'b0000_0100 && st[3] == 0 && {st[0], st[1]} == 16'd512,
-              "power-on status");
+        check(st[`FITKIT_STATUS_FLAGS] == 8'd1 << `FITKIT_FLAG_FIFO_EMPTY
+              && st[`FITKIT_STATUS_ERROR_CODE] == 0
+              && st16(`FITKIT_STATUS_FREE) == `FITKIT_FIFO_RECORDS, "power-on status");
 
         // Set-up and the test vector of docs/protocol.md (CB = 1).
         setup(40, 30, 8'h12, 0);
         wait_idle;
         check_frame("set-up clear");
         read_status;
-        check(st32(27) == 40 * 30 + 1 && st32(23) == 40 * 30 && st32(7) == 0,
+        check(st32(`FITKIT_STATUS_END_CYCLE) == 40 * 30 + 1
+              && st32(`FITKIT_STATUS_CLEAR_CYCLES) == 40 * 30
+              && st32(`FITKIT_STATUS_PACKETS) == 0,
               "a set-up alone completes at cycle W*H + 1");
-        send(8'h01, 9, 72'h8_0405_2CC8_5_4800_0000);
+        send(`FITKIT_ADDR_LINE, BYTES2, 72'h8_0405_2CC8_5_4800_0000);
         ref_fill(fbg);
         ref_line(1, 2, 300, 400, 8'hA9);
         r_pkts = r_pkts + 1;
@@ -382,11 +412,11 @@ module tb_top;
         fork
             begin
                 spi_begin;
-                spi_xfer(8'h30, rx);
-                spi_xfer(8'h00, rx);
+                spi_xfer(`FITKIT_ADDR_READ, rx);
+                spi_xfer(8'h00, rx);      // start address 20, 24 bits
                 spi_xfer(8'h00, rx);
                 spi_xfer(8'd20, rx);
-                spi_xfer(8'h00, rx);
+                for (k = 0; k < `FITKIT_READ_TURNAROUND; k = k + 1) spi_xfer(8'h00, rx);
                 for (k = 0; k < 64; k = k + 1) begin
                     spi_xfer(8'h00, rx);
                     rb[k] = rx;
@@ -409,8 +439,9 @@ module tb_top;
             end
         check(n == 0, "read-back bytes");
         read_status;
-        check(st[3] == 0, "read-back without error");
-        if (st[3] != 0) $display("  error code %0d", st[3]);
+        check(st[`FITKIT_STATUS_ERROR_CODE] == 0, "read-back without error");
+        if (st[`FITKIT_STATUS_ERROR_CODE] != 0)
+            $display("  error code %0d", st[`FITKIT_STATUS_ERROR_CODE]);
 
         // Drawing with mem_wait toggling gives the same frame.
         setup(48, 40, 8'h07, 0);
@@ -455,49 +486,54 @@ module tb_top;
         wait_idle;
         check_frame("random packets under mem_wait");
         read_status;
-        check(st32(7) == r_pkts && st32(11) == r_frags, "random packets: packets, fragments");
+        check(st32(`FITKIT_STATUS_PACKETS) == r_pkts
+              && st32(`FITKIT_STATUS_FRAGMENTS) == r_frags, "random packets: packets, fragments");
 
         // Errors: each sets the sticky error; status, reset and set-up still work after it.
         soft_reset;
-        send(8'h01, 8, 72'h8_0405_2CC8_5_4800_0000);
-        expect_error(1, 8'h01, 0, "length error");
-        send(8'h01, 9, 72'h8_0405_2CC8_5_4800_0001);
-        expect_error(1, 8'h01, 0, "first error kept");
+        send(`FITKIT_ADDR_LINE, BYTES2 - 1, 72'h8_0405_2CC8_5_4800_0000);
+        expect_error(`FITKIT_ERR_LENGTH, `FITKIT_ADDR_LINE, 0, "length error");
+        send(`FITKIT_ADDR_LINE, BYTES2, 72'h8_0405_2CC8_5_4800_0001);
+        expect_error(`FITKIT_ERR_LENGTH, `FITKIT_ADDR_LINE, 0, "first error kept");
         soft_reset;
         read_status;
-        check(st[3] == 0 && st[2][1] == 1'b0 && st[2][3] == 1'b0, "reset clears the error");
+        check(st[`FITKIT_STATUS_ERROR_CODE] == 0 && flag(`FITKIT_FLAG_ERROR) == 1'b0
+              && flag(`FITKIT_FLAG_SETUP_DONE) == 1'b0, "reset clears the error");
         setup(16, 16, 8'h10, 0);
-        send(8'h01, 9, 72'h8_0405_2CC8_5_4800_0001);
-        expect_error(2, 8'h01, 1, "padding error");
+        send(`FITKIT_ADDR_LINE, BYTES2, 72'h8_0405_2CC8_5_4800_0001);
+        expect_error(`FITKIT_ERR_PADDING, `FITKIT_ADDR_LINE, 1, "padding error");
         soft_reset;
-        send(8'h03, 5, {1'b0, 8'h44, 31'd0, 32'd0});
-        expect_error(4, 8'h03, 0, "clear without CB");
+        send(`FITKIT_ADDR_CLEAR, BYTES1, {1'b0, 8'h44, 31'd0, 32'd0});
+        expect_error(`FITKIT_ERR_CLEAR_WITHOUT_CB, `FITKIT_ADDR_CLEAR, 0, "clear without CB");
         soft_reset;
         send(8'h55, 2, 72'd0);
-        expect_error(5, 8'h55, 0, "unknown address");
+        expect_error(`FITKIT_ERR_UNKNOWN_ADDRESS, 8'h55, 0, "unknown address");
         soft_reset;
-        send(8'h00, 5, {9'd15, 9'd15, 8'd0, 2'd0, 8'd1, 4'd0, 32'd0});
-        expect_error(2, 8'h00, 0, "set-up padding");
+        send(`FITKIT_ADDR_SETUP, BYTES1, {9'd15, 9'd15, 8'd0, 2'd0, 8'd1, 4'd0, 32'd0});
+        expect_error(`FITKIT_ERR_PADDING, `FITKIT_ADDR_SETUP, 0, "set-up padding");
         soft_reset;
         // Read underrun: the memory never answers.
         mem_wait = 1'b1;
         spi_begin;
-        for (k = 0; k < 7; k = k + 1) spi_xfer(k == 0 ? 8'h30 : 8'h00, rx);
+        for (k = 0; k < `FITKIT_READ_HEADER_BYTES + 2; k = k + 1)
+            spi_xfer(k == 0 ? `FITKIT_ADDR_READ : 8'h00, rx);
         spi_end;
         mem_wait = 1'b0;
-        expect_error(6, 8'h30, 0, "read underrun");
+        expect_error(`FITKIT_ERR_READ_UNDERRUN, `FITKIT_ADDR_READ, 0, "read underrun");
         soft_reset;
         // Overrun: the memory stalls the first clear, the FIFO fills up.
         setup(16, 16, 8'h10, 0);
         wait_idle;
         mem_wait = 1'b1;
         clear(8'h20);
-        for (k = 0; k < 256; k = k + 1) line(0, 0, 0, 15, 15, 8'h30);
+        for (k = 0; k < `FITKIT_FIFO_RECORDS / 2; k = k + 1) line(0, 0, 0, 15, 15, 8'h30);
         read_status;
-        check({st[0], st[1]} == 16'd0 && !fifo_free, "FIFO full");
-        check(st[31] == 8'd255, "max occupancy saturates");
-        send(8'h01, 9, {1'b0, 9'd0, 9'd0, 9'd1, 9'd1, 8'h40, 27'd0});
-        expect_error(3, 8'h01, 258, "overrun");
+        check(st16(`FITKIT_STATUS_FREE) == 16'd0 && !fifo_free, "FIFO full");
+        check(st[`FITKIT_STATUS_FIFO_MAX_PAIRS] == 8'd255, "max occupancy saturates");
+        send(`FITKIT_ADDR_LINE, BYTES2, {1'b0, 9'd0, 9'd0, 9'd1, 9'd1, 8'h40, 27'd0});
+        // Committed so far: the set-up, the clear and the lines.
+        expect_error(`FITKIT_ERR_OVERRUN, `FITKIT_ADDR_LINE, 2 + `FITKIT_FIFO_RECORDS / 2,
+                     "overrun");
         mem_wait = 1'b0;
         wait_idle;
         check_frame("frame after overrun");
@@ -506,7 +542,8 @@ module tb_top;
         wait_idle;
         check_frame("set-up after errors");
         read_status;
-        check(st[3] == 3 && st[2][3] == 1'b1, "error stays, set-up done");
+        check(st[`FITKIT_STATUS_ERROR_CODE] == `FITKIT_ERR_OVERRUN
+              && flag(`FITKIT_FLAG_SETUP_DONE) == 1'b1, "error stays, set-up done");
 
         $display("tb_top: %0d passed, %0d failed", passed, failed);
         if (failed != 0) $fatal(1, "tb_top failed");

@@ -15,8 +15,10 @@
 // mesh whose triangles must cover every pixel of its rectangle exactly once (shared
 // edges). Prints "N passed, M failed".
 `timescale 1ns / 1ps
+`include "fitkit_map.vh"
 module tb_tri;
     parameter LANES = 1;           // tri_unit's pixels per cycle (1, 2, 4, 8)
+    localparam integer SIDE = `FITKIT_FRAME_SIDE;   // the frame the coordinates address
     reg clk = 1'b0;
     reg rst = 1'b1;
     always #5 clk = ~clk;
@@ -38,12 +40,12 @@ module tb_tri;
     );
 
     integer passed = 0, failed = 0;
-    reg [1:0] mark [0:262143];     // 1 expected, 2 expected and seen
-    reg [7:0] hits [0:262143];     // mesh coverage counts
-    integer   list [0:262143];
+    reg [1:0] mark [0:SIDE * SIDE - 1];   // 1 expected, 2 expected and seen
+    reg [7:0] hits [0:SIDE * SIDE - 1];   // mesh coverage counts
+    integer   list [0:SIDE * SIDE - 1];
     integer   nref;
     integer   random_ready = 0;
-    integer   fw = 512, fh = 512;
+    integer   fw = SIDE, fh = SIDE;
 
     task run(input integer x0, input integer y0, input integer x1, input integer y1,
              input integer x2, input integer y2);
@@ -80,8 +82,8 @@ module tb_tri;
                     for (i = minx; i < maxx; i = i + 1)
                         if (a[0] * i + b[0] * j + c[0] >= 0 && a[1] * i + b[1] * j + c[1] >= 0
                             && a[2] * i + b[2] * j + c[2] >= 0) begin
-                            list[nref] = j * 512 + i;
-                            mark[j * 512 + i] = 2'd1;
+                            list[nref] = j * SIDE + i;
+                            mark[j * SIDE + i] = 2'd1;
                             nref = nref + 1;
                         end
                 // LANES pixels per step; a step takes one cycle per covered pixel, at least 1.
@@ -91,7 +93,7 @@ module tb_tri;
                         for (i = minx; i < maxx; i = i + LANES) begin
                             f = 0;
                             for (t = i; t < i + LANES && t < maxx; t = t + 1)
-                                if (mark[j * 512 + t] == 2'd1) f = f + 1;
+                                if (mark[j * SIDE + t] == 2'd1) f = f + 1;
                             want = want + (f > 1 ? f : 1);
                         end
                 end
@@ -109,7 +111,7 @@ module tb_tri;
                 cycles = cycles + 1;
                 if (fv && !ready) stalls = stalls + 1;
                 if (fv && ready) begin
-                    adr = fy * 512 + fx;
+                    adr = fy * SIDE + fx;
                     if (mark[adr] != 2'd1 || fc != color) bad = bad + 1;
                     else mark[adr] = 2'd2;
                     hits[adr] = hits[adr] + 1;
@@ -147,7 +149,7 @@ module tb_tri;
     integer gy [0:8][0:8];
     integer i, j, k, n, ok;
     initial begin
-        for (k = 0; k < 262144; k = k + 1) begin
+        for (k = 0; k < SIDE * SIDE; k = k + 1) begin
             mark[k] = 2'd0;
             hits[k] = 8'd0;
         end
@@ -161,8 +163,8 @@ module tb_tri;
         both(30, 10, 30, 40, 5, 25);      // vertical right edge
         both(0, 0, 8, 0, 0, 8);           // edges through pixel centres
         both(1, 1, 9, 5, 3, 9);
-        both(0, 0, 511, 0, 0, 511);
-        both(511, 511, 0, 511, 511, 0);
+        both(0, 0, SIDE - 1, 0, 0, SIDE - 1);
+        both(SIDE - 1, SIDE - 1, 0, SIDE - 1, SIDE - 1, 0);
         both(2, 2, 2, 2, 2, 2);           // degenerate: a point
         both(2, 2, 20, 20, 40, 40);       // degenerate: collinear
         both(5, 5, 6, 5, 5, 6);           // tiny
@@ -184,14 +186,14 @@ module tb_tri;
             run($unsigned($random) % 90, $unsigned($random) % 70, $unsigned($random) % 90,
                 $unsigned($random) % 70, $unsigned($random) % 90, $unsigned($random) % 70);
         end
-        fw = 512; fh = 512;
+        fw = SIDE; fh = SIDE;
         for (i = 0; i < 12; i = i + 1)
-            run($unsigned($random) % 512, $unsigned($random) % 512, $unsigned($random) % 512,
-                $unsigned($random) % 512, $unsigned($random) % 512, $unsigned($random) % 512);
+            run($unsigned($random) % SIDE, $unsigned($random) % SIDE, $unsigned($random) % SIDE,
+                $unsigned($random) % SIDE, $unsigned($random) % SIDE, $unsigned($random) % SIDE);
         // Jittered mesh over [8, 72) x [8, 72): interior grid points move by up to 2 (every
         // quad stays convex), the boundary stays.
         fw = 96; fh = 96;
-        for (k = 0; k < 262144; k = k + 1) hits[k] = 8'd0;
+        for (k = 0; k < SIDE * SIDE; k = k + 1) hits[k] = 8'd0;
         for (i = 0; i <= 8; i = i + 1)
             for (j = 0; j <= 8; j = j + 1) begin
                 gx[i][j] = 8 + 8 * i + ((i > 0 && i < 8) ? $signed($unsigned($random) % 5) - 2 : 0);
@@ -212,9 +214,9 @@ module tb_tri;
         for (j = 0; j < 96; j = j + 1)
             for (i = 0; i < 96; i = i + 1) begin
                 k = (i >= 8 && i < 72 && j >= 8 && j < 72) ? 1 : 0;
-                if (hits[j * 512 + i] != k) begin
+                if (hits[j * SIDE + i] != k) begin
                     ok = 0;
-                    if (n < 5) $display("mesh pixel (%0d, %0d) covered %0d times", i, j, hits[j * 512 + i]);
+                    if (n < 5) $display("mesh pixel (%0d, %0d) covered %0d times", i, j, hits[j * SIDE + i]);
                     n = n + 1;
                 end
             end
