@@ -10,6 +10,7 @@
 // fragment's hand-over.
 // Timing: busy for exactly width * height cycles plus the cycles frag_ready is low;
 // the first fragment is offered the cycle after start.
+`default_nettype none
 module clear_unit (
     input  wire       clk,
     input  wire       rst,
@@ -64,3 +65,4 @@ module clear_unit (
         end
     end
 endmodule
+`default_nettype wire

@@ -20,6 +20,7 @@
 // a set-up adds the drain wait and 1 cycle to latch.
 // The tags are the record channels' addresses and the power-on frame is the map's side
 // (fitkit_map.vh).
+`default_nettype none
 `include "fitkit_map.vh"
 module cmd_exec (
     input  wire        clk,
@@ -153,3 +154,4 @@ module cmd_exec (
         end
     end
 endmodule
+`default_nettype wire

@@ -17,6 +17,7 @@
 // write_pending a write is in the request register.
 // Timing: one request per cycle while mem_wait is low; a fragment popped in cycle t is
 // on the port in cycle t + 1.
+`default_nettype none
 module fb_writer (
     input  wire        clk,
     input  wire        rst,
@@ -88,3 +89,4 @@ module fb_writer (
         end
     end
 endmodule
+`default_nettype wire

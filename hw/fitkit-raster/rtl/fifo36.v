@@ -22,6 +22,7 @@
 // back-to-back records come one per cycle.
 // Depth, record width and the FIFO_FREE threshold are the generated map's
 // (fitkit_map.vh): the host sizes its writes by them.
+`default_nettype none
 `include "fitkit_map.vh"
 module fifo36 (
     input  wire        clk,
@@ -92,3 +93,4 @@ module fifo36 (
         end
     end
 endmodule
+`default_nettype wire

@@ -11,6 +11,7 @@
 // Ports: docs/rtl.md "Top level". rst and the SPI reset (channel 0x7F) reset everything
 // but the SPI slave and decoder, which are idle when the reset transaction ends.
 // Timing: per unit in its own header; the cycle formulas are collected in docs/rtl.md.
+`default_nettype none
 `include "fitkit_map.vh"
 module fitkit_raster #(
     parameter TRI_LANES = 1     // tri_unit's pixel tests per cycle: 1 (seed), 2, 4 or 8
@@ -156,3 +157,4 @@ module fitkit_raster #(
         else tx_byte = 8'd0;
     end
 endmodule
+`default_nettype wire

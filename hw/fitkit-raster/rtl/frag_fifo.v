@@ -8,6 +8,7 @@
 // Ports: din / we, full; dout / empty / re. Parameters: W bits per entry, AW log2 depth.
 // Timing: an entry written in cycle t is visible at dout in cycle t + 1; one write and
 // one read per cycle.
+`default_nettype none
 module frag_fifo #(
     parameter W  = 27,
     parameter AW = 4
@@ -45,3 +46,4 @@ module frag_fifo #(
         end
     end
 endmodule
+`default_nettype wire

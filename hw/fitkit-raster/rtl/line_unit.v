@@ -14,6 +14,7 @@
 // cycles frag_ready is low. A zero-length line is 2 cycles.
 // Widths: deltas 9 bits unsigned (0..511); decision variable p in [-2*511, 2*511] held
 // in 12 bits signed.
+`default_nettype none
 module line_unit (
     input  wire       clk,
     input  wire       rst,
@@ -108,3 +109,4 @@ module line_unit (
         end
     end
 endmodule
+`default_nettype wire

@@ -13,6 +13,7 @@
 // the byte for the slave while channel 0x30 is selected; rd_* to / from fb_writer.
 // The channel and the header's length (address, start address, turnaround) are the
 // generated map's (fitkit_map.vh), which the host reads by.
+`default_nettype none
 `include "fitkit_map.vh"
 module readback (
     input  wire        clk,
@@ -111,3 +112,4 @@ module readback (
         end
     end
 endmodule
+`default_nettype wire

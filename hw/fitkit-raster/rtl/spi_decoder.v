@@ -24,6 +24,7 @@
 // cs_end.
 // Addresses, error codes and packet lengths are the generated map's (fitkit_map.vh), so
 // the decoder and protocol::fitkit_spi cannot drift apart.
+`default_nettype none
 `include "fitkit_map.vh"
 module spi_decoder (
     input  wire        clk,
@@ -151,3 +152,4 @@ module spi_decoder (
         end
     end
 endmodule
+`default_nettype wire

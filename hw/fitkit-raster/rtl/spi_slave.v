@@ -23,6 +23,7 @@
 //
 // Timing: rx_valid comes 3 clk cycles after the 8th rising SCK edge; tx_byte must be
 // valid from then on until tx_load (at least 4 cycles later at f_SCK = f_clk / 8).
+`default_nettype none
 module spi_slave (
     input  wire       clk,
     input  wire       rst,
@@ -123,3 +124,4 @@ module spi_slave (
         end
     end
 endmodule
+`default_nettype wire

@@ -19,6 +19,7 @@
 // address), 0 past byte 31.
 // The layout (byte offsets, flag bits), the underrun's error code and channel are the
 // generated map's (fitkit_map.vh), which the host decodes the block by.
+`default_nettype none
 `include "fitkit_map.vh"
 module status (
     input  wire       clk,
@@ -120,3 +121,4 @@ module status (
         end
     end
 endmodule
+`default_nettype wire

@@ -52,6 +52,7 @@
 // takes max(1, covered pixels in it) cycles, so busy = 4 + the sum over the box's rows
 // and its ceil(box width / LANES) steps per row of max(1, covered) (plus stalls);
 // LANES = 1 is the formula above.
+`default_nettype none
 module tri_unit #(
     parameter LANES = 1      // pixels tested per cycle: 1, 2, 4 or 8
 ) (
@@ -283,3 +284,4 @@ module tri_unit #(
         end
     end
 endmodule
+`default_nettype wire

@@ -5,6 +5,7 @@
 // memory port's wait input (tests toggle it to exercise the stall path); bd_addr /
 // bd_data read the RAM without a clock (the backdoor; sim_ram's `mem` is also
 // `verilator public`).
+`default_nettype none
 module fitkit_sim_top (
     input  wire        clk,
     input  wire        rst,
@@ -34,3 +35,4 @@ module fitkit_sim_top (
         .rdata(mem_rdata), .mem_wait(mem_wait), .bd_addr(bd_addr), .bd_data(bd_data)
     );
 endmodule
+`default_nettype wire

@@ -6,6 +6,7 @@
 // `mem` is `verilator public` so a Verilator C++ harness can read and write the frame
 // directly (rootp->fitkit_sim_top__DOT__u_ram__DOT__mem[addr]); the bd_* port is the same
 // backdoor as plain Verilog (combinational read, for harnesses without public access).
+`default_nettype none
 module sim_ram (
     input  wire        clk,
     input  wire [17:0] addr,
@@ -30,3 +31,4 @@ module sim_ram (
         if (re && !mem_wait) rdata <= mem[addr];
     end
 endmodule
+`default_nettype wire

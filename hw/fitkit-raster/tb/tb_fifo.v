@@ -6,6 +6,7 @@
 // committed data, room / free_count / occupancy / FIFO_FREE equal the model's counts
 // (capacity exactly 512, the output register included), nothing lost at full.
 // frag_fifo: 16 entries fit, the 17th waits, order kept. Prints "N passed, M failed".
+`default_nettype none
 `timescale 1ns / 1ps
 `include "fitkit_map.vh"
 module tb_fifo;
@@ -155,3 +156,4 @@ module tb_fifo;
         $finish;
     end
 endmodule
+`default_nettype wire

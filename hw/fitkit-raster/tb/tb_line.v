@@ -7,6 +7,7 @@
 // max(|dx|, |dy|) + 2 cycles plus the cycles a fragment waited on frag_ready (toggled at
 // random); done comes once. Cases: all octants and the diagonals, reversed end points,
 // zero length, the frame's corners, random lines. Prints "N passed, M failed".
+`default_nettype none
 `timescale 1ns / 1ps
 `include "fitkit_map.vh"
 module tb_line;
@@ -131,3 +132,4 @@ module tb_line;
         $finish;
     end
 endmodule
+`default_nettype wire

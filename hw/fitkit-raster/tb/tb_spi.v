@@ -7,6 +7,7 @@
 // CB = 1, (1, 2) -> (300, 400), colour 0xA9) on channel 0x01 lands in the FIFO as the
 // records 0x8_0405_2CC8 and 0x5_4800_0000 tagged 1, and a clear on 0x03 as one record
 // tagged 3. Prints "N passed, M failed".
+`default_nettype none
 `timescale 1ns / 1ps
 `include "fitkit_map.vh"
 module tb_spi;
@@ -143,3 +144,4 @@ module tb_spi;
         $finish;
     end
 endmodule
+`default_nettype wire

@@ -15,6 +15,7 @@
 //   000  stop
 // then the 2^18-byte RAM is written with $writememh to the dump file (default
 // rtl-frame.hex).
+`default_nettype none
 `timescale 1ns / 1ps
 `include "fitkit_map.vh"
 module tb_top;
@@ -550,3 +551,4 @@ module tb_top;
         $finish;
     end
 endmodule
+`default_nettype wire

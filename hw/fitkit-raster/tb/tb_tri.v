@@ -14,6 +14,7 @@
 // random triangles, and a jittered
 // mesh whose triangles must cover every pixel of its rectangle exactly once (shared
 // edges). Prints "N passed, M failed".
+`default_nettype none
 `timescale 1ns / 1ps
 `include "fitkit_map.vh"
 module tb_tri;
@@ -227,3 +228,4 @@ module tb_tri;
         $finish;
     end
 endmodule
+`default_nettype wire
