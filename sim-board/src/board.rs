@@ -125,8 +125,8 @@ fn run<S: Read + Write + Pending>(
             run_on(c, between, on_fault)
         }
         Fpga::Rtl => {
-            let rtl = rtl_sim::Rtl::shared().map_err(RtlTargetError::from)?;
-            let bus = crate::rtl::bus_on(&rtl, rtl_sim::SpiConfig::default())?;
+            let rtl = fitkit_rtl_sim::Rtl::shared().map_err(RtlTargetError::from)?;
+            let bus = crate::rtl::bus_on(&rtl, fitkit_rtl_sim::SpiConfig::default())?;
             let caps = crate::rtl::caps();
             let layout = &protocol::bus::FITKIT;
             let c = Controller::new(HostLink(link), bus, caps, layout, "fpgfx-sim --fpga rtl");

@@ -87,8 +87,8 @@ impl FpgaPort {
                 self.serve_on(FpgaServer::new(SimBus(device), caps, layout), on_fault)
             }
             Fpga::Rtl => {
-                let rtl = rtl_sim::Rtl::shared().map_err(RtlTargetError::from)?;
-                let bus = crate::rtl::bus_on(&rtl, rtl_sim::SpiConfig::default())?;
+                let rtl = fitkit_rtl_sim::Rtl::shared().map_err(RtlTargetError::from)?;
+                let bus = crate::rtl::bus_on(&rtl, fitkit_rtl_sim::SpiConfig::default())?;
                 let server = FpgaServer::new(bus, crate::rtl::caps(), &protocol::bus::FITKIT);
                 self.serve_on(server, on_fault)
             }

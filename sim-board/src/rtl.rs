@@ -1,5 +1,5 @@
 //! The board with the FITkit block's RTL instead of the model: the firmware's controller
-//! drives [`firmware::FitkitSpi`] over the Verilated block's SPI pins ([`rtl_sim`]), as
+//! drives [`firmware::FitkitSpi`] over the Verilated block's SPI pins ([`fitkit_rtl_sim`]), as
 //! seed 000's MCU drives the FPGA.
 //!
 //! This is `fpgfx --port rtl` and `fpgfx-sim --fpga rtl`. Nothing here knows the block's
@@ -8,11 +8,11 @@
 //! user flashes.
 
 use firmware::FitkitSpi;
+use fitkit_rtl_sim::{Rtl, RtlDelay, RtlError, RtlSpi, SharedRtl, SpiConfig, SpiError};
 use protocol::bus::FITKIT;
 use protocol::fitkit_spi::{FIFO_RECORDS, FRAME_SIDE};
 use protocol::frame::{Caps, NumericSet, PixelFormat};
 use protocol::raster::MAX_SUBPIXEL_BITS;
-use rtl_sim::{Rtl, RtlDelay, RtlError, RtlSpi, SharedRtl, SpiConfig, SpiError};
 
 use crate::in_process::BuiltIn;
 
@@ -72,7 +72,7 @@ pub fn rtl_target_on(
         bus_on(rtl, config)?,
         caps(),
         &FITKIT,
-        "fpgfx RTL target: Verilated rtl/ on FITkit SPI",
+        "fpgfx RTL target: Verilated hw/fitkit-raster/rtl/ on FITkit SPI",
     ))
 }
 

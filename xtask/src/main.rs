@@ -44,7 +44,7 @@ fn main() -> Result<()> {
         Some("setup") => setup(),
         Some("synth") => synth::synth(&workspace_root()),
         _ => {
-            eprintln!("usage: cargo xtask <test|setup|synth>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr-ice40 on rtl/: LUT/FF/BRAM/DSP per module and Fmax");
+            eprintln!("usage: cargo xtask <test|setup|synth>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr-ice40 on hw/fitkit-raster/rtl/: LUT/FF/BRAM/DSP per module and Fmax");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
@@ -136,25 +136,25 @@ const PACKAGES: &[Package] = &[
     Package {
         program: "verilator",
         package: "verilator",
-        why: "lints rtl/ and builds the cycle-accurate model of the FITkit block that rtl-sim and `--port rtl` drive",
+        why: "lints hw/fitkit-raster/rtl/ and builds the cycle-accurate model of the FITkit block that fitkit-rtl-sim and `--port rtl` drive",
         needs: None,
     },
     Package {
         program: "iverilog",
         package: "iverilog",
-        why: "runs rtl/'s self-checking testbenches (a second simulator beside Verilator)",
+        why: "runs hw/fitkit-raster/'s self-checking testbenches (a second simulator beside Verilator)",
         needs: None,
     },
     Package {
         program: "yosys",
         package: "yosys",
-        why: "synthesises rtl/ for iCE40 (`cargo xtask synth`; the test command checks it still maps)",
+        why: "synthesises hw/fitkit-raster/rtl/ for iCE40 (`cargo xtask synth`; the test command checks it still maps)",
         needs: None,
     },
     Package {
         program: "nextpnr-ice40",
         package: "nextpnr-ice40",
-        why: "places and routes rtl/ on an iCE40 HX8K for the Fmax that `cargo xtask synth` reports",
+        why: "places and routes hw/fitkit-raster/rtl/ on an iCE40 HX8K for the Fmax that `cargo xtask synth` reports",
         needs: None,
     },
 ];
@@ -275,10 +275,11 @@ fn rtl_checks() -> Result<()> {
         .iter()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    let mut lint = vec!["--lint-only", "-Wall", "--top-module", synth::TOP];
+    let include = format!("-I{}", synth::rtl_dir(&root).display());
+    let mut lint = vec!["--lint-only", "-Wall", &include, "--top-module", synth::TOP];
     lint.extend(files.iter().map(String::as_str));
     run("verilator", &lint)?;
-    let script = root.join("rtl").join("run-tests.sh");
+    let script = root.join(synth::BLOCK).join("run-tests.sh");
     run("sh", &[&script.to_string_lossy()])?;
     synth::synth(&root)
 }

@@ -1,11 +1,12 @@
 //! `cargo xtask synth`: the FITkit raster block through Yosys (`synth_ice40`) and
 //! nextpnr-ice40 on an HX8K, with LUT / FF / BRAM / DSP per module and the routed Fmax.
 //!
-//! The block is synthesised up to its external-memory port (`rtl/*.v`; the simulation RAM
-//! in `rtl/sim/` and the testbenches in `rtl/tb/` are not hardware). Yosys runs twice:
-//! once keeping the hierarchy, for the per-module table, and once flattened, which is the
-//! netlist nextpnr places (flattening lets Yosys optimise across module boundaries, so
-//! the flattened total is what the chip holds and may be below the sum of the modules).
+//! The block is synthesised up to its external-memory port (`hw/fitkit-raster/rtl/*.v`;
+//! the simulation RAM in its `sim/` and the testbenches in its `tb/` are not hardware).
+//! Yosys runs twice: once keeping the hierarchy, for the per-module table, and once
+//! flattened, which is the netlist nextpnr places (flattening lets Yosys optimise across
+//! module boundaries, so the flattened total is what the chip holds and may be below the
+//! sum of the modules).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -14,6 +15,8 @@ use anyhow::{bail, Context, Result};
 
 /// The synthesised top level (docs/rtl.md).
 pub const TOP: &str = "fitkit_raster";
+/// The block's folder under the workspace root (hw/README.md).
+pub const BLOCK: &str = "hw/fitkit-raster";
 /// The iCE40 part and package nextpnr places on: the largest common iCE40 (7 680 LUTs,
 /// 32 4-kbit EBRs, no DSP), so the figures say how much of a cheap board the block takes.
 const DEVICE: &[&str] = &["--hx8k", "--package", "ct256"];
@@ -37,9 +40,16 @@ pub struct Cells {
     pub dsps: u64,
 }
 
-/// The synthesisable sources: `rtl/*.v`, sorted, without the simulation-only folders.
+/// The block's `rtl/`: its synthesisable sources and the generated map header
+/// (`fitkit_map.vh`) they include, so every tool reading them needs it as an include path.
+pub fn rtl_dir(root: &Path) -> PathBuf {
+    root.join(BLOCK).join("rtl")
+}
+
+/// The synthesisable sources: the block's `rtl/*.v`, sorted (its `sim/` and `tb/` are
+/// simulation only).
 pub fn sources(root: &Path) -> Result<Vec<PathBuf>> {
-    let dir = root.join("rtl");
+    let dir = rtl_dir(root);
     let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
         .with_context(|| format!("cannot list {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -132,7 +142,11 @@ pub fn synth(root: &Path) -> Result<()> {
         .iter()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    let read = format!("read_verilog {}", files.join(" "));
+    let read = format!(
+        "read_verilog -I{} {}",
+        rtl_dir(root).display(),
+        files.join(" ")
+    );
     tool_output(
         "yosys",
         &[

@@ -1,5 +1,5 @@
 //! `fpgfx vectors raster` over the real binary: the FITkit gallery jobs and a seeded
-//! random corpus pass the generated Verilog testbench against `rtl/` under Icarus (and
+//! random corpus pass the generated Verilog testbench against `hw/fitkit-raster/rtl/` under Icarus (and
 //! one job under Verilator); one wrong bit in the expected frame or write stream fails
 //! it, naming the pixel; the expected frame is what `fpgfx raster --port builtin` draws;
 //! what the layout cannot carry and an unwritable output are refused, naming them.
@@ -21,11 +21,11 @@ struct Sim {
     output: String,
 }
 
-/// `sh DIR/SCRIPT rtl/ ARGS…`.
+/// `sh DIR/SCRIPT hw/fitkit-raster/rtl/ ARGS…`.
 fn simulate(dir: &str, script: &str, args: &[&str]) -> Sim {
     let out = Command::new("sh")
         .arg(Path::new(dir).join(script))
-        .arg(workspace().join("rtl"))
+        .arg(workspace().join("hw/fitkit-raster/rtl"))
         .args(args)
         .output()
         .unwrap_or_else(|e| panic!("sh {dir}/{script}: {e}"));

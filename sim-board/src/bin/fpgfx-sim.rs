@@ -49,9 +49,10 @@ struct Cli {
     /// throughput figures through a pty or TCP mean something.
     #[arg(long)]
     pace: bool,
-    /// The FPGA: the golden model, or the FITkit raster block's RTL (Verilated rtl/)
-    /// behind the controller's SPI driver. With --fpga-link the RTL answers the serial
-    /// FPGA link through that same driver, so a QEMU board reaches it too.
+    /// The FPGA: the golden model, or the FITkit raster block's RTL (Verilated
+    /// hw/fitkit-raster/rtl/) behind the controller's SPI driver. With --fpga-link the RTL
+    /// answers the serial FPGA link through that same driver, so a QEMU board reaches it
+    /// too.
     #[arg(long, value_enum, default_value_t = Fpga::Model)]
     fpga: Fpga,
 }

@@ -1,0 +1,269 @@
+//! One case = the same commands into the Verilated block (over SPI, framed as docs/rtl.md
+//! says) and into the golden model (`Device` with the FITkit layout), then their
+//! framebuffers and counters side by side.
+
+use embedded_hal::spi::{Operation, SpiDevice};
+use fitkit_rtl_sim::{MemWait, Rtl, RtlSpi, SharedRtl, SpiConfig};
+use protocol::bus::{self, PackOptions, FITKIT};
+use protocol::fitkit_spi::{self as wire, Status};
+use protocol::raster::{Cull, RasterCmd, RasterSetup, Rgb, Traversal};
+use sim_target::Device;
+
+/// Cycle bound of every wait on the RTL: above the longest case (a 512 × 512 bounding
+/// box is 262 144 cycles, a full FIFO of them far more, but the cases queue few).
+pub const WAIT_BOUND: u64 = 20_000_000;
+
+/// The model's traversal whose cycle accounting the RTL's triangle unit follows.
+pub const MODEL_TRAVERSAL: Traversal = Traversal::BoundingBox;
+
+/// The RTL with its SPI master, and the model, fed the same commands.
+pub struct Pair {
+    pub rtl: SharedRtl,
+    pub spi: RtlSpi,
+    pub model: Device,
+    pub setup: RasterSetup,
+    /// Both sides' counters after the last [`Pair::step`] (or the set-up).
+    last: (Counters, Counters),
+}
+
+/// A set-up for a `width × height` frame, FITkit style: whole pixels, no AA.
+pub fn setup(width: u16, height: u16, background: Rgb, cull: Cull) -> RasterSetup {
+    RasterSetup {
+        width,
+        height,
+        subpixel_bits: 0,
+        background,
+        aa: Default::default(),
+        cull,
+        traversal: MODEL_TRAVERSAL,
+    }
+}
+
+/// The model and the RTL must see one colour: FITkit colours are RGB332.
+pub fn rgb332(c: Rgb) -> u8 {
+    bus::rgb332_encode(c).unwrap_or_else(|| panic!("{c:?} is not an RGB332 colour"))
+}
+
+/// A fresh RTL; a missing model is a failure with `Rtl::new`'s message, never a skip.
+pub fn rtl() -> SharedRtl {
+    Rtl::shared().unwrap_or_else(|e| panic!("{e}"))
+}
+
+impl Pair {
+    /// A fresh RTL and model, both set up with `setup`.
+    pub fn new(setup: RasterSetup) -> Self {
+        Self::with(setup, MemWait::Off)
+    }
+
+    /// As [`Pair::new`] with `mem_wait` driven as `wait`.
+    pub fn with(setup: RasterSetup, wait: MemWait) -> Self {
+        let rtl = rtl();
+        rtl.borrow_mut().set_mem_wait(wait);
+        let spi = RtlSpi::new(rtl.clone(), SpiConfig::default()).expect("default SPI config");
+        let mut pair = Self {
+            rtl,
+            spi,
+            model: Device::new(&FITKIT),
+            setup,
+            last: Default::default(),
+        };
+        pair.model.raster_setup(&setup).expect("model set-up");
+        let record = wire::Setup {
+            width: setup.width,
+            height: setup.height,
+            background: rgb332(setup.background),
+            cull: setup.cull,
+        }
+        .record()
+        .expect("set-up in range");
+        pair.write_packet(wire::ADDR_SETUP, &[record]);
+        let s = pair.finish();
+        assert!(s.error.is_none(), "set-up {setup:?}: {s:?}");
+        pair.last = (Counters::from(s), pair.model_counters());
+        pair
+    }
+
+    /// Sends `cmd` to both, waits for the RTL, and checks the frames are equal; returns
+    /// what the command added to each side's counters.
+    pub fn step(&mut self, case: &str, cmd: &RasterCmd, cb: bool) -> Step {
+        self.send(cmd, cb);
+        self.settle(&format!("{case}: {cmd:?}"))
+    }
+
+    /// Waits for the RTL, checks it latched no error and that the frames are equal;
+    /// returns what the commands since the last call added to each side's counters.
+    pub fn settle(&mut self, case: &str) -> Step {
+        let s = self.finish();
+        assert!(s.error.is_none(), "{case}: block error {:?}", s.error);
+        self.assert_frames_equal(case);
+        let now = (Counters::from(s), self.model_counters());
+        let step = Step {
+            rtl: now.0.minus(&self.last.0),
+            model: now.1.minus(&self.last.1),
+        };
+        self.last = now;
+        step
+    }
+
+    /// Waits for FIFO_FREE, then writes the packet of `records` to `address`.
+    pub fn write_packet(&mut self, address: u8, records: &[u64]) {
+        self.wait_fifo_free();
+        let mut buf = [0u8; 1 + wire::MAX_PACKET_BYTES];
+        let n = wire::packet(address, records, &mut buf).expect("packet frames");
+        self.write_raw(&buf[..n]);
+    }
+
+    /// Waits (bounded) until FIFO_FREE is high.
+    pub fn wait_fifo_free(&mut self) {
+        self.rtl
+            .borrow_mut()
+            .wait_until("fifo_free", WAIT_BOUND, |r| r.fifo_free())
+            .unwrap_or_else(|e| panic!("{e}"));
+    }
+
+    /// Writes `bytes` (address first) in one transaction, without looking at FIFO_FREE.
+    pub fn write_raw(&mut self, bytes: &[u8]) {
+        self.spi.write(bytes).expect("SPI write");
+    }
+
+    /// The FITkit packet of `cmd` (CB = `cb`): its channel and records.
+    pub fn pack(
+        &self,
+        cmd: &RasterCmd,
+        cb: bool,
+    ) -> (u8, heapless::Vec<u64, { bus::MAX_RECORDS }>) {
+        let opts = PackOptions {
+            subpixel_bits: self.setup.subpixel_bits,
+            clear: cb,
+        };
+        let records = bus::pack(&FITKIT, cmd, opts).unwrap_or_else(|e| panic!("{cmd:?}: {e}"));
+        let channel = bus::channel(&FITKIT, bus::Kind::of(cmd)).expect("FITkit channel");
+        (channel, records)
+    }
+
+    /// `cmd` into both.
+    pub fn send(&mut self, cmd: &RasterCmd, cb: bool) {
+        let (channel, records) = self.pack(cmd, cb);
+        self.write_packet(channel, &records);
+        self.model
+            .push_packet(channel, &records)
+            .expect("model FIFO");
+        self.model.drain().expect("model runs the command");
+    }
+
+    /// Waits until the RTL is idle (bounded) and reads its status.
+    pub fn finish(&mut self) -> Status {
+        self.rtl
+            .borrow_mut()
+            .wait_idle(WAIT_BOUND)
+            .unwrap_or_else(|e| panic!("{e}"));
+        self.status()
+    }
+
+    /// The status block over SPI.
+    pub fn status(&mut self) -> Status {
+        let mut b = [0u8; wire::STATUS_BYTES];
+        self.spi
+            .transaction(&mut [
+                Operation::Write(&[wire::ADDR_STATUS]),
+                Operation::Read(&mut b),
+            ])
+            .expect("SPI read");
+        Status::decode(&b).unwrap_or_else(|e| panic!("status {b:02x?}: {e}"))
+    }
+
+    /// `n` pixels from `(x, y)` on over the read-back channel.
+    pub fn read_pixels(&mut self, x: u32, y: u32, n: usize) -> Vec<u8> {
+        let header = wire::read_header(x, y).expect("pixel inside the RAM");
+        let mut buf = vec![0u8; n];
+        self.spi
+            .transaction(&mut [Operation::Write(&header), Operation::Read(&mut buf)])
+            .expect("SPI read");
+        buf
+    }
+
+    /// Pixels where the RTL's RAM and the model's framebuffer differ, as `(x, y, rtl,
+    /// model)`, the model's RGB888 quantised (it is exact for FITkit colours).
+    pub fn frame_diff(&self) -> Vec<(u32, u32, u8, u8)> {
+        let (w, h) = (u32::from(self.setup.width), u32::from(self.setup.height));
+        let rtl = self.rtl.borrow();
+        let got = rtl.frame(w, h).expect("frame inside the RAM");
+        let fb = self.model.raster().expect("set up").framebuffer();
+        let mut diff = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                let want = fb.pixel(x, y).expect("inside");
+                let want = bus::rgb332_encode(bus::quantize_rgb332(want)).unwrap_or(0);
+                let g = got[(y * w + x) as usize];
+                if g != want {
+                    diff.push((x, y, g, want));
+                }
+            }
+        }
+        diff
+    }
+
+    /// Panics with the first differing pixels unless the frames are equal.
+    pub fn assert_frames_equal(&self, case: &str) {
+        let d = self.frame_diff();
+        assert!(
+            d.is_empty(),
+            "{case}: {} pixels differ (x, y, rtl, model), first: {:?}",
+            d.len(),
+            &d[..d.len().min(8)]
+        );
+    }
+
+    /// The model's counters in the status block's terms.
+    pub fn model_counters(&self) -> Counters {
+        let s = self.model.raster().expect("set up").stats();
+        Counters {
+            packets: s.commands,
+            fragments: s.fragments,
+            line: s.cycles.line,
+            triangle: s.cycles.triangle,
+            clear: s.cycles.clear,
+        }
+    }
+}
+
+/// Per-unit counters of one case, from either side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Counters {
+    pub packets: u64,
+    pub fragments: u64,
+    pub line: u64,
+    pub triangle: u64,
+    pub clear: u64,
+}
+
+impl Counters {
+    fn minus(&self, o: &Self) -> Self {
+        Self {
+            packets: self.packets - o.packets,
+            fragments: self.fragments - o.fragments,
+            line: self.line - o.line,
+            triangle: self.triangle - o.triangle,
+            clear: self.clear - o.clear,
+        }
+    }
+}
+
+/// What one command added to the counters of the RTL and of the model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Step {
+    pub rtl: Counters,
+    pub model: Counters,
+}
+
+impl From<Status> for Counters {
+    fn from(s: Status) -> Self {
+        Self {
+            packets: u64::from(s.packets),
+            fragments: u64::from(s.fragments),
+            line: u64::from(s.line_cycles),
+            triangle: u64::from(s.triangle_cycles),
+            clear: u64::from(s.clear_cycles),
+        }
+    }
+}

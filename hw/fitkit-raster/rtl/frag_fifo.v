@@ -1,0 +1,49 @@
+// frag_fifo -- the 16-deep fragment FIFO between the raster units and the writer.
+//
+// Seed 000 ch. 6.3 (the fragment FIFO in front of the SDRAM controller: it hides the
+// memory's short stalls -- refresh, VGA priority -- from the units). Show-ahead read:
+// dout is the oldest entry while empty is low; re pops it. A write into a full FIFO is
+// ignored (producers wait for ~full).
+//
+// Ports: din / we, full; dout / empty / re. Parameters: W bits per entry, AW log2 depth.
+// Timing: an entry written in cycle t is visible at dout in cycle t + 1; one write and
+// one read per cycle.
+`default_nettype none
+module frag_fifo #(
+    parameter W  = 27,
+    parameter AW = 4
+) (
+    input  wire         clk,
+    input  wire         rst,
+    input  wire [W-1:0] din,
+    input  wire         we,
+    output wire         full,
+    output wire [W-1:0] dout,
+    output wire         empty,
+    input  wire         re
+);
+    reg [W-1:0] mem [0:(1<<AW)-1];
+    reg [AW:0]  wp, rp;
+
+    wire do_w = we & ~full;
+    wire do_r = re & ~empty;
+
+    assign empty = wp == rp;
+    assign full  = (wp[AW-1:0] == rp[AW-1:0]) & (wp[AW] != rp[AW]);
+    assign dout  = mem[rp[AW-1:0]];
+
+    always @(posedge clk) begin
+        if (do_w) mem[wp[AW-1:0]] <= din;
+    end
+
+    always @(posedge clk) begin
+        if (rst) begin
+            wp <= {(AW+1){1'b0}};
+            rp <= {(AW+1){1'b0}};
+        end else begin
+            if (do_w) wp <= wp + 1'b1;
+            if (do_r) rp <= rp + 1'b1;
+        end
+    end
+endmodule
+`default_nettype wire

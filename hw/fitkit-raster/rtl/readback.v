@@ -1,0 +1,115 @@
+// readback -- SPI channel 0x30: framebuffer bytes from consecutive addresses.
+//
+// Not in seed 000 (its frame was only seen on VGA); fpgfx needs it to compare frames.
+// Transaction: address 0x30, 3 bytes start address (24 bits, the low 18 used), 1
+// turnaround byte, then one pixel per byte. After the third address byte the unit
+// prefetches up to two bytes through fb_writer's read port (one read in flight at a
+// time), so each pixel has a whole SPI byte time (>= 64 clk cycles at f_SCK = f_clk/8)
+// to arrive. A byte the master clocks (its first bit sampled) without the data having
+// arrived is sent as 0 and reported as a read underrun (underrun strobe). A read still in
+// flight when a new transaction starts is dropped on arrival.
+//
+// Ports: the spi_slave's events and chan / chan_valid from spi_decoder in; tx_byte is
+// the byte for the slave while channel 0x30 is selected; rd_* to / from fb_writer.
+// The channel and the header's length (address, start address, turnaround) are the
+// generated map's (fitkit_map.vh), which the host reads by.
+`default_nettype none
+`include "fitkit_map.vh"
+module readback (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        cs_start,
+    input  wire        rx_valid,
+    input  wire [7:0]  rx_byte,
+    input  wire [7:0]  rx_index,
+    input  wire [7:0]  chan,
+    input  wire        chan_valid,
+    input  wire        tx_load,
+    input  wire [7:0]  byte_index,
+    input  wire        bit_start,
+    output wire [7:0]  tx_byte,
+    output wire        rd_req,
+    output wire [17:0] rd_addr,
+    input  wire        rd_ack,
+    input  wire        rd_valid,
+    input  wire [7:0]  rd_data,
+    output reg         underrun
+);
+    reg [17:0] addr;
+    reg        en;
+    reg [7:0]  b0, b1;       // b0 is the head
+    reg [1:0]  cnt;
+    reg        pend;         // a read is in flight
+    reg        drop;         // ... and belongs to an earlier transaction
+    reg        missing;      // the byte loaded last had no data
+
+    // Byte indices in the transaction: the last start-address byte, the first pixel.
+    localparam [7:0] LAST_ADDR   = `FITKIT_READ_HEADER_BYTES - `FITKIT_READ_TURNAROUND - 1;
+    localparam [7:0] FIRST_PIXEL = `FITKIT_READ_HEADER_BYTES;
+
+    wire active = chan_valid & (chan == `FITKIT_ADDR_READ);
+    wire pop    = active & tx_load & (byte_index >= FIRST_PIXEL);
+    wire push   = rd_valid & ~drop;
+
+    assign rd_req  = en & ~pend & (cnt != 2'd2);
+    assign rd_addr = addr;
+    assign tx_byte = (byte_index >= FIRST_PIXEL && cnt != 2'd0) ? b0 : 8'd0;
+
+    always @(posedge clk) begin
+        underrun <= 1'b0;
+        if (rst) begin
+            addr    <= 18'd0;
+            en      <= 1'b0;
+            b0      <= 8'd0;
+            b1      <= 8'd0;
+            cnt     <= 2'd0;
+            pend    <= 1'b0;
+            drop    <= 1'b0;
+            missing <= 1'b0;
+        end else begin
+            if (rd_ack) begin
+                pend <= 1'b1;
+                addr <= addr + 18'd1;
+            end else if (rd_valid) begin
+                pend <= 1'b0;
+                drop <= 1'b0;
+            end
+            if (cs_start) begin
+                en      <= 1'b0;
+                cnt     <= 2'd0;
+                missing <= 1'b0;
+                drop    <= (pend & ~rd_valid) | rd_ack;
+            end else begin
+                if (rx_valid && active && rx_index >= 8'd1 && rx_index <= LAST_ADDR) begin
+                    addr <= {addr[9:0], rx_byte};
+                    en   <= rx_index == LAST_ADDR;
+                end
+                // Queue: pop the head and / or push at the tail.
+                case ({push, pop & (cnt != 2'd0)})
+                    2'b10: begin
+                        if (cnt == 2'd0) b0 <= rd_data; else b1 <= rd_data;
+                        cnt <= cnt + 2'd1;
+                    end
+                    2'b01: begin
+                        b0  <= b1;
+                        cnt <= cnt - 2'd1;
+                    end
+                    2'b11: begin
+                        if (cnt == 2'd1) b0 <= rd_data;
+                        else begin
+                            b0 <= b1;
+                            b1 <= rd_data;
+                        end
+                    end
+                    default: ;
+                endcase
+                if (pop) missing <= cnt == 2'd0;
+                if (active && bit_start && missing) begin
+                    underrun <= 1'b1;
+                    missing  <= 1'b0;
+                end
+            end
+        end
+    end
+endmodule
+`default_nettype wire
