@@ -43,8 +43,9 @@ fn main() -> Result<()> {
         Some("test") => test(),
         Some("setup") => setup(),
         Some("synth") => synth::synth(&workspace_root()),
+        Some("layers") => layers::check(&std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())),
         _ => {
-            eprintln!("usage: cargo xtask <test|setup|synth>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr-ice40 on hw/fitkit-raster/rtl/: LUT/FF/BRAM/DSP per module and Fmax");
+            eprintln!("usage: cargo xtask <test|setup|synth|layers>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr-ice40 on hw/fitkit-raster/rtl/: LUT/FF/BRAM/DSP per module and Fmax\n  layers check that every dependency between the workspace's crates points down");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
