@@ -53,6 +53,11 @@ run tb_line tb_line - rtl/line_unit.v
 run tb_tri tb_tri - rtl/tri_unit.v
 echo "tb_tri with LANES = 8:"
 run tb_tri tb_tri8 8 rtl/tri_unit.v
+run tb_cmd_exec tb_cmd_exec - rtl/cmd_exec.v
+run tb_clear tb_clear - rtl/clear_unit.v
+run tb_fb_writer tb_fb_writer - rtl/fb_writer.v
+run tb_readback tb_readback - rtl/readback.v rtl/spi_slave.v
+run tb_status tb_status - rtl/status.v
 run tb_top tb_top - rtl/*.v sim/*.v
 
 # tb_top's file mode on a small transaction list: the RAM dump must hold the whole frame.
