@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use serde::Deserialize;
 
-use crate::ports::PortInfo;
+use crate::serial_ports::PortInfo;
 use crate::session::Transport;
 
 /// `fpgfx.toml`: defaults for the options every command shares.
@@ -172,7 +172,7 @@ pub fn choose(port: Option<&str>, baud: u32, ports: &[PortInfo]) -> (Target, Str
     if let Some(p) = port {
         return (Target::parse(p, baud), format!("--port {p}"));
     }
-    match crate::ports::the_one_adapter(ports) {
+    match crate::serial_ports::the_one_adapter(ports) {
         Some(p) => (
             Target::Serial {
                 path: p.path.clone(),
@@ -180,7 +180,7 @@ pub fn choose(port: Option<&str>, baud: u32, ports: &[PortInfo]) -> (Target, Str
             },
             format!(
                 "the only known adapter: {} (use --port builtin for the built-in target)",
-                crate::ports::describe(p)
+                crate::serial_ports::describe(p)
             ),
         ),
         None => (Target::BuiltIn, "no --port: the built-in target".into()),

@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use host_cli::animate::{CameraMove, Kind, Output, Script};
-use host_cli::render::{scene_regs, Aovs, Packing, Renderer};
+use host_cli::run::animate::{CameraMove, Kind, Output, Script};
+use host_cli::run::render::{scene_regs, Aovs, Packing, Renderer};
 use protocol::frame::Numeric;
 
 use super::{parse_size, TargetArgs};
@@ -175,7 +175,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
             }
             Kind::Raster => {
                 let job = jobs::raster::parse(&text, &label)?;
-                let out = host_cli::raster::run(&mut session, &job, &label)?;
+                let out = host_cli::run::raster::run(&mut session, &job, &label)?;
                 (out.image, format!("{:>4} commands", job.cmds.len()))
             }
         };
@@ -203,7 +203,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
     drop(raw);
     println!("total {rendered} frames: {total_payload} B payload, {total_wire} B host → target");
     if let Output::Gif(path) = &output {
-        host_cli::animate::write_gif(path, &frames, a.fps)?;
+        host_cli::run::animate::write_gif(path, &frames, a.fps)?;
         eprintln!("wrote {}", path.display());
     } else {
         eprintln!("wrote {rendered} frames");

@@ -1,11 +1,11 @@
-//! `fpgfx bench`: the sweeps of [`host_cli::bench`], with a progress bar per sweep on a
+//! `fpgfx bench`: the sweeps of [`host_cli::sweep`], with a progress bar per sweep on a
 //! terminal's stderr, the outputs written to `--output` and the tables on stdout.
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use anyhow::Result;
-use host_cli::bench::{self, BenchConfig, Progress};
+use host_cli::sweep::{self, BenchConfig, Progress};
 
 /// Arguments of `fpgfx bench`.
 #[derive(clap::Args)]
@@ -37,9 +37,9 @@ pub fn run(a: &Args) -> Result<()> {
         root: PathBuf::from("."),
     };
     let mut bars = Bars::new(std::io::stderr().is_terminal());
-    let report = bench::run_with_progress(&cfg, &mut |p| bars.show(p))?;
-    bench::write(&report, &a.output)?;
-    print!("{}", bench::to_markdown(&report));
+    let report = sweep::run_with_progress(&cfg, &mut |p| bars.show(p))?;
+    sweep::write(&report, &a.output)?;
+    print!("{}", sweep::to_markdown(&report));
     Ok(())
 }
 

@@ -60,7 +60,7 @@ impl TargetArgs {
         );
         // Listing ports only matters when none was named.
         let ports = if port.is_none() {
-            host_cli::ports::list().unwrap_or_default()
+            host_cli::serial_ports::list().unwrap_or_default()
         } else {
             Vec::new()
         };

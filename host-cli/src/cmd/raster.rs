@@ -34,7 +34,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
     }
     session.handshake().context("handshake with the target")?;
     let started = std::time::Instant::now();
-    let out = host_cli::raster::run(&mut session, &job, &name)?;
+    let out = host_cli::run::raster::run(&mut session, &job, &name)?;
     let elapsed = started.elapsed();
     out.image
         .save(&a.output)
@@ -75,7 +75,7 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
 fn model_beside_rtl(
     job: &jobs::raster::RasterJob,
     name: &str,
-    rtl: &host_cli::raster::RasterOutput,
+    rtl: &host_cli::run::raster::RasterOutput,
 ) -> Result<()> {
     let mut job = job.clone();
     job.setup.traversal = Traversal::BoundingBox;
@@ -84,7 +84,7 @@ fn model_beside_rtl(
     session
         .handshake()
         .context("handshake with the golden model")?;
-    let model = host_cli::raster::run(&mut session, &job, name)?;
+    let model = host_cli::run::raster::run(&mut session, &job, name)?;
     let differ = model
         .image
         .pixels()

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use host_cli::render::{scene_regs, AovFiles, Packing, Renderer};
+use host_cli::run::render::{scene_regs, AovFiles, Packing, Renderer};
 use protocol::frame::Numeric;
 
 use super::{parse_size, phase_line, TargetArgs};

@@ -2,7 +2,7 @@
 //! finite cost and error, the reference-identical points are where they must be, and the
 //! default configurations sit on their Pareto fronts.
 
-use host_cli::bench::{self, BenchConfig};
+use host_cli::sweep::{self, BenchConfig};
 use std::path::PathBuf;
 
 use crate::common;
@@ -17,9 +17,9 @@ fn quick_bench_writes_outputs_and_default_is_on_the_front() {
         repeats: 1,
         root: common::workspace(),
     };
-    let report = bench::run(&cfg).expect("bench runs");
-    bench::write(&report, &out).expect("outputs written");
-    eprintln!("{}", bench::to_markdown(&report));
+    let report = sweep::run(&cfg).expect("bench runs");
+    sweep::write(&report, &out).expect("outputs written");
+    eprintln!("{}", sweep::to_markdown(&report));
     for f in [
         "bench.csv",
         "bench.md",
@@ -47,7 +47,7 @@ fn quick_bench_writes_outputs_and_default_is_on_the_front() {
         .find(|p| p.config == "f64/exact")
         .expect("f64/exact measured");
     assert_eq!(f64_exact.mismatched, 0);
-    assert_eq!(f64_exact.psnr, bench::PSNR_CAP);
+    assert_eq!(f64_exact.psnr, sweep::PSNR_CAP);
     // Q16.16 with the seed's approximations is measurably worse than f32
     let psnr = |c: &str| {
         let p = report.rt.iter().find(|p| p.config == c);
@@ -98,7 +98,7 @@ fn pareto_front_by_hand() {
         (5.0, 45.0),
     ];
     assert_eq!(
-        bench::pareto_front(&pts),
+        sweep::pareto_front(&pts),
         vec![true, true, false, true, true, true, true, false]
     );
 }

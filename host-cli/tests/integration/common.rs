@@ -427,12 +427,12 @@ color = "#ffff00"
 /// how many register words crossed the link, which must be only the ones that changed
 /// (the renderer keeps the device's register image; the packing is no register).
 pub fn words_for_next_frame<T: host_cli::session::Transport>(
-    renderer: &mut host_cli::render::Renderer,
+    renderer: &mut host_cli::run::render::Renderer,
     session: &mut host_cli::session::Session<T>,
     regs: &sim_target::scene_regs::Regs,
     numeric: protocol::frame::Numeric,
 ) -> usize {
-    use host_cli::render::{Aovs, Packing};
+    use host_cli::run::render::{Aovs, Packing};
     let (_, words) = renderer
         .frame(session, regs, numeric, Packing::Kcu116, Aovs::default())
         .expect("the next frame renders");

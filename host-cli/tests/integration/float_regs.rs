@@ -3,7 +3,7 @@
 //! the target takes binary32 registers (and misses it through Q16.16 ones), and
 //! `fpgfx render --stats` reports the clipped results of a fixed-point frame.
 
-use host_cli::render::{scene_regs, Aovs, Packing, Renderer};
+use host_cli::run::render::{scene_regs, Aovs, Packing, Renderer};
 use host_cli::session::Session;
 use protocol::frame::Numeric;
 use protocol::scene::ValueFormat;

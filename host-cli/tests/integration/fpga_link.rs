@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use host_cli::render::{Aovs, Packing, Renderer};
+use host_cli::run::render::{Aovs, Packing, Renderer};
 use host_cli::session::{Session, Transport};
 use sim_board::in_process::{sim_target, sim_target_via_fpga_link};
 
@@ -19,7 +19,7 @@ fn raster_image<T: Transport>(target: T, file: &Path) -> (Vec<u8>, u64) {
     let job = jobs::raster::parse(&read(file), &name).expect("example parses");
     let mut session = Session::new(target);
     session.handshake().expect("handshake");
-    let out = host_cli::raster::run(&mut session, &job, &name).expect("draws");
+    let out = host_cli::run::raster::run(&mut session, &job, &name).expect("draws");
     (out.image.into_raw(), out.stats.device.fragments)
 }
 

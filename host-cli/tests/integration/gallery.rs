@@ -25,7 +25,7 @@ fn draw(
     job.setup.traversal = traversal;
     let mut session = Session::new(sim_board::in_process::sim_target_with(layout));
     session.handshake().expect("handshake");
-    host_cli::raster::run(&mut session, &job, &name)
+    host_cli::run::raster::run(&mut session, &job, &name)
         .expect("example draws")
         .image
 }

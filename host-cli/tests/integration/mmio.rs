@@ -4,7 +4,7 @@
 //! transport, never a bit. The model's refusals and a stuck block reach the user as
 //! messages, and drivers broken on purpose fail these comparisons.
 
-use host_cli::render::{Aovs, Packing, Renderer};
+use host_cli::run::render::{Aovs, Packing, Renderer};
 use host_cli::session::{Session, Transport};
 use protocol::axi_lite::{self, ctrl, raster};
 use protocol::frame::Numeric;
@@ -170,7 +170,7 @@ fn draw<T: Transport>(target: T) -> Result<Vec<u8>, String> {
     let job = jobs::raster::parse(&text, &path).expect("parses");
     let mut session = Session::new(target);
     session.handshake().map_err(|e| e.to_string())?;
-    host_cli::raster::run(&mut session, &job, &path)
+    host_cli::run::raster::run(&mut session, &job, &path)
         .map(|out| out.image.into_raw())
         .map_err(|e| e.to_string())
 }

@@ -147,7 +147,7 @@ fn every_command_reaches_the_fifo_in_order_under_back_pressure() {
     // A FIFO of 4 records draining 1 per wait: the controller must stall, never overrun.
     let mut session = Session::new(BuiltIn::new(Recorder::new(4, 1), caps(), &WIDE));
     session.handshake().expect("handshake");
-    let out = host_cli::raster::run(&mut session, &job, "tri.toml").expect("runs");
+    let out = host_cli::run::raster::run(&mut session, &job, "tri.toml").expect("runs");
     let bus = session.transport().bus();
     assert_eq!(
         bus.decoded(),
@@ -180,8 +180,8 @@ fn refusals_name_the_command() {
         &protocol::bus::FITKIT,
     ));
     session.handshake().expect("handshake");
-    let err =
-        host_cli::raster::run(&mut session, &job, "c.toml").expect_err("FITkit has no circles");
+    let err = host_cli::run::raster::run(&mut session, &job, "c.toml")
+        .expect_err("FITkit has no circles");
     match &err {
         SessionError::Unsupported(what) => {
             assert!(
@@ -204,7 +204,7 @@ fn capability_refusal_before_anything_is_sent() {
     small.max_width = 1024;
     let mut session = Session::new(BuiltIn::new(Recorder::new(512, 512), small, &WIDE));
     session.handshake().expect("handshake");
-    let err = host_cli::raster::run(&mut session, &job, "big.toml").expect_err("too wide");
+    let err = host_cli::run::raster::run(&mut session, &job, "big.toml").expect_err("too wide");
     assert!(err.to_string().contains("4000×10 exceeds"), "{err}");
     assert!(session.transport().bus().setup.is_none());
 }
@@ -217,7 +217,7 @@ fn built_in_target_matches_the_raster_block_exactly() {
     let job = jobs::raster::parse(&text, "g.toml").expect("valid");
     let mut session = Session::new(sim_board::in_process::sim_target());
     session.handshake().expect("handshake");
-    let out = host_cli::raster::run(&mut session, &job, "g.toml").expect("runs");
+    let out = host_cli::run::raster::run(&mut session, &job, "g.toml").expect("runs");
 
     let (width, height) = (job.setup.width.into(), job.setup.height.into());
     let mut direct = sim_target::raster::Raster::new(width, height, &job.setup).expect("setup");
@@ -243,7 +243,7 @@ fn small_reference() -> sim_target::rt::Scene {
 /// register image's scene directly; a second frame sends only what changed.
 #[test]
 fn built_in_render_matches_direct_and_sends_only_changes() {
-    use host_cli::render::{Aovs, Packing, Renderer};
+    use host_cli::run::render::{Aovs, Packing, Renderer};
     use jobs::scene::to_regs;
     use sim_target::scene_regs::from_regs;
     let mut scene = small_reference();
@@ -293,7 +293,7 @@ fn built_in_render_matches_direct_and_sends_only_changes() {
 /// read-back instead of returning zeros; the colour is the same either way.
 #[test]
 fn a_frame_without_aovs_refuses_their_read_back() {
-    use host_cli::render::{Aovs, Packing, Renderer};
+    use host_cli::run::render::{Aovs, Packing, Renderer};
     use protocol::frame::{PixelFormat, Plane, ReadRequest, Rect};
     let regs = jobs::scene::to_regs(&small_reference()).expect("fits");
     let numeric = protocol::frame::Numeric::F32;

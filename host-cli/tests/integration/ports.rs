@@ -8,7 +8,7 @@ use std::path::Path;
 use crate::common::{assert_fails, assert_ok, example, fpgfx_command, run, Run};
 
 use host_cli::connect::{choose, Target};
-use host_cli::ports::{describe, list_in, the_one_adapter};
+use host_cli::serial_ports::{describe, list_in, the_one_adapter};
 
 fn write(path: &Path, text: &str) {
     std::fs::create_dir_all(path.parent().expect("parent")).expect("mkdir");

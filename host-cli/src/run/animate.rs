@@ -4,7 +4,7 @@
 //! register words: it reads like the scene the user wrote, and every frame goes through
 //! the same parser and validation as `fpgfx render`, so a script that breaks the scene
 //! gets the parser's message with the frame number. The register diff of
-//! [`crate::render::Renderer`] then sends only what changed between frames.
+//! [`crate::run::render::Renderer`] then sends only what changed between frames.
 //!
 //! A script defines one of
 //! - `fn scene(s, frame, time)`: gets the base scene (the script's `const SCENE = "…"`,
