@@ -175,9 +175,10 @@ pub struct Stats {
     pub seconds: f64,
     /// Board-time estimate in cycles: pixels·spp·II + overhead.
     pub board_cycles: u64,
-    /// Results the frame's fixed-point format clipped to its range, set-up included
-    /// ([`crate::num::saturation`]); always 0 in the float formats, which do not
-    /// saturate. Nonzero means the frame differs from what an unclipped datapath draws.
+    /// Results the frame's fixed-point format clipped to its range, set-up included (the
+    /// formats count each clip on the thread computing it); always 0 in the float formats,
+    /// which do not saturate. Nonzero means the frame differs from what an unclipped
+    /// datapath draws.
     pub saturations: u64,
 }
 
