@@ -13,8 +13,9 @@
 //! formulas a format uses when it has nothing cheaper of its own are in [`composed`]; the
 //! `composed!` macro below writes the forwarding methods for the formats that use them.
 //!
-//! Saturation is silent in the values but counted: [`saturation`] tallies every clipped
-//! result on the thread computing it, for the device's counters.
+//! Saturation is silent in the values but counted: a crate-private counter tallies every
+//! clipped result on the thread computing it, and a frame reports its total
+//! ([`crate::rt::Stats::saturations`], the device's counters).
 //!
 //! The formats and the approximations are re-exported here from private modules. Two
 //! modules stay public as namespaces callers name on purpose: [`composed`]`::rsqrt` is the
@@ -144,7 +145,7 @@ mod approx;
 pub mod composed;
 mod formats;
 pub mod instrumented;
-pub mod saturation;
+pub(crate) mod saturation;
 
 pub use approx::{
     acos, acos_table, atan, atan2, div_lut_nr, div_nr, powi, pre_d, pre_d_lut, pre_s, pre_s_lut,

@@ -46,7 +46,7 @@ pub(crate) fn total() -> u64 {
 }
 
 /// Runs `f` and returns its result with the results it saw clipped on this thread.
-pub fn count<R>(f: impl FnOnce() -> R) -> (R, u64) {
+pub(crate) fn count<R>(f: impl FnOnce() -> R) -> (R, u64) {
     let before = SATURATIONS.with(Cell::get);
     let r = f();
     (r, SATURATIONS.with(Cell::get).wrapping_sub(before))

@@ -13,10 +13,11 @@
 //! [`Secondary`]). `fpgfx stress`
 //! renders random scenes both ways and fails on any difference.
 
+use super::prepare::Cam;
 use super::scene::{Object, Scene, Shape};
 use super::shapes::Quadratic;
 use super::vec::f;
-use super::{Cam, Math};
+use super::Math;
 use crate::num::Scalar;
 
 /// Side of a culling tile in pixels: small enough that a tile's rays stay within a

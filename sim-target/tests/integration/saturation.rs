@@ -1,7 +1,7 @@
-//! The device's saturation counter (`num::saturation`, `rt::Stats::saturations`,
-//! `DeviceCounters::saturations`): what it counts in each format on the reference scene,
-//! that rayon's row split does not change it, that it agrees with the exhaustive `Probe`,
-//! and that `Device` reports it.
+//! The device's saturation counter (the formats' count of clipped results, reported as
+//! `rt::Stats::saturations` and `DeviceCounters::saturations`): what it counts in each
+//! format on the reference scene, that rayon's row split does not change it, that it
+//! agrees with the exhaustive `Probe`, and that `Device` reports it.
 
 use jobs::scene::to_regs;
 use protocol::frame::{Block, StartFrame};
