@@ -25,7 +25,7 @@ use crate::raster_file;
 #[non_exhaustive]
 pub enum BenchError {
     /// A scene or command file could not be read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}")]
     Read {
         /// The scene or command file, as given.
         path: String,
@@ -36,7 +36,7 @@ pub enum BenchError {
     #[error(transparent)]
     Scene(#[from] scene_file::SceneFileError),
     /// The ray tracer refused a scene at one of the swept configurations.
-    #[error("{scene}: {source}")]
+    #[error("cannot render {scene}")]
     Render {
         /// The scene file, as given.
         scene: String,

@@ -102,3 +102,16 @@ fn pareto_front_by_hand() {
         vec![true, true, false, true, true, true, true, false]
     );
 }
+
+/// A scene file that cannot be read is named once, with the operating system's reason
+/// once (not "cannot read X: reason: reason").
+#[test]
+fn unreadable_scene_is_reported_once() {
+    let out = common::tmp("unreadable-out");
+    let missing = common::tmp("no-such-scene.toml");
+    let args = ["bench", "--quick", "--scene", &missing, "-o", &out];
+    let err = common::fails(&args);
+    assert!(err.contains(&format!("cannot read {missing}")), "{err}");
+    let reason = std::fs::read(&missing).unwrap_err().to_string();
+    assert_eq!(err.matches(&reason).count(), 1, "{err}");
+}
