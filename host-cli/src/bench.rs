@@ -64,16 +64,14 @@ pub enum BenchError {
 /// What to sweep.
 #[derive(Debug, Clone)]
 pub struct BenchConfig {
-    /// Ray-trace scenes (empty: the built-in list, [`default_scenes`]).
+    /// Ray-trace scene files (empty: the scenes built into the binary, [`builtin_scenes`]).
     pub scenes: Vec<PathBuf>,
-    /// Raster command files (empty: `examples/raster/*.toml` found from `root`).
+    /// Raster command files (empty: the files built into the binary, [`builtin_raster`]).
     pub raster_files: Vec<PathBuf>,
     /// Small sizes and a reduced sweep (CI).
     pub quick: bool,
     /// Timed runs per point (the median is reported).
     pub repeats: usize,
-    /// Directory that holds `examples/` (for the default lists).
-    pub root: PathBuf,
 }
 
 /// The two sweeps, as progress events name them.
@@ -175,24 +173,101 @@ pub struct Report {
     pub inputs: Vec<String>,
 }
 
-/// The built-in ray-trace scene list (relative to the repository root).
-pub fn default_scenes(quick: bool) -> Vec<PathBuf> {
-    let all = [
-        "examples/reference.toml",
-        "examples/rt/shapes.toml",
-        "examples/rt/textures.toml",
-        "examples/rt/brdf.toml",
-        "examples/rt/fresnel.toml",
-    ];
-    let n = if quick { 2 } else { all.len() };
-    all[..n].iter().map(PathBuf::from).collect()
+/// One input of a sweep: a scene or raster command file's text, with the name that
+/// messages and the report give it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Workload {
+    /// The file's name: its repository path for a built-in one, the path as given else.
+    pub name: String,
+    /// The file's text.
+    pub text: String,
 }
 
-fn read(path: &Path) -> Result<String, BenchError> {
-    std::fs::read_to_string(path).map_err(|source| BenchError::Read {
-        path: path.display().to_string(),
-        source,
-    })
+impl Workload {
+    /// Reads a file given on the command line; the path as given is its name.
+    pub fn read(path: &Path) -> Result<Workload, BenchError> {
+        let name = path.display().to_string();
+        match std::fs::read_to_string(path) {
+            Ok(text) => Ok(Workload { name, text }),
+            Err(source) => Err(BenchError::Read { path: name, source }),
+        }
+    }
+
+    fn builtin(list: &[(&str, &str)], n: usize) -> Vec<Workload> {
+        list[..n.min(list.len())]
+            .iter()
+            .map(|(name, text)| Workload {
+                name: (*name).to_string(),
+                text: (*text).to_string(),
+            })
+            .collect()
+    }
+}
+
+/// The ray-trace scenes the binary carries (`include_str!` of the example files, named by
+/// their repository paths), so that `fpgfx bench` runs from any directory; in sweep
+/// order, `--quick` takes the first two.
+pub const BUILTIN_SCENES: [(&str, &str); 5] = [
+    (
+        "examples/reference.toml",
+        include_str!("../../examples/reference.toml"),
+    ),
+    (
+        "examples/rt/shapes.toml",
+        include_str!("../../examples/rt/shapes.toml"),
+    ),
+    (
+        "examples/rt/textures.toml",
+        include_str!("../../examples/rt/textures.toml"),
+    ),
+    (
+        "examples/rt/brdf.toml",
+        include_str!("../../examples/rt/brdf.toml"),
+    ),
+    (
+        "examples/rt/fresnel.toml",
+        include_str!("../../examples/rt/fresnel.toml"),
+    ),
+];
+
+/// The raster command files the binary carries: `examples/raster/*.toml`, sorted by name
+/// (a test holds this list to the directory); `--quick` takes the first two.
+pub const BUILTIN_RASTER: [(&str, &str); 3] = [
+    (
+        "examples/raster/aa.toml",
+        include_str!("../../examples/raster/aa.toml"),
+    ),
+    (
+        "examples/raster/fitkit.toml",
+        include_str!("../../examples/raster/fitkit.toml"),
+    ),
+    (
+        "examples/raster/gallery.toml",
+        include_str!("../../examples/raster/gallery.toml"),
+    ),
+];
+
+/// The built-in ray-trace scenes a run sweeps ([`BUILTIN_SCENES`]; `quick`: the first two).
+pub fn builtin_scenes(quick: bool) -> Vec<Workload> {
+    Workload::builtin(&BUILTIN_SCENES, if quick { 2 } else { usize::MAX })
+}
+
+/// The built-in raster command files a run sweeps ([`BUILTIN_RASTER`]; `quick`: the first
+/// two).
+pub fn builtin_raster(quick: bool) -> Vec<Workload> {
+    Workload::builtin(&BUILTIN_RASTER, if quick { 2 } else { usize::MAX })
+}
+
+/// The files given, read, or the built-in list when none was.
+fn workloads(
+    given: &[PathBuf],
+    builtin: impl FnOnce() -> Vec<Workload>,
+) -> Result<Vec<Workload>, BenchError> {
+    if given.is_empty() {
+        Ok(builtin())
+    } else {
+        given.iter().map(|p| Workload::read(p)).collect()
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -410,14 +485,7 @@ pub fn sweep_rt(
     inputs: &mut Vec<String>,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Vec<Point>, BenchError> {
-    let paths = if cfg.scenes.is_empty() {
-        default_scenes(cfg.quick)
-            .into_iter()
-            .map(|p| cfg.root.join(p))
-            .collect()
-    } else {
-        cfg.scenes.clone()
-    };
+    let files = workloads(&cfg.scenes, || builtin_scenes(cfg.quick))?;
     let size = if cfg.quick { (48, 27) } else { (160, 90) };
     let opts = |numeric, math| RenderOptions {
         numeric,
@@ -427,9 +495,8 @@ pub fn sweep_rt(
         ..Default::default()
     };
     let mut scenes = Vec::new();
-    for p in &paths {
-        let name = p.display().to_string();
-        let scene = scene_file::parse(&read(p)?, &name)?;
+    for Workload { name, text } in files {
+        let scene = scene_file::parse(&text, &name)?;
         let reference = rt::render(&scene, &opts(Numeric::F64, Math::EXACT)).map_err(|source| {
             BenchError::Render {
                 scene: name.clone(),
@@ -590,24 +657,7 @@ pub fn sweep_raster(
     inputs: &mut Vec<String>,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Vec<Point>, BenchError> {
-    let files = if cfg.raster_files.is_empty() {
-        let dir = cfg.root.join("examples/raster");
-        let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .map_err(|source| BenchError::Read {
-                path: dir.display().to_string(),
-                source,
-            })?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-            .collect();
-        v.sort();
-        if cfg.quick {
-            v.truncate(2);
-        }
-        v
-    } else {
-        cfg.raster_files.clone()
-    };
+    let files = workloads(&cfg.raster_files, || builtin_raster(cfg.quick))?;
     let bits: &[u8] = if cfg.quick { &[4, 8] } else { &[2, 4, 6, 8] };
     let aas: Vec<(AaPattern, u8)> = if cfg.quick {
         vec![
@@ -632,9 +682,7 @@ pub fn sweep_raster(
     };
     let mut texts = Vec::new();
     let mut refs = Vec::new();
-    for f in &files {
-        let name = f.display().to_string();
-        let text = read(f)?;
+    for Workload { name, text } in files {
         let job = raster_job(
             &text,
             &name,

@@ -1,6 +1,7 @@
 //! `fpgfx bench --quick` as CI runs it: every output is written, every point has a
 //! finite cost and error, the reference-identical points are where they must be, and the
-//! default configurations sit on their Pareto fronts.
+//! default configurations sit on their Pareto fronts. The binary carries its workloads
+//! (it runs outside the repository).
 
 use host_cli::bench::{self, BenchConfig};
 use std::path::PathBuf;
@@ -15,7 +16,6 @@ fn quick_bench_writes_outputs_and_default_is_on_the_front() {
         raster_files: Vec::new(),
         quick: true,
         repeats: 1,
-        root: common::workspace(),
     };
     let report = bench::run(&cfg).expect("bench runs");
     bench::write(&report, &out).expect("outputs written");
@@ -101,6 +101,71 @@ fn pareto_front_by_hand() {
         bench::pareto_front(&pts),
         vec![true, true, false, true, true, true, true, false]
     );
+}
+
+/// The workloads built into the binary are the example files, byte for byte, and every
+/// raster example and ray-trace example is among them (a new example must join the list).
+#[test]
+fn builtin_workloads_are_the_example_files() {
+    let root = common::workspace();
+    for (name, text) in bench::BUILTIN_SCENES.iter().chain(&bench::BUILTIN_RASTER) {
+        let on_disk =
+            std::fs::read_to_string(root.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(*text, on_disk, "{name} differs from its built-in copy");
+    }
+    let names = |dir: &str| -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(root.join(dir))
+            .unwrap_or_else(|e| panic!("{dir}: {e}"))
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+            .map(|p| format!("{dir}/{}", p.file_name().unwrap().to_string_lossy()))
+            .collect();
+        v.sort();
+        v
+    };
+    let raster: Vec<&str> = bench::BUILTIN_RASTER.iter().map(|(n, _)| *n).collect();
+    assert_eq!(raster, names("examples/raster"));
+    let scenes: Vec<&str> = bench::BUILTIN_SCENES.iter().map(|(n, _)| *n).collect();
+    assert_eq!(scenes[0], "examples/reference.toml");
+    for rt in names("examples/rt") {
+        assert!(scenes.contains(&rt.as_str()), "{rt} is not built in");
+    }
+}
+
+/// `fpgfx bench --quick` from a directory outside the repository: the built-in workloads
+/// travel inside the binary, and the report names them by their repository paths.
+#[test]
+fn bench_runs_outside_the_repository() {
+    let dir = PathBuf::from(common::tmp("elsewhere"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let dir = dir.canonicalize().expect("scratch dir");
+    let root = common::workspace().canonicalize().expect("workspace");
+    assert!(
+        !dir.starts_with(&root),
+        "{} is inside the repository",
+        dir.display()
+    );
+    let args = ["bench", "--quick", "--repeats", "1", "-o", "out"];
+    let run = common::assert_ok(
+        common::run(common::fpgfx_command(&args).current_dir(&dir)),
+        &args,
+    );
+    for f in [
+        "bench.csv",
+        "bench.md",
+        "pareto-rt.png",
+        "pareto-raster.png",
+    ] {
+        assert!(
+            dir.join("out").join(f).is_file(),
+            "{f} missing:\n{}",
+            run.stderr
+        );
+    }
+    let md = std::fs::read_to_string(dir.join("out/bench.md")).expect("bench.md");
+    assert!(md.contains("examples/reference.toml at 48×27"), "{md}");
+    assert!(md.contains("examples/raster/aa.toml"), "{md}");
 }
 
 /// A scene file that cannot be read is named once, with the operating system's reason
