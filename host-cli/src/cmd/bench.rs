@@ -30,6 +30,7 @@ pub struct Args {
 
 /// Runs both sweeps, writes the outputs and prints the Markdown tables.
 pub fn run(a: &Args) -> Result<()> {
+    super::check_output_dir(&super::flag_path("-o/--output", &a.output), &a.output)?;
     let cfg = BenchConfig {
         scenes: a.scenes.clone(),
         raster_files: a.raster.clone(),
