@@ -1,10 +1,10 @@
 //! `fpgfx bench --quick` as CI runs it: every output is written, every point has a
 //! finite cost and error, the reference-identical points are where they must be, and the
 //! default configurations sit on their Pareto fronts. The binary carries its workloads
-//! (it runs outside the repository).
+//! (it runs outside the repository) and its plots carry text in the font it carries.
 
-use host_cli::bench::{self, BenchConfig};
-use std::path::PathBuf;
+use host_cli::bench::{self, BenchConfig, Point};
+use std::path::{Path, PathBuf};
 
 use crate::common;
 
@@ -179,4 +179,61 @@ fn unreadable_scene_is_reported_once() {
     assert!(err.contains(&format!("cannot read {missing}")), "{err}");
     let reason = std::fs::read(&missing).unwrap_err().to_string();
     assert_eq!(err.matches(&reason).count(), 1, "{err}");
+}
+
+/// Pixels darker than mid-grey in `rows` × `cols` of an RGB image.
+fn ink(img: &image::RgbImage, cols: std::ops::Range<u32>, rows: std::ops::Range<u32>) -> usize {
+    rows.flat_map(|y| cols.clone().map(move |x| (x, y)))
+        .filter(|&(x, y)| img.get_pixel(x, y).0.iter().all(|&c| c < 100))
+        .count()
+}
+
+fn point(config: &str, cost: f64, psnr: f64, front: bool, is_default: bool) -> Point {
+    Point {
+        block: "rt",
+        config: config.into(),
+        cost,
+        host_ms: 1.0,
+        psnr,
+        max_err: 0,
+        depth_rmse: 0.0,
+        mismatched: 0,
+        coverage_mismatch: 0,
+        aa_area_err: 0.0,
+        is_default,
+        front,
+    }
+}
+
+/// The plots carry text: the title above the plot, the y axis's description along its
+/// left edge and the x axis's along the bottom are drawn in the built-in font (these
+/// strips hold nothing but text), and the point names beside the front.
+#[test]
+fn pareto_plot_has_title_axes_and_names() {
+    let pts = [
+        point("f16/exact", 6.0e4, 27.0, true, false),
+        point("q16.16/exact", 1.2e5, 56.0, true, false),
+        point("f32/exact", 1.5e5, 101.0, true, true),
+        point("f64/exact", 4.3e5, 120.0, true, false),
+        point("q8.24/seed", 1.25e5, 16.0, false, false),
+        point("f64/seed", 4.4e5, 25.5, false, false),
+    ];
+    let path = common::tmp("pareto-text.png");
+    bench::plot(&pts, Path::new(&path)).expect("plot written");
+    let img = common::rgb(&path);
+    let (w, h) = img.dimensions();
+    let title = ink(&img, w / 4..3 * w / 4, 0..36);
+    let y_desc = ink(&img, 0..36, h / 4..3 * h / 4);
+    let x_desc = ink(&img, w / 4..3 * w / 4, h - 30..h);
+    assert!(title > 100, "no title: {title} dark pixels");
+    assert!(y_desc > 100, "no y axis description: {y_desc} dark pixels");
+    assert!(x_desc > 100, "no x axis description: {x_desc} dark pixels");
+    // The legend and the points' names are near-black text; the markers and grid lines
+    // are lighter (grey, blue, red), so the plot's interior holds dark pixels only where
+    // text is.
+    let inside = ink(&img, 120..w - 40, 60..h - 90);
+    assert!(
+        inside > 400,
+        "no legend or names: {inside} dark pixels in the plot"
+    );
 }
