@@ -29,7 +29,7 @@ pub struct Config {
 #[non_exhaustive]
 pub enum ConfigError {
     /// It exists but cannot be read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}")]
     Read {
         /// The config file that failed to read.
         path: PathBuf,
@@ -217,7 +217,7 @@ pub enum ConnectError {
     #[error("--port builtin:mmio: {0}")]
     Mmio(firmware::MmioError<sim_target::mmio::RegisterError>),
     /// TCP connection failed.
-    #[error("cannot connect to {addr}: {source}")]
+    #[error("cannot connect to {addr}")]
     Tcp {
         /// `HOST:PORT` as given after `tcp:`.
         addr: String,

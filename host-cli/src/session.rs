@@ -47,7 +47,7 @@ pub trait Transport {
 #[non_exhaustive]
 pub enum SessionError {
     /// The transport's read or write failed (port unplugged, peer closed, OS error).
-    #[error("transport: {0}")]
+    #[error("the transport failed")]
     Io(#[from] io::Error),
     /// No progress for too long.
     #[error("the target did not answer within {0:?} (is the port right and the board running?)")]
@@ -80,7 +80,7 @@ pub enum SessionError {
         waited: Duration,
     },
     /// The handshake failed; the message names both sides' versions.
-    #[error("handshake with {peer:?} failed: {source}")]
+    #[error("handshake with {peer:?} failed")]
     Handshake {
         /// The target's identification.
         peer: String,

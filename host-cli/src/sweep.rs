@@ -23,7 +23,7 @@ use sim_target::rt::{self, Math, Numeric, RenderOptions, Scene};
 #[non_exhaustive]
 pub enum BenchError {
     /// A scene or command file could not be read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}")]
     Read {
         /// The scene or command file, as given.
         path: String,
@@ -34,7 +34,7 @@ pub enum BenchError {
     #[error(transparent)]
     Scene(#[from] jobs::scene::SceneFileError),
     /// The ray tracer refused a scene at one of the swept configurations.
-    #[error("{scene}: {source}")]
+    #[error("cannot render {scene}")]
     Render {
         /// The scene file, as given.
         scene: String,
@@ -62,16 +62,14 @@ pub enum BenchError {
 /// What to sweep.
 #[derive(Debug, Clone)]
 pub struct BenchConfig {
-    /// Ray-trace scenes (empty: the built-in list, [`default_scenes`]).
+    /// Ray-trace scene files (empty: the scenes built into the binary, [`builtin_scenes`]).
     pub scenes: Vec<PathBuf>,
-    /// Raster command files (empty: `examples/raster/*.toml` found from `root`).
+    /// Raster command files (empty: the files built into the binary, [`builtin_raster`]).
     pub raster_files: Vec<PathBuf>,
     /// Small sizes and a reduced sweep (CI).
     pub quick: bool,
     /// Timed runs per point (the median is reported).
     pub repeats: usize,
-    /// Directory that holds `examples/` (for the default lists).
-    pub root: PathBuf,
 }
 
 /// The two sweeps, as progress events name them.
@@ -173,24 +171,101 @@ pub struct Report {
     pub inputs: Vec<String>,
 }
 
-/// The built-in ray-trace scene list (relative to the repository root).
-pub fn default_scenes(quick: bool) -> Vec<PathBuf> {
-    let all = [
-        "examples/reference.toml",
-        "examples/rt/shapes.toml",
-        "examples/rt/textures.toml",
-        "examples/rt/brdf.toml",
-        "examples/rt/fresnel.toml",
-    ];
-    let n = if quick { 2 } else { all.len() };
-    all[..n].iter().map(PathBuf::from).collect()
+/// One input of a sweep: a scene or raster command file's text, with the name that
+/// messages and the report give it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Workload {
+    /// The file's name: its repository path for a built-in one, the path as given else.
+    pub name: String,
+    /// The file's text.
+    pub text: String,
 }
 
-fn read(path: &Path) -> Result<String, BenchError> {
-    std::fs::read_to_string(path).map_err(|source| BenchError::Read {
-        path: path.display().to_string(),
-        source,
-    })
+impl Workload {
+    /// Reads a file given on the command line; the path as given is its name.
+    pub fn read(path: &Path) -> Result<Workload, BenchError> {
+        let name = path.display().to_string();
+        match std::fs::read_to_string(path) {
+            Ok(text) => Ok(Workload { name, text }),
+            Err(source) => Err(BenchError::Read { path: name, source }),
+        }
+    }
+
+    fn builtin(list: &[(&str, &str)], n: usize) -> Vec<Workload> {
+        list[..n.min(list.len())]
+            .iter()
+            .map(|(name, text)| Workload {
+                name: (*name).to_string(),
+                text: (*text).to_string(),
+            })
+            .collect()
+    }
+}
+
+/// The ray-trace scenes the binary carries (`include_str!` of the example files, named by
+/// their repository paths), so that `fpgfx bench` runs from any directory; in sweep
+/// order, `--quick` takes the first two.
+pub const BUILTIN_SCENES: [(&str, &str); 5] = [
+    (
+        "examples/reference.toml",
+        include_str!("../../examples/reference.toml"),
+    ),
+    (
+        "examples/rt/shapes.toml",
+        include_str!("../../examples/rt/shapes.toml"),
+    ),
+    (
+        "examples/rt/textures.toml",
+        include_str!("../../examples/rt/textures.toml"),
+    ),
+    (
+        "examples/rt/brdf.toml",
+        include_str!("../../examples/rt/brdf.toml"),
+    ),
+    (
+        "examples/rt/fresnel.toml",
+        include_str!("../../examples/rt/fresnel.toml"),
+    ),
+];
+
+/// The raster command files the binary carries: `examples/raster/*.toml`, sorted by name
+/// (a test holds this list to the directory); `--quick` takes the first two.
+pub const BUILTIN_RASTER: [(&str, &str); 3] = [
+    (
+        "examples/raster/aa.toml",
+        include_str!("../../examples/raster/aa.toml"),
+    ),
+    (
+        "examples/raster/fitkit.toml",
+        include_str!("../../examples/raster/fitkit.toml"),
+    ),
+    (
+        "examples/raster/gallery.toml",
+        include_str!("../../examples/raster/gallery.toml"),
+    ),
+];
+
+/// The built-in ray-trace scenes a run sweeps ([`BUILTIN_SCENES`]; `quick`: the first two).
+pub fn builtin_scenes(quick: bool) -> Vec<Workload> {
+    Workload::builtin(&BUILTIN_SCENES, if quick { 2 } else { usize::MAX })
+}
+
+/// The built-in raster command files a run sweeps ([`BUILTIN_RASTER`]; `quick`: the first
+/// two).
+pub fn builtin_raster(quick: bool) -> Vec<Workload> {
+    Workload::builtin(&BUILTIN_RASTER, if quick { 2 } else { usize::MAX })
+}
+
+/// The files given, read, or the built-in list when none was.
+fn workloads(
+    given: &[PathBuf],
+    builtin: impl FnOnce() -> Vec<Workload>,
+) -> Result<Vec<Workload>, BenchError> {
+    if given.is_empty() {
+        Ok(builtin())
+    } else {
+        given.iter().map(|p| Workload::read(p)).collect()
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -408,14 +483,7 @@ pub fn sweep_rt(
     inputs: &mut Vec<String>,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Vec<Point>, BenchError> {
-    let paths = if cfg.scenes.is_empty() {
-        default_scenes(cfg.quick)
-            .into_iter()
-            .map(|p| cfg.root.join(p))
-            .collect()
-    } else {
-        cfg.scenes.clone()
-    };
+    let files = workloads(&cfg.scenes, || builtin_scenes(cfg.quick))?;
     let size = if cfg.quick { (48, 27) } else { (160, 90) };
     let opts = |numeric, math| RenderOptions {
         numeric,
@@ -425,9 +493,8 @@ pub fn sweep_rt(
         ..Default::default()
     };
     let mut scenes = Vec::new();
-    for p in &paths {
-        let name = p.display().to_string();
-        let scene = jobs::scene::parse(&read(p)?, &name)?;
+    for Workload { name, text } in files {
+        let scene = jobs::scene::parse(&text, &name)?;
         let reference = rt::render(&scene, &opts(Numeric::F64, Math::EXACT)).map_err(|source| {
             BenchError::Render {
                 scene: name.clone(),
@@ -524,17 +591,6 @@ fn mark_front(points: &mut [Point]) {
     }
 }
 
-fn pattern_name(p: AaPattern) -> &'static str {
-    match p {
-        AaPattern::None => "none",
-        AaPattern::Regular => "regular",
-        AaPattern::Jitter => "jitter",
-        AaPattern::Rotated => "rotated",
-        AaPattern::Poisson => "poisson",
-        AaPattern::Coverage => "coverage",
-    }
-}
-
 /// Re-snaps a raster command file at another precision and AA setting: the file's
 /// geometry is in pixels and snapped by the parser, so the TOML is edited and re-parsed.
 fn raster_job(
@@ -552,7 +608,7 @@ fn raster_job(
     let mut a = toml::Table::new();
     a.insert(
         "pattern".into(),
-        toml::Value::String(pattern_name(aa.pattern).into()),
+        toml::Value::String(aa.pattern.name().into()),
     );
     if aa.pattern != AaPattern::None {
         a.insert("samples".into(), toml::Value::Integer(aa.samples as i64));
@@ -591,24 +647,7 @@ pub fn sweep_raster(
     inputs: &mut Vec<String>,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Vec<Point>, BenchError> {
-    let files = if cfg.raster_files.is_empty() {
-        let dir = cfg.root.join("examples/raster");
-        let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .map_err(|source| BenchError::Read {
-                path: dir.display().to_string(),
-                source,
-            })?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-            .collect();
-        v.sort();
-        if cfg.quick {
-            v.truncate(2);
-        }
-        v
-    } else {
-        cfg.raster_files.clone()
-    };
+    let files = workloads(&cfg.raster_files, || builtin_raster(cfg.quick))?;
     let bits: &[u8] = if cfg.quick { &[4, 8] } else { &[2, 4, 6, 8] };
     let aas: Vec<(AaPattern, u8)> = if cfg.quick {
         vec![
@@ -633,9 +672,7 @@ pub fn sweep_raster(
     };
     let mut texts = Vec::new();
     let mut refs = Vec::new();
-    for f in &files {
-        let name = f.display().to_string();
-        let text = read(f)?;
+    for Workload { name, text } in files {
         let job = raster_job(
             &text,
             &name,
@@ -695,7 +732,7 @@ pub fn sweep_raster(
     for (ci, (b, p, n)) in configs.iter().enumerate() {
         let mut pt = Point {
             block: "raster",
-            config: format!("{b}bit/{}x{}", pattern_name(*p), effective_samples(*p, *n)),
+            config: format!("{b}bit/{}x{}", p.name(), effective_samples(*p, *n)),
             cost: raster_cost(*b, *p, *n),
             host_ms: 0.0,
             psnr: 0.0,
@@ -822,88 +859,358 @@ pub fn to_markdown(r: &Report) -> String {
     s
 }
 
-/// Draws a Pareto plot (log cost → right, PSNR ↑): grey dots for all points, the front as
-/// a blue staircase with blue dots, the default as a red ring. No text (no font
-/// dependency); axes and labels are in the Markdown table next to it.
-pub fn plot(points: &[Point], path: &Path) -> Result<(), BenchError> {
+/// The font the plots' text is drawn in: DejaVu Sans cut down to the characters the plots
+/// use (`host-cli/assets/fonts/`, its licence beside it). The binary carries it, so no
+/// system font is looked up: CI and users' machines may have none.
+const FONT_TTF: &[u8] = include_bytes!("../assets/fonts/DejaVuSans-subset.ttf");
+
+/// The family the font is registered under: plotters' default for labels and legends, so
+/// that nothing falls back to a font that is not there.
+const FONT: &str = "sans-serif";
+
+/// Size of a Pareto plot, pixels.
+pub const PLOT_SIZE: (u32, u32) = (1100, 720);
+
+/// Registers [`FONT_TTF`] with plotters, once per process.
+fn register_font() -> Result<(), String> {
+    static REGISTERED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font(FONT, plotters::style::FontStyle::Normal, FONT_TTF).is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err("the built-in plot font does not parse".into())
+    }
+}
+
+/// A plot's title and axis descriptions, by block.
+fn plot_text(block: &str) -> (&'static str, &'static str, &'static str) {
+    if block == "raster" {
+        (
+            "Rasterizer: error against hardware cost (sub-pixel bits / AA pattern × samples)",
+            "hardware cost: LUT-equivalents per pixel (log scale)",
+            "mean PSNR against 8 bits, 64-sample grid (dB)",
+        )
+    } else {
+        (
+            "Ray tracer: error against hardware cost (number format / approximation set)",
+            "hardware cost: LUT-equivalents per sample (log scale)",
+            "mean PSNR against f64/exact (dB; identical = 120)",
+        )
+    }
+}
+
+/// A cost for a tick label: 900, 1.5k, 200k.
+fn fmt_cost(c: f64) -> String {
+    let short = |v: f64| {
+        let s = format!("{v:.1}");
+        s.strip_suffix(".0").map(str::to_string).unwrap_or(s)
+    };
+    if c >= 1e6 {
+        format!("{}M", short(c / 1e6))
+    } else if c >= 1e3 {
+        format!("{}k", short(c / 1e3))
+    } else {
+        format!("{c:.0}")
+    }
+}
+
+/// A pixel rectangle `[x0, x1) × [y0, y1)`, for placing point names.
+#[derive(Debug, Clone, Copy)]
+struct Boxed {
+    x0: i32,
+    y0: i32,
+    x1: i32,
+    y1: i32,
+}
+
+impl Boxed {
+    fn overlaps(&self, o: &Boxed) -> bool {
+        self.x0 < o.x1 && o.x0 < self.x1 && self.y0 < o.y1 && o.y0 < self.y1
+    }
+
+    fn inside(&self, o: &Boxed) -> bool {
+        self.x0 >= o.x0 && self.x1 <= o.x1 && self.y0 >= o.y0 && self.y1 <= o.y1
+    }
+}
+
+/// Where the name of a point at `(px, py)` (marker radius `r`) goes: beside it on the
+/// left first (left of a front point is the empty, unreachable region), then above-left,
+/// above-right, below-right and below-left, stepping away from the point until the box
+/// overlaps no other name, marker or the legend and stays in the plot. `None`: no room.
+fn place_name(
+    (px, py): (i32, i32),
+    r: i32,
+    (tw, th): (i32, i32),
+    taken: &[Boxed],
+    area: &Boxed,
+) -> Option<Boxed> {
+    let g = r + 4;
+    for level in 0..10 {
+        let step = level * (th + 3);
+        let mut candidates = Vec::new();
+        if level == 0 {
+            candidates.push((px - g - tw, py - th / 2));
+        }
+        let up = py - 3 - th - step;
+        let down = py + 3 + step;
+        candidates.extend([
+            (px - g - tw, up),
+            (px + g, up),
+            (px + g, down),
+            (px - g - tw, down),
+        ]);
+        for (x0, y0) in candidates {
+            let b = Boxed {
+                x0,
+                y0,
+                x1: x0 + tw,
+                y1: y0 + th,
+            };
+            if b.inside(area) && !taken.iter().any(|t| t.overlaps(&b)) {
+                return Some(b);
+            }
+        }
+    }
+    None
+}
+
+/// Draws a Pareto plot into `buf` (RGB8, [`PLOT_SIZE`]): log cost → right, PSNR ↑; grey
+/// dots for the dominated points, the front as a blue staircase with blue dots, the
+/// default as a red ring; a title, labelled axes with units and tick labels, a legend,
+/// and the front's and the default's configurations named beside their points (points
+/// that fall on the same pixel share one name: "f16/exact, f16/poly").
+fn draw_plot(points: &[Point], buf: &mut [u8]) -> Result<(), String> {
     use plotters::prelude::*;
-    let (w, h) = (800u32, 500u32);
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    register_font()?;
+    let e = |e: plotters::drawing::DrawingAreaErrorKind<_>| e.to_string();
+    let root = BitMapBackend::with_buffer(buf, PLOT_SIZE).into_drawing_area();
+    root.fill(&WHITE).map_err(e)?;
+    let (title, x_desc, y_desc) = plot_text(points.first().map_or("rt", |p| p.block));
+    let (mut cmin, mut cmax) = points.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
+        (a.min(p.cost.max(1.0)), b.max(p.cost.max(1.0)))
+    });
+    let (mut qmin, mut qmax) = points.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
+        (a.min(p.psnr), b.max(p.psnr))
+    });
+    if points.is_empty() {
+        (cmin, cmax, qmin, qmax) = (1.0, 10.0, 0.0, 10.0);
+    }
+    // room on either side for the markers and the names beside them
+    let pad = (cmax / cmin).powf(0.08).max(1.15);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FONT, 24))
+        .margin(16)
+        .x_label_area_size(60)
+        .y_label_area_size(76)
+        .build_cartesian_2d(
+            ((cmin / pad)..(cmax * pad)).log_scale(),
+            (qmin - 3.0)..(qmax + 4.0),
+        )
+        .map_err(e)?;
+    let cost_label = |c: &f64| fmt_cost(*c);
+    let db_label = |q: &f64| format!("{q:.0}");
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .axis_desc_style((FONT, 18))
+        .label_style((FONT, 16))
+        .x_labels(12)
+        .y_labels(12)
+        .x_max_light_lines(1)
+        .y_max_light_lines(1)
+        .x_label_formatter(&cost_label)
+        .y_label_formatter(&db_label)
+        .bold_line_style(RGBColor(210, 210, 210))
+        .light_line_style(RGBColor(238, 238, 238))
+        .axis_style(BLACK)
+        .draw()
+        .map_err(e)?;
+
+    let grey = RGBColor(150, 150, 150);
+    let blue = RGBColor(25, 85, 200);
+    let red = RGBColor(215, 25, 25);
+    let ink = RGBColor(20, 20, 20);
+    let mut front: Vec<&Point> = points.iter().filter(|p| p.front).collect();
+    front.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let mut stairs = Vec::new();
+    for (i, p) in front.iter().enumerate() {
+        if i > 0 {
+            stairs.push((p.cost, front[i - 1].psnr));
+        }
+        stairs.push((p.cost, p.psnr));
+    }
+    chart
+        .draw_series(
+            points
+                .iter()
+                .filter(|p| !p.front)
+                .map(|p| Circle::new((p.cost, p.psnr), 4, grey.filled())),
+        )
+        .map_err(e)?
+        .label("other configurations (dominated: named in bench.md)")
+        .legend(move |(x, y)| Circle::new((x + 10, y), 4, grey.filled()));
+    chart
+        .draw_series(std::iter::once(PathElement::new(
+            stairs,
+            blue.stroke_width(2),
+        )))
+        .map_err(e)?;
+    chart
+        .draw_series(
+            front
+                .iter()
+                .map(|p| Circle::new((p.cost, p.psnr), 5, blue.filled())),
+        )
+        .map_err(e)?
+        .label("Pareto front (no other point is cheaper and better)")
+        .legend(move |(x, y)| {
+            EmptyElement::at((x, y))
+                + PathElement::new(vec![(0, 0), (20, 0)], blue.stroke_width(2))
+                + Circle::new((10, 0), 5, blue.filled())
+        });
+    let default_name = points
+        .iter()
+        .find(|p| p.is_default)
+        .map_or(String::new(), |p| format!(" ({})", p.config));
+    chart
+        .draw_series(
+            points
+                .iter()
+                .filter(|p| p.is_default)
+                .map(|p| Circle::new((p.cost, p.psnr), 10, red.stroke_width(3))),
+        )
+        .map_err(e)?
+        .label(format!("the product's default configuration{default_name}"))
+        .legend(move |(x, y)| Circle::new((x + 10, y), 7, red.stroke_width(3)));
+    let legend_font = TextStyle::from((FONT, 16).into_font());
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .margin(12)
+        .legend_area_size(30)
+        .label_font(legend_font.clone())
+        .background_style(WHITE.mix(0.92))
+        .border_style(RGBColor(120, 120, 120))
+        .draw()
+        .map_err(e)?;
+
+    // The names of the front's and the default's points.
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let area = Boxed {
+        x0: xs.start + 2,
+        y0: ys.start + 2,
+        x1: xs.end - 2,
+        y1: ys.end - 2,
+    };
+    // Every marker is an obstacle, and so is the legend (its size estimated as plotters
+    // lays it out: three rows of the legend font, the widest label, a margin).
+    let mut taken: Vec<Boxed> = points
+        .iter()
+        .map(|p| {
+            let (x, y) = chart.backend_coord(&(p.cost, p.psnr));
+            let r = if p.is_default { 12 } else { 6 };
+            Boxed {
+                x0: x - r,
+                y0: y - r,
+                x1: x + r + 1,
+                y1: y + r + 1,
+            }
+        })
+        .collect();
+    let legend_w = [
+        "other configurations (dominated: named in bench.md)".to_string(),
+        "Pareto front (no other point is cheaper and better)".to_string(),
+        format!("the product's default configuration{default_name}"),
+    ]
+    .iter()
+    .map(|t| {
+        root.estimate_text_size(t, &legend_font)
+            .map_or(400, |s| s.0 as i32)
+    })
+    .max()
+    .unwrap_or(400);
+    taken.push(Boxed {
+        x0: xs.start,
+        y0: ys.start,
+        x1: xs.start + 12 + 30 + legend_w + 24,
+        y1: ys.start + 12 + 3 * 24 + 16,
+    });
+    // Font sizes are even: plotters' ab_glyph backend places each glyph at size / 2 plus
+    // its top, truncated toward zero, which at odd sizes lifts small glyphs (a full stop
+    // floats at mid-height).
+    let name_font = TextStyle::from((FONT, 14).into_font());
+    let mut named: Vec<(i32, i32, bool, Vec<&str>)> = Vec::new();
+    for p in points.iter().filter(|p| p.front || p.is_default) {
+        let (x, y) = chart.backend_coord(&(p.cost, p.psnr));
+        match named
+            .iter_mut()
+            .find(|(nx, ny, _, _)| (nx - x).abs() <= 3 && (ny - y).abs() <= 3)
+        {
+            Some(n) => {
+                n.2 |= p.is_default;
+                n.3.push(&p.config);
+            }
+            None => named.push((x, y, p.is_default, vec![&p.config])),
+        }
+    }
+    named.sort_by_key(|n| (n.0, n.1));
+    for (x, y, is_default, configs) in named {
+        let text = configs.join(", ");
+        let (tw, th) = root
+            .estimate_text_size(&text, &name_font)
+            .map(|(w, _)| (w as i32, 14))
+            .map_err(e)?;
+        let r = if is_default { 12 } else { 6 };
+        let b = place_name((x, y), r, (tw, th), &taken, &area).unwrap_or(Boxed {
+            x0: x - r - 4 - tw,
+            y0: y - th / 2,
+            x1: x - r - 4,
+            y1: y + th - th / 2,
+        });
+        taken.push(b);
+        // A leader line from the marker's edge to the name, unless the name sits level
+        // with its point (beside it): in a cluster, the line says which point it names.
+        let (cx, cy) = (x.clamp(b.x0, b.x1), y.clamp(b.y0, b.y1));
+        if cy != y {
+            let (dx, dy) = (f64::from(cx - x), f64::from(cy - y));
+            let len = dx.hypot(dy).max(1.0);
+            let edge = f64::from(r - 2);
+            let from = (
+                x + (dx / len * edge).round() as i32,
+                y + (dy / len * edge).round() as i32,
+            );
+            root.draw(&PathElement::new(
+                vec![from, (cx, cy)],
+                RGBColor(140, 140, 140),
+            ))
+            .map_err(e)?;
+        }
+        let colour = if is_default { red } else { ink };
+        // ab_glyph draws a line's capitals from ~0.13 em above the anchor: nudge it down
+        // so that the letters sit in the box
+        let style = name_font
+            .color(&colour)
+            .pos(Pos::new(HPos::Left, VPos::Top));
+        root.draw(&Text::new(text, (b.x0, b.y0 + 2), style))
+            .map_err(e)?;
+    }
+    root.present().map_err(e)?;
+    Ok(())
+}
+
+/// Draws a Pareto plot ([`PLOT_SIZE`], see `draw_plot` for what it shows) to a PNG.
+pub fn plot(points: &[Point], path: &Path) -> Result<(), BenchError> {
     let werr = |message: String| BenchError::Write {
         path: path.display().to_string(),
         message,
     };
+    let (w, h) = PLOT_SIZE;
     let mut buf = vec![0u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| werr(e.to_string()))?;
-        let (cmin, cmax) = points.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-            (a.min(p.cost.max(1.0)), b.max(p.cost.max(1.0)))
-        });
-        let (qmin, qmax) = points.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-            (a.min(p.psnr), b.max(p.psnr))
-        });
-        let (lc0, lc1) = (cmin.ln() - 0.05, cmax.ln() + 0.05);
-        let (q0, q1) = (qmin - 2.0, qmax + 2.0);
-        let m = 40.0;
-        let x = |c: f64| {
-            (m + (c.max(1.0).ln() - lc0) / (lc1 - lc0).max(1e-9) * (w as f64 - 2.0 * m)) as i32
-        };
-        let y =
-            |q: f64| (h as f64 - m - (q - q0) / (q1 - q0).max(1e-9) * (h as f64 - 2.0 * m)) as i32;
-        // frame and a grid line every 10 dB and every decade of cost
-        let grey = RGBColor(220, 220, 220);
-        let mut db = (q0 / 10.0).ceil() * 10.0;
-        while db <= q1 {
-            root.draw(&PathElement::new(
-                vec![(m as i32, y(db)), (w as i32 - m as i32, y(db))],
-                grey,
-            ))
-            .map_err(|e| werr(e.to_string()))?;
-            db += 10.0;
-        }
-        let mut dec = 10f64.powf((lc0 / 10f64.ln()).ceil());
-        while dec.ln() <= lc1 {
-            root.draw(&PathElement::new(
-                vec![(x(dec), m as i32), (x(dec), h as i32 - m as i32)],
-                grey,
-            ))
-            .map_err(|e| werr(e.to_string()))?;
-            dec *= 10.0;
-        }
-        root.draw(&Rectangle::new(
-            [
-                (m as i32, m as i32),
-                (w as i32 - m as i32, h as i32 - m as i32),
-            ],
-            BLACK,
-        ))
-        .map_err(|e| werr(e.to_string()))?;
-        let mut front: Vec<&Point> = points.iter().filter(|p| p.front).collect();
-        front.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-        let mut stairs = Vec::new();
-        for (i, p) in front.iter().enumerate() {
-            if i > 0 {
-                stairs.push((x(p.cost), y(front[i - 1].psnr)));
-            }
-            stairs.push((x(p.cost), y(p.psnr)));
-        }
-        root.draw(&PathElement::new(stairs, BLUE.stroke_width(2)))
-            .map_err(|e| werr(e.to_string()))?;
-        for p in points {
-            let c = if p.front {
-                BLUE.filled()
-            } else {
-                RGBColor(140, 140, 140).filled()
-            };
-            root.draw(&Circle::new((x(p.cost), y(p.psnr)), 4, c))
-                .map_err(|e| werr(e.to_string()))?;
-        }
-        for p in points.iter().filter(|p| p.is_default) {
-            root.draw(&Circle::new((x(p.cost), y(p.psnr)), 9, RED.stroke_width(3)))
-                .map_err(|e| werr(e.to_string()))?;
-        }
-        root.present().map_err(|e| werr(e.to_string()))?;
-    }
+    draw_plot(points, &mut buf).map_err(werr)?;
     image::save_buffer(path, &buf, w, h, image::ExtendedColorType::Rgb8)
         .map_err(|e| werr(e.to_string()))
 }

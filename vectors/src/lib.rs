@@ -34,10 +34,10 @@ pub enum VectorsError {
     #[error(transparent)]
     Layout(#[from] jobs::raster::LayoutError),
     /// The scene does not fit the ray tracer's register image.
-    #[error("the scene does not fit the ray tracer's registers: {0}")]
+    #[error("the scene does not fit the ray tracer's registers")]
     Registers(#[from] sim_target::scene_regs::SceneRegsError),
     /// The emulated device refused the scene's registers or its frame.
-    #[error("the golden model refused the frame: {0}")]
+    #[error("the golden model refused the frame")]
     Device(#[from] sim_target::DeviceError),
     /// A frame side the read-back cannot address (sides are 16-bit on the wire).
     #[error("frame size {0}x{1} is larger than a read-back can address")]
@@ -46,7 +46,7 @@ pub enum VectorsError {
     #[error("the golden model has no {0} plane for this frame")]
     Plane(&'static str),
     /// The manifest could not be written as TOML.
-    #[error("manifest: {0}")]
+    #[error("the manifest does not serialise as TOML")]
     Manifest(#[from] toml::ser::Error),
     /// The controller's driver refuses the job on this layout (anti-aliasing, sub-pixel
     /// coordinates or a background outside RGB332 on the FITkit).
@@ -67,7 +67,7 @@ pub enum VectorsError {
         message: String,
     },
     /// The output directory or a file in it could not be written.
-    #[error("cannot write {}: {source}", path.display())]
+    #[error("cannot write {}", path.display())]
     Write {
         /// The directory or file.
         path: PathBuf,

@@ -8,7 +8,7 @@ use host_cli::run::animate::{CameraMove, Kind, Output, Script};
 use host_cli::run::render::{scene_regs, Aovs, Packing, Renderer};
 use protocol::frame::Numeric;
 
-use super::{parse_size, TargetArgs};
+use super::{check_writable_file, parse_size, TargetArgs};
 
 /// Arguments of `fpgfx animate`.
 #[derive(clap::Args)]
@@ -93,14 +93,25 @@ impl Drop for RawMode {
 
 /// Renders the script's frames, printing each frame's traffic, and writes the output.
 pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
-    let mut session = target.connect()?;
+    // The outputs are checked before the first frame renders (for a sequence, where
+    // frame 0 goes): a GIF is written only after the last one.
     let output = Output::parse(&a.output).map_err(anyhow::Error::msg)?;
+    let label = format!("-o/--output {}", a.output);
+    match &output {
+        Output::Gif(path) => check_writable_file(&label, path)?,
+        Output::Pngs(pattern) => check_writable_file(&label, &Output::png_path(pattern, 0))?,
+    }
+    if let Some(pattern) = &a.save_frames {
+        let first = Output::png_path(pattern, 0);
+        check_writable_file(&format!("--save-frames {pattern}"), &first)?;
+    }
     anyhow::ensure!(a.frames >= 1, "--frames must be at least 1");
     anyhow::ensure!(
         a.fps.is_finite() && a.fps > 0.0,
         "--fps {} must be a positive number",
         a.fps
     );
+    let mut session = target.connect()?;
     let numeric = a.numeric;
     let mut script = Script::load(&a.script)?;
     let name = a.script.display().to_string();

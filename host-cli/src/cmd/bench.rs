@@ -10,10 +10,11 @@ use host_cli::sweep::{self, BenchConfig, Progress};
 /// Arguments of `fpgfx bench`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Ray-trace scene files (default: examples/reference.toml and examples/rt/*).
+    /// Ray-trace scene files (default: examples/reference.toml and examples/rt/*, which
+    /// the binary carries: it runs from any directory).
     #[arg(long = "scene")]
     pub scenes: Vec<PathBuf>,
-    /// Raster command files (default: examples/raster/*.toml).
+    /// Raster command files (default: examples/raster/*.toml, carried in the binary).
     #[arg(long = "raster")]
     pub raster: Vec<PathBuf>,
     /// Small frames and a reduced sweep (what CI runs).
@@ -29,12 +30,12 @@ pub struct Args {
 
 /// Runs both sweeps, writes the outputs and prints the Markdown tables.
 pub fn run(a: &Args) -> Result<()> {
+    super::check_output_dir(&super::flag_path("-o/--output", &a.output), &a.output)?;
     let cfg = BenchConfig {
         scenes: a.scenes.clone(),
         raster_files: a.raster.clone(),
         quick: a.quick,
         repeats: a.repeats,
-        root: PathBuf::from("."),
     };
     let mut bars = Bars::new(std::io::stderr().is_terminal());
     let report = sweep::run_with_progress(&cfg, &mut |p| bars.show(p))?;

@@ -60,6 +60,14 @@ struct Allowance {
 
 /// Whether ACTUAL passed; an error is unusable input.
 fn compare_files(a: &Args) -> Result<bool> {
+    if let Some(path) = &a.mask {
+        super::check_output_file(
+            &super::flag_path("--mask", path),
+            path,
+            "the error mask",
+            &["png"],
+        )?;
+    }
     let expected = frames::read(&a.expected)?;
     let actual = frames::read(&a.actual)?;
     let t = a.tolerance;

@@ -55,9 +55,7 @@ fn program(target: &TargetArgs, a: &Args) -> Result<()> {
     let image = Image::load(&a.image, a.address)?;
     // --port/--baud, else the config file `fpgfx ports --help` describes (--timeout is
     // the link's handshake: the bootloader has its own).
-    let settings = target
-        .settings()
-        .map_err(|e| anyhow::anyhow!("config file: {e}"))?;
+    let settings = target.settings().context("config file")?;
     let mut client = flash::open(settings.port.as_deref(), settings.baud)?;
 
     let bar = indicatif::ProgressBar::with_draw_target(

@@ -12,7 +12,10 @@ pub mod render;
 pub mod stress;
 pub mod vectors;
 
-use anyhow::Result;
+use std::fs::OpenOptions;
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
 use host_cli::connect::{self, Config, Settings};
 use host_cli::session::{Phase, Session, Transport};
 
@@ -109,4 +112,100 @@ pub fn phase_line(what: &str, phase: Phase, line_rate: Option<u32>) -> String {
         ));
     }
     line
+}
+
+/// `FLAG PATH`, how an output is named in the messages of [`check_output_file`] and
+/// [`check_output_dir`].
+pub fn flag_path(flag: &str, path: &Path) -> String {
+    format!("{flag} {}", path.display())
+}
+
+/// The directory a file path lives in (`.` for a bare file name).
+fn parent_dir(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Refuses, before any work, an output file the command could not write at the end:
+/// one whose extension is not one of `exts` (lower case, without the dot; `what` says
+/// what is written, e.g. "the frame"), whose directory is missing or no directory, that
+/// is a directory, or that cannot be opened for writing. The probe leaves the file system
+/// as it found it: an existing file is opened without truncating it, a new one is created
+/// and removed again. `label` names the flag and the path as the user gave them.
+pub fn check_output_file(label: &str, path: &Path, what: &str, exts: &[&str]) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !ext.as_deref().is_some_and(|e| exts.contains(&e)) {
+        let kinds: Vec<String> = exts.iter().map(|e| e.to_ascii_uppercase()).collect();
+        let names: Vec<String> = exts.iter().map(|e| format!(".{e}")).collect();
+        bail!(
+            "{label}: {what} is written as {}: give a name ending in {}",
+            kinds.join(" or "),
+            names.join(" or ")
+        );
+    }
+    check_writable_file(label, path)
+}
+
+/// The directory and writability half of [`check_output_file`], for outputs of any name
+/// (e.g. `animate --save-frames`, whose files are scene or command text).
+pub fn check_writable_file(label: &str, path: &Path) -> Result<()> {
+    let dir = parent_dir(path);
+    match std::fs::metadata(dir) {
+        Err(_) => bail!("{label}: directory {} does not exist", dir.display()),
+        Ok(m) if !m.is_dir() => bail!("{label}: {} is not a directory", dir.display()),
+        Ok(_) => {}
+    }
+    if path.is_dir() {
+        bail!("{label}: is a directory; name a file");
+    }
+    let probe = if path.exists() {
+        OpenOptions::new().write(true).open(path).map(drop)
+    } else {
+        OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(path)
+            .map(|f| {
+                drop(f);
+                let _ = std::fs::remove_file(path);
+            })
+    };
+    probe.with_context(|| format!("{label}: cannot be written"))
+}
+
+/// Refuses, before any work, an output directory the command could not create or write
+/// in: the directory, or its nearest existing ancestor when it is to be created, must be
+/// a directory in which a file can be created (a probe file is created and removed).
+pub fn check_output_dir(label: &str, dir: &Path) -> Result<()> {
+    let mut existing = dir;
+    while !existing.exists() {
+        match existing.parent() {
+            Some(p) if !p.as_os_str().is_empty() => existing = p,
+            _ => {
+                existing = Path::new(".");
+                break;
+            }
+        }
+    }
+    if !existing.is_dir() {
+        if existing == dir {
+            bail!("{label}: is a file, not a directory");
+        }
+        bail!("{label}: {} is a file, not a directory", existing.display());
+    }
+    let probe = existing.join(format!(".fpgfx-write-probe-{}", std::process::id()));
+    OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .map(|f| {
+            drop(f);
+            let _ = std::fs::remove_file(&probe);
+        })
+        .with_context(|| format!("{label}: cannot write in {}", existing.display()))
 }

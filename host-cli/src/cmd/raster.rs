@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use protocol::raster::Traversal;
 
-use super::{phase_line, TargetArgs};
+use super::{check_output_file, flag_path, phase_line, TargetArgs};
 
 /// Arguments of `fpgfx raster`.
 #[derive(clap::Args)]
@@ -25,6 +25,12 @@ pub struct Args {
 
 /// Draws the file on the target, writes the PNG and, with `--stats`, prints the counters.
 pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
+    check_output_file(
+        &flag_path("-o/--output", &a.output),
+        &a.output,
+        "the framebuffer",
+        &["png"],
+    )?;
     let mut session = target.connect()?;
     let name = a.file.display().to_string();
     let text = std::fs::read_to_string(&a.file).with_context(|| format!("cannot read {name}"))?;

@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use host_cli::run::render::{scene_regs, AovFiles, Packing, Renderer};
 use protocol::frame::Numeric;
 
-use super::{parse_size, phase_line, TargetArgs};
+use super::{check_output_file, flag_path, parse_size, phase_line, TargetArgs};
 
 /// Arguments of `fpgfx render`.
 #[derive(clap::Args)]
@@ -39,6 +39,27 @@ pub struct Args {
 /// Renders the scene on the target, writes the PNG and the AOVs and, with `--stats`,
 /// prints the counters.
 pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
+    // Every output is checked before the target is opened: a frame can take minutes.
+    check_output_file(
+        &flag_path("-o/--output", &a.output),
+        &a.output,
+        "the frame",
+        &["png"],
+    )?;
+    let aov_files = match &a.aov {
+        Some(spec) => spec
+            .parse::<AovFiles>()
+            .map_err(|e| anyhow::anyhow!("--aov {e}"))?,
+        None => AovFiles::default(),
+    };
+    for (aov, path) in &aov_files.0 {
+        check_output_file(
+            &format!("--aov {aov}={}", path.display()),
+            path,
+            &format!("the {aov} AOV"),
+            &["pfm"],
+        )?;
+    }
     let mut session = target.connect()?;
     let name = a.scene.display().to_string();
     let text = std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read {name}"))?;
@@ -53,12 +74,6 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
     }
     let numeric = a.numeric;
     warn_out_of_range(&name, &scene, numeric);
-    let aov_files = match &a.aov {
-        Some(spec) => spec
-            .parse::<AovFiles>()
-            .map_err(|e| anyhow::anyhow!("--aov {e}"))?,
-        None => AovFiles::default(),
-    };
     session.handshake().context("handshake with the target")?;
     let regs = scene_regs(&session, &scene, numeric).with_context(|| name.clone())?;
     // The target renders a frame without answering in between: allow for a full-HD

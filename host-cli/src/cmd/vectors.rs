@@ -7,7 +7,7 @@ use protocol::bus::LayoutId;
 use protocol::frame::Numeric;
 use vectors::{render, VectorSet};
 
-use super::parse_size;
+use super::{check_output_dir, flag_path, parse_size};
 
 /// Arguments of `fpgfx vectors`.
 #[derive(clap::Args)]
@@ -85,6 +85,7 @@ pub fn run(a: &Args) -> Result<()> {
 
 /// Writes the vectors and lists the files with their word counts.
 fn raster(a: &RasterArgs) -> Result<()> {
+    check_output_dir(&flag_path("-o/--output", &a.output), &a.output)?;
     let name = a.file.display().to_string();
     let text = std::fs::read_to_string(&a.file).with_context(|| format!("cannot read {name}"))?;
     let set = vectors::raster::raster(&text, &name, a.layout.into())?;
@@ -96,6 +97,7 @@ fn raster(a: &RasterArgs) -> Result<()> {
 
 /// Renders the scene on the golden model and writes its vectors.
 fn render(a: &RenderArgs) -> Result<()> {
+    check_output_dir(&flag_path("-o/--output", &a.output), &a.output)?;
     let name = a.scene.display().to_string();
     let text = std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read {name}"))?;
     let scene = jobs::scene::parse(&text, &name)?;

@@ -30,7 +30,7 @@ pub enum Kind {
 #[non_exhaustive]
 pub enum AnimateError {
     /// The file cannot be read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}")]
     Read {
         /// The script file, as given.
         path: String,

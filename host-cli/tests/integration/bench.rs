@@ -1,9 +1,10 @@
 //! `fpgfx bench --quick` as CI runs it: every output is written, every point has a
 //! finite cost and error, the reference-identical points are where they must be, and the
-//! default configurations sit on their Pareto fronts.
+//! default configurations sit on their Pareto fronts. The binary carries its workloads
+//! (it runs outside the repository) and its plots carry text in the font it carries.
 
-use host_cli::sweep::{self, BenchConfig};
-use std::path::PathBuf;
+use host_cli::sweep::{self, BenchConfig, Point};
+use std::path::{Path, PathBuf};
 
 use crate::common;
 
@@ -15,7 +16,6 @@ fn quick_bench_writes_outputs_and_default_is_on_the_front() {
         raster_files: Vec::new(),
         quick: true,
         repeats: 1,
-        root: common::workspace(),
     };
     let report = sweep::run(&cfg).expect("bench runs");
     sweep::write(&report, &out).expect("outputs written");
@@ -100,5 +100,140 @@ fn pareto_front_by_hand() {
     assert_eq!(
         sweep::pareto_front(&pts),
         vec![true, true, false, true, true, true, true, false]
+    );
+}
+
+/// The workloads built into the binary are the example files, byte for byte, and every
+/// raster example and ray-trace example is among them (a new example must join the list).
+#[test]
+fn builtin_workloads_are_the_example_files() {
+    let root = common::workspace();
+    for (name, text) in sweep::BUILTIN_SCENES.iter().chain(&sweep::BUILTIN_RASTER) {
+        let on_disk =
+            std::fs::read_to_string(root.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(*text, on_disk, "{name} differs from its built-in copy");
+    }
+    let names = |dir: &str| -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(root.join(dir))
+            .unwrap_or_else(|e| panic!("{dir}: {e}"))
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+            .map(|p| format!("{dir}/{}", p.file_name().unwrap().to_string_lossy()))
+            .collect();
+        v.sort();
+        v
+    };
+    let raster: Vec<&str> = sweep::BUILTIN_RASTER.iter().map(|(n, _)| *n).collect();
+    assert_eq!(raster, names("examples/raster"));
+    let scenes: Vec<&str> = sweep::BUILTIN_SCENES.iter().map(|(n, _)| *n).collect();
+    assert_eq!(scenes[0], "examples/reference.toml");
+    for rt in names("examples/rt") {
+        assert!(scenes.contains(&rt.as_str()), "{rt} is not built in");
+    }
+}
+
+/// `fpgfx bench --quick` from a directory outside the repository: the built-in workloads
+/// travel inside the binary, and the report names them by their repository paths.
+#[test]
+fn bench_runs_outside_the_repository() {
+    let dir = PathBuf::from(common::tmp("elsewhere"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let dir = dir.canonicalize().expect("scratch dir");
+    let root = common::workspace().canonicalize().expect("workspace");
+    assert!(
+        !dir.starts_with(&root),
+        "{} is inside the repository",
+        dir.display()
+    );
+    let args = ["bench", "--quick", "--repeats", "1", "-o", "out"];
+    let run = common::assert_ok(
+        common::run(common::fpgfx_command(&args).current_dir(&dir)),
+        &args,
+    );
+    for f in [
+        "bench.csv",
+        "bench.md",
+        "pareto-rt.png",
+        "pareto-raster.png",
+    ] {
+        assert!(
+            dir.join("out").join(f).is_file(),
+            "{f} missing:\n{}",
+            run.stderr
+        );
+    }
+    let md = std::fs::read_to_string(dir.join("out/bench.md")).expect("bench.md");
+    assert!(md.contains("examples/reference.toml at 48×27"), "{md}");
+    assert!(md.contains("examples/raster/aa.toml"), "{md}");
+}
+
+/// A scene file that cannot be read is named once, with the operating system's reason
+/// once (not "cannot read X: reason: reason").
+#[test]
+fn unreadable_scene_is_reported_once() {
+    let out = common::tmp("unreadable-out");
+    let missing = common::tmp("no-such-scene.toml");
+    let args = ["bench", "--quick", "--scene", &missing, "-o", &out];
+    let err = common::fails(&args);
+    assert!(err.contains(&format!("cannot read {missing}")), "{err}");
+    let reason = std::fs::read(&missing).unwrap_err().to_string();
+    assert_eq!(err.matches(&reason).count(), 1, "{err}");
+}
+
+/// Pixels darker than mid-grey in `rows` × `cols` of an RGB image.
+fn ink(img: &image::RgbImage, cols: std::ops::Range<u32>, rows: std::ops::Range<u32>) -> usize {
+    rows.flat_map(|y| cols.clone().map(move |x| (x, y)))
+        .filter(|&(x, y)| img.get_pixel(x, y).0.iter().all(|&c| c < 100))
+        .count()
+}
+
+fn point(config: &str, cost: f64, psnr: f64, front: bool, is_default: bool) -> Point {
+    Point {
+        block: "rt",
+        config: config.into(),
+        cost,
+        host_ms: 1.0,
+        psnr,
+        max_err: 0,
+        depth_rmse: 0.0,
+        mismatched: 0,
+        coverage_mismatch: 0,
+        aa_area_err: 0.0,
+        is_default,
+        front,
+    }
+}
+
+/// The plots carry text: the title above the plot, the y axis's description along its
+/// left edge and the x axis's along the bottom are drawn in the built-in font (these
+/// strips hold nothing but text), and the point names beside the front.
+#[test]
+fn pareto_plot_has_title_axes_and_names() {
+    let pts = [
+        point("f16/exact", 6.0e4, 27.0, true, false),
+        point("q16.16/exact", 1.2e5, 56.0, true, false),
+        point("f32/exact", 1.5e5, 101.0, true, true),
+        point("f64/exact", 4.3e5, 120.0, true, false),
+        point("q8.24/seed", 1.25e5, 16.0, false, false),
+        point("f64/seed", 4.4e5, 25.5, false, false),
+    ];
+    let path = common::tmp("pareto-text.png");
+    sweep::plot(&pts, Path::new(&path)).expect("plot written");
+    let img = common::rgb(&path);
+    let (w, h) = img.dimensions();
+    let title = ink(&img, w / 4..3 * w / 4, 0..36);
+    let y_desc = ink(&img, 0..36, h / 4..3 * h / 4);
+    let x_desc = ink(&img, w / 4..3 * w / 4, h - 30..h);
+    assert!(title > 100, "no title: {title} dark pixels");
+    assert!(y_desc > 100, "no y axis description: {y_desc} dark pixels");
+    assert!(x_desc > 100, "no x axis description: {x_desc} dark pixels");
+    // The legend and the points' names are near-black text; the markers and grid lines
+    // are lighter (grey, blue, red), so the plot's interior holds dark pixels only where
+    // text is.
+    let inside = ink(&img, 120..w - 40, 60..h - 90);
+    assert!(
+        inside > 400,
+        "no legend or names: {inside} dark pixels in the plot"
     );
 }

@@ -2,8 +2,8 @@
 //! input, the built-in pipeline (recording bus, gallery goldens, FPGA link, the AXI4-Lite
 //! register bus), the emulated board over a pty and TCP, flashing through the ROM
 //! bootloader, the real board binary under QEMU, target selection, `animate`, `bench`,
-//! `stress`, the raster file parser's property tests and `vectors` (its testbench under
-//! Icarus and Verilator). One binary rather than one per file: each test binary links
+//! `stress`, the raster file parser's property tests, `vectors` (its testbench under
+//! Icarus and Verilator) and every command's refusal of an output it could not write. One binary rather than one per file: each test binary links
 //! the whole stack again, so a single one is built and linked once.
 //!
 //! The tests share one process and run on parallel threads: scratch files go to a
@@ -23,6 +23,7 @@ mod float_regs;
 mod fpga_link;
 mod gallery;
 mod mmio;
+mod outputs;
 mod pipeline;
 mod ports;
 mod pty;
