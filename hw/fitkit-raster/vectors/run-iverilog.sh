@@ -1,9 +1,12 @@
 #!/bin/sh
 # Builds tb_fpgfx.v with Icarus Verilog against the RTL in RTL_DIR (every RTL_DIR/*.v,
-# top module fitkit_raster) and runs it on the vectors beside this script. Exits 0 only
+# top module fitkit_raster)
+# and runs it on the vectors beside this script. Exits 0 only
 # when the testbench's summary says every check passed. Written by fpgfx @VERSION@
 # (`fpgfx vectors raster`); docs/vectors.md describes the vectors and the checks.
 #
+# RTL_DIR is also the include path, for the headers its modules include (the FITkit
+# block's fitkit_map.vh).
 # Usage: sh run-iverilog.sh RTL_DIR [+plusarg ...]   (plusargs: see tb_fpgfx.v)
 # Build products and the log go to build-iverilog/ beside this script.
 set -u
@@ -34,7 +37,7 @@ build="$here/build-iverilog"
 mkdir -p "$build" || exit 1
 cd "$here" || exit 1
 
-if ! iverilog -g2012 -s tb_fpgfx -o "$build/tb_fpgfx.vvp" tb_fpgfx.v "$rtl"/*.v \
+if ! iverilog -g2012 -I "$rtl" -s tb_fpgfx -o "$build/tb_fpgfx.vvp" tb_fpgfx.v "$rtl"/*.v \
     >"$build/compile.log" 2>&1; then
     cat "$build/compile.log" >&2
     echo "$me: iverilog could not compile tb_fpgfx.v with $rtl/*.v (log: $build/compile.log)" >&2

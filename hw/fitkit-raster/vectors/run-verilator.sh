@@ -1,9 +1,12 @@
 #!/bin/sh
 # Builds tb_fpgfx.v with Verilator (--binary --timing) against the RTL in RTL_DIR (every
-# RTL_DIR/*.v, top module fitkit_raster) and runs it on the vectors beside this script.
+# RTL_DIR/*.v, top module fitkit_raster)
+# and runs it on the vectors beside this script.
 # Exits 0 only when the testbench's summary says every check passed. Written by fpgfx
 # @VERSION@ (`fpgfx vectors raster`); docs/vectors.md describes the vectors and the checks.
 #
+# RTL_DIR is also the include path, for the headers its modules include (the FITkit
+# block's fitkit_map.vh).
 # Usage: sh run-verilator.sh RTL_DIR [+plusarg ...]   (plusargs: see tb_fpgfx.v)
 # Build products and the logs go to build-verilator/ beside this script. Verilator needs
 # make and a C++ compiler as well.
@@ -37,7 +40,7 @@ cd "$here" || exit 1
 
 # Unoptimised C++: the build dominates a run of this size.
 if ! verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style \
-    --top-module tb_fpgfx tb_fpgfx.v "$rtl"/*.v -Mdir "$build" -o tb_fpgfx \
+    -I"$rtl" --top-module tb_fpgfx tb_fpgfx.v "$rtl"/*.v -Mdir "$build" -o tb_fpgfx \
     -MAKEFLAGS "OPT_FAST=-O0 OPT_SLOW=-O0 OPT_GLOBAL=-O0" >"$build/build.log" 2>&1; then
     tail -n 40 "$build/build.log" >&2
     echo "$me: verilator could not build tb_fpgfx.v with $rtl/*.v (log: $build/build.log)" >&2
