@@ -7,7 +7,7 @@ use crate::harness::{Pair, MODEL_TRAVERSAL};
 use crate::tally::Tally;
 
 fn job() -> jobs::raster::RasterJob {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/raster/fitkit.toml");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../examples/raster/fitkit.toml");
     let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
     jobs::raster::parse(&text, "fitkit.toml").expect("the gallery file parses")
 }
