@@ -31,6 +31,10 @@ use jobs::raster::Packet;
 const TESTBENCH: &str = include_str!("../../hw/fitkit-raster/vectors/tb_fpgfx.v");
 /// The Icarus run script.
 const RUN_IVERILOG: &str = include_str!("../../hw/fitkit-raster/vectors/run-iverilog.sh");
+/// The SPI master tasks tb_fpgfx.v includes: the block's own testbenches use the same file.
+const SPI_TASKS: &str = include_str!("../../hw/fitkit-raster/tb/spi_tasks.vh");
+/// The SPI map tb_fpgfx.v includes, generated from `protocol::fitkit_spi::MAP`.
+const FITKIT_MAP: &str = include_str!("../../hw/fitkit-raster/rtl/fitkit_map.vh");
 /// The Verilator run script.
 const RUN_VERILATOR: &str = include_str!("../../hw/fitkit-raster/vectors/run-verilator.sh");
 
@@ -185,6 +189,8 @@ pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet,
             (TESTBENCH_FILE, TESTBENCH, false),
             (RUN_IVERILOG_FILE, RUN_IVERILOG, true),
             (RUN_VERILATOR_FILE, RUN_VERILATOR, true),
+            (SPI_TASKS_FILE, SPI_TASKS, false),
+            (FITKIT_MAP_FILE, FITKIT_MAP, false),
         ] {
             files.push(VectorFile {
                 name,
@@ -250,6 +256,10 @@ pub const TESTBENCH_FILE: &str = "tb_fpgfx.v";
 pub const RUN_IVERILOG_FILE: &str = "run-iverilog.sh";
 /// `run-verilator.sh`: builds and runs the testbench with Verilator (FITkit only).
 pub const RUN_VERILATOR_FILE: &str = "run-verilator.sh";
+/// `spi_tasks.vh`: the SPI master tasks the testbench includes (FITkit only).
+pub const SPI_TASKS_FILE: &str = "spi_tasks.vh";
+/// `fitkit_map.vh`: the SPI map the testbench includes (FITkit only).
+pub const FITKIT_MAP_FILE: &str = "fitkit_map.vh";
 
 fn version() -> &'static str {
     env!("CARGO_PKG_VERSION")
@@ -693,7 +703,13 @@ color = "#ff0000"
             manifest.contains(&format!("fragments = {drawn}")),
             "{manifest}"
         );
-        for name in [TESTBENCH_FILE, RUN_IVERILOG_FILE, RUN_VERILATOR_FILE] {
+        for name in [
+            TESTBENCH_FILE,
+            RUN_IVERILOG_FILE,
+            RUN_VERILATOR_FILE,
+            SPI_TASKS_FILE,
+            FITKIT_MAP_FILE,
+        ] {
             let text = &set
                 .file(name)
                 .expect("a FITkit set has the testbench")

@@ -20,6 +20,7 @@
 `include "fitkit_map.vh"
 module tb_readback;
     parameter HALF = 40;   // SCK half period: 4 clk cycles (f_SCK = f_clk / 8)
+    parameter CS_GAP = 4 * HALF; // CS_n high after each transaction
     localparam integer ABYTES = `FITKIT_READ_HEADER_BYTES - `FITKIT_READ_TURNAROUND - 1;
 
     reg clk = 1'b0;

@@ -12,6 +12,7 @@
 `include "fitkit_map.vh"
 module tb_spi;
     parameter HALF = 40;         // 4 clk cycles
+    parameter CS_GAP = 4 * HALF; // CS_n high after each transaction
     // A record's FIFO tag is the low two bits of its channel's address.
     localparam [7:0] A_LINE = `FITKIT_ADDR_LINE, A_CLEAR = `FITKIT_ADDR_CLEAR;
     localparam integer BYTES1 = (`FITKIT_RECORD_BITS + 7) / 8;   // a 1-record packet

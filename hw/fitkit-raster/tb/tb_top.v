@@ -20,6 +20,7 @@
 `include "fitkit_map.vh"
 module tb_top;
     parameter HALF = 50;           // SCK half period: 5 clk cycles (f_SCK = f_clk / 10)
+    parameter CS_GAP = 4 * HALF; // CS_n high after each transaction
     // Addresses, codes, the status layout and packet lengths are the generated map's, as
     // the host uses them.
     localparam integer SIDE     = `FITKIT_FRAME_SIDE;

@@ -32,6 +32,7 @@
 //                      256 / (256 - D) under +mem_wait=D)
 //   +max_report=N      mismatches printed per check (default 10)
 `timescale 1ns / 1ps
+`include "fitkit_map.vh"
 module tb_fpgfx;
     localparam integer WIDTH = @WIDTH@;
     localparam integer HEIGHT = @HEIGHT@;
@@ -46,7 +47,7 @@ module tb_fpgfx;
     localparam [31:0] EXP_CLEAR_CYCLES = 32'd@EXP_CLEAR_CYCLES@;
     localparam [63:0] CYCLE_LIMIT = 64'd@CYCLE_LIMIT@;
     // clk has a period of 10 time units; SPI edges fall on clk's falling edges.
-    localparam integer SCK_HALF = 40;   // 4 clk: f_SCK = f_clk / 8
+    localparam integer HALF = 40;       // SCK half period, 4 clk: f_SCK = f_clk / 8
     localparam integer CS_GAP = 80;     // 8 clk of CS_n high after each transaction
 
     reg clk = 1'b0;
@@ -153,36 +154,7 @@ module tb_fpgfx;
 
     // ---- SPI master, mode 0 --------------------------------------------------------------
     reg [7:0] rx;
-    task spi_begin;
-        begin
-            @(negedge clk);
-            spi_cs_n = 1'b0;
-            #(SCK_HALF);
-        end
-    endtask
-
-    task spi_xfer(input [7:0] tx, output [7:0] got);
-        integer b;
-        begin
-            for (b = 7; b >= 0; b = b - 1) begin
-                spi_mosi = tx[b];
-                #(SCK_HALF);
-                spi_sck = 1'b1;
-                got[b] = spi_miso;
-                #(SCK_HALF);
-                spi_sck = 1'b0;
-            end
-        end
-    endtask
-
-    task spi_end;
-        begin
-            #(SCK_HALF);
-            spi_cs_n = 1'b1;
-            spi_mosi = 1'b0;
-            #(CS_GAP);
-        end
-    endtask
+    `include "spi_tasks.vh"
 
     task wait_idle;
         integer quiet;
@@ -201,7 +173,7 @@ module tb_fpgfx;
         integer k;
         begin
             spi_begin;
-            spi_xfer(8'h20, rx);
+            spi_xfer(`FITKIT_ADDR_STATUS, rx);
             for (k = 0; k < 32; k = k + 1) begin
                 spi_xfer(8'h00, rx);
                 st[k] = rx;
@@ -260,7 +232,7 @@ module tb_fpgfx;
         begin
             a = y * 512;
             spi_begin;
-            spi_xfer(8'h30, rx);
+            spi_xfer(`FITKIT_ADDR_READ, rx);
             spi_xfer({6'd0, a[17:16]}, rx);
             spi_xfer(a[15:8], rx);
             spi_xfer(a[7:0], rx);

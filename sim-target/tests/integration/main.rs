@@ -1,7 +1,7 @@
 //! sim-target's integration tests, one module per area: the AXI4-Lite register file, the
 //! instrumented formats (bit
 //! equality with their format, reentrant counting), the approximations' error bounds,
-//! the scene-file parser, the rasteriser (coverage, anti-aliasing, primitives, hardware
+//! the rasteriser (coverage, anti-aliasing, primitives, hardware
 //! model, golden framebuffer) and the ray tracer (accuracy, culling, golden images,
 //! planned kernels, intersectors, textures, register image). One binary rather than one
 //! per file: each test binary compiles and links the whole stack again (debug info, the
