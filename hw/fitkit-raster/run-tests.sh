@@ -34,12 +34,12 @@ run() {
     shift 3
     if [ "$SIM" = iverilog ]; then
         [ "$lanes" = - ] || set -- -P "$tb.LANES=$lanes" "$@"
-        iverilog -g2012 -I tb -I rtl -s "$tb" -o "$BUILD/$name.vvp" "tb/$tb.v" "$@"
+        iverilog -g2012 -I tb -I ../shared-tb -I rtl -s "$tb" -o "$BUILD/$name.vvp" "tb/$tb.v" "$@"
         # vvp exits 0 after $fatal; the testbench's summary line decides.
         vvp -n "$BUILD/$name.vvp" | tee "$BUILD/$name.log"
     else
         [ "$lanes" = - ] || set -- -GLANES="$lanes" "$@"
-        verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style -Itb -Irtl \
+        verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style -Itb -I../shared-tb -Irtl \
             --top-module "$tb" "tb/$tb.v" "$@" -Mdir "$BUILD/$name" -o "$tb" \
             -MAKEFLAGS "OPT_FAST=-O0 OPT_SLOW=-O0 OPT_GLOBAL=-O0" >"$BUILD/$name.build.log"
         "$BUILD/$name/$tb" | tee "$BUILD/$name.log"

@@ -268,6 +268,10 @@ fn install_packages() -> Result<()> {
     Ok(())
 }
 
+/// The ray-casting core's folder: lint and testbenches here, its differential tests in
+/// its bridge crate (run with the workspace's tests).
+const RT_CORE: &str = "hw/rt-core";
+
 /// The RTL's own checks: Verilator's lint on the synthesisable files (warnings are
 /// errors), the Icarus testbenches, and synthesis to an iCE40 with its figures.
 fn rtl_checks() -> Result<()> {
@@ -280,8 +284,10 @@ fn rtl_checks() -> Result<()> {
     let mut lint = vec!["--lint-only", "-Wall", &include, "--top-module", synth::TOP];
     lint.extend(files.iter().map(String::as_str));
     run("verilator", &lint)?;
-    let script = root.join(synth::BLOCK).join("run-tests.sh");
-    run("sh", &[&script.to_string_lossy()])?;
+    for block in [synth::BLOCK, RT_CORE] {
+        let script = root.join(block).join("run-tests.sh");
+        run("sh", &[&script.to_string_lossy()])?;
+    }
     synth::synth(&root)
 }
 

@@ -146,11 +146,23 @@ fn reference_regs() -> sim_target::scene_regs::Regs {
     jobs::scene::to_regs(&reference_scene()).expect("fits")
 }
 
+/// An error with its causes, as the tool prints it (`{:#}`): the messages the tests look
+/// for are often the cause's (the driver's register, the model's refusal).
+fn chain(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        text = format!("{text}: {c}");
+        cause = c.source();
+    }
+    text
+}
+
 /// One frame of the reference scene, or the session's message.
 fn render<T: Transport>(target: T) -> Result<Vec<u8>, String> {
     let mut session = Session::new(target);
     session.timeout = std::time::Duration::from_secs(20);
-    session.handshake().map_err(|e| e.to_string())?;
+    session.handshake().map_err(|e| chain(&e))?;
     Renderer::new()
         .frame(
             &mut session,
@@ -160,7 +172,7 @@ fn render<T: Transport>(target: T) -> Result<Vec<u8>, String> {
             Aovs::default(),
         )
         .map(|(out, _)| out.image.into_raw())
-        .map_err(|e| e.to_string())
+        .map_err(|e| chain(&e))
 }
 
 /// The gallery's every-primitive job, or the session's message.
@@ -169,10 +181,10 @@ fn draw<T: Transport>(target: T) -> Result<Vec<u8>, String> {
     let text = std::fs::read_to_string(&path).expect("gallery");
     let job = jobs::raster::parse(&text, &path).expect("parses");
     let mut session = Session::new(target);
-    session.handshake().map_err(|e| e.to_string())?;
+    session.handshake().map_err(|e| chain(&e))?;
     host_cli::run::raster::run(&mut session, &job, &path)
         .map(|out| out.image.into_raw())
-        .map_err(|e| e.to_string())
+        .map_err(|e| chain(&e))
 }
 
 /// A stuck block ends the session with the driver's error naming the register, within

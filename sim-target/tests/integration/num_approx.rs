@@ -851,3 +851,58 @@ mod rounded_ops {
         assert_eq!(Q32_32::dot3(xm, xm, xm, xm, xm, xm), xm);
     }
 }
+
+/// ⌊√n⌋ by integer arithmetic alone (the f64 estimate is corrected both ways).
+fn isqrt(n: u64) -> u64 {
+    let mut r = (n as f64).sqrt() as u64;
+    while r * r > n {
+        r -= 1;
+    }
+    while (r + 1) * (r + 1) <= n {
+        r += 1;
+    }
+    r
+}
+
+/// Whether Q16.16's √ and 1/√ cores give, for the word b, the integers the RTL's digit
+/// recurrences compute (hw/rt-core/rtl/q16_sqrt.v, q16_rsqrt.v): round(√(b·2¹⁶)) =
+/// (⌊√(b·2¹⁸)⌋ + 1) ≫ 1 and round(2²⁴/√b) = (⌊√⌊2⁵⁰/b⌋⌋ + 1) ≫ 1.
+fn cores_match_integer_formulas(b: i32) -> bool {
+    let x = Q16_16(fixed::types::I16F16::from_bits(b));
+    let u = b as u64;
+    let sqrt = ((isqrt(u << 18) + 1) >> 1) as i32;
+    let rsqrt = ((isqrt((1u64 << 50) / u) + 1) >> 1) as i32;
+    x.sqrt().0.to_bits() == sqrt && x.rsqrt().0.to_bits() == rsqrt
+}
+
+/// The model's f64 forms of the Q16.16 cores are the exact integer formulas the RTL
+/// computes: every word below 2¹⁶ (where 1/√ is coarsest), every 4099th word above, and
+/// each power of two with its neighbours. `q16_cores_are_integer_formulas_everywhere`
+/// (ignored: 40 s in release) checks all 2³¹ positive words.
+#[test]
+fn q16_cores_are_integer_formulas() {
+    let low = 1..1 << 16;
+    let spread = (1i32 << 16..i32::MAX).step_by(4099);
+    let edges = (0..31).flat_map(|k| {
+        let p = 1i64 << k;
+        [p - 1, p, p + 1].map(|v| v.clamp(1, i32::MAX as i64) as i32)
+    });
+    let bad: Vec<i32> = low
+        .chain(spread)
+        .chain(edges)
+        .chain([i32::MAX])
+        .filter(|&b| !cores_match_integer_formulas(b))
+        .take(5)
+        .collect();
+    assert!(bad.is_empty(), "words whose cores differ: {bad:?}");
+}
+
+#[test]
+#[ignore = "all 2^31 positive words: about 40 s in release (cargo test --release -- --ignored)"]
+fn q16_cores_are_integer_formulas_everywhere() {
+    let bad: Vec<i32> = (1..=i32::MAX)
+        .filter(|&b| !cores_match_integer_formulas(b))
+        .take(5)
+        .collect();
+    assert!(bad.is_empty(), "words whose cores differ: {bad:?}");
+}

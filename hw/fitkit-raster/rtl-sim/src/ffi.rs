@@ -22,7 +22,7 @@ pub(crate) struct FitkitRtl {
     _private: [u8; 0],
 }
 
-#[cfg(rtl_sim_verilated)]
+#[cfg(verilated)]
 mod sys {
     use super::FitkitRtl;
 
@@ -34,7 +34,7 @@ mod sys {
     }
 }
 
-#[cfg(rtl_sim_verilated)]
+#[cfg(verilated)]
 pub(crate) fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
     let mut no_ram = 0i32;
     // SAFETY: the shim writes `no_ram` and returns a fresh model or null.
@@ -46,19 +46,19 @@ pub(crate) fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
     }
 }
 
-#[cfg(rtl_sim_verilated)]
+#[cfg(verilated)]
 pub(crate) fn free(m: NonNull<FitkitRtl>) {
     // SAFETY: `m` came from `new` and is freed once, by `Rtl`'s drop.
     unsafe { sys::fitkit_rtl_free(m.as_ptr()) }
 }
 
-#[cfg(rtl_sim_verilated)]
+#[cfg(verilated)]
 pub(crate) fn tick(m: NonNull<FitkitRtl>, inputs: u32) -> u32 {
     // SAFETY: `m` is live (owned by the calling `Rtl`, which is not Send).
     unsafe { sys::fitkit_rtl_tick(m.as_ptr(), inputs) }
 }
 
-#[cfg(rtl_sim_verilated)]
+#[cfg(verilated)]
 pub(crate) fn ram<'a>(m: NonNull<FitkitRtl>) -> &'a [u8] {
     let mut len = 0usize;
     // SAFETY: the RAM array lives as long as the model; the caller ties the slice to a
@@ -70,24 +70,24 @@ pub(crate) fn ram<'a>(m: NonNull<FitkitRtl>) -> &'a [u8] {
     }
 }
 
-#[cfg(not(rtl_sim_verilated))]
+#[cfg(not(verilated))]
 pub(crate) fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
-    match env!("RTL_SIM_MISSING") {
+    match env!("VERILATED_MISSING") {
         "verilator" => Err(RtlError::NoVerilator),
         _ => Err(RtlError::NoRtl),
     }
 }
 
 // Without a model no `Rtl` is ever constructed, so these are never called.
-#[cfg(not(rtl_sim_verilated))]
+#[cfg(not(verilated))]
 pub(crate) fn free(_: NonNull<FitkitRtl>) {}
 
-#[cfg(not(rtl_sim_verilated))]
+#[cfg(not(verilated))]
 pub(crate) fn tick(_: NonNull<FitkitRtl>, _: u32) -> u32 {
     0
 }
 
-#[cfg(not(rtl_sim_verilated))]
+#[cfg(not(verilated))]
 pub(crate) fn ram<'a>(_: NonNull<FitkitRtl>) -> &'a [u8] {
     &[]
 }

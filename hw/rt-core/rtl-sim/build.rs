@@ -1,0 +1,18 @@
+//! Verilates the core's `rtl/` with the arithmetic units' sim top (`hw/rt-core/sim/`, top
+//! `rt_math_top`) and its C shim (the shared recipe: the `verilate` crate).
+//! `FPGFX_RT_RTL_DIR` points it at another copy of `rtl/`.
+
+use std::path::PathBuf;
+
+fn main() {
+    let manifest = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("set by cargo"));
+    verilate::Model {
+        top: "rt_math_top",
+        rtl: manifest.join("../rtl"),
+        rtl_override: "FPGFX_RT_RTL_DIR",
+        sim: vec![manifest.join("../sim")],
+        shim: manifest.join("csrc/shim.cpp"),
+        lib: "rt_core_rtl",
+    }
+    .build();
+}

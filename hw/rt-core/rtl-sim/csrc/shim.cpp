@@ -1,0 +1,62 @@
+// The C ABI over the Verilated `rt_math_top`: one call per clock cycle (operands in,
+// every unit's outputs out), so the Rust side pays one FFI crossing per cycle.
+
+#include <cstdint>
+#include <memory>
+
+#include "Vrt_math_top.h"
+#include "verilated.h"
+
+struct RtMath {
+    std::unique_ptr<VerilatedContext> ctx;
+    std::unique_ptr<Vrt_math_top> top;
+};
+
+static void edge(RtMath* m) {
+    m->top->clk = 0;
+    m->top->eval();
+    m->top->clk = 1;
+    m->top->eval();
+}
+
+extern "C" {
+
+// A model after 4 cycles of reset, or null when construction failed.
+RtMath* rt_math_new() {
+    auto* m = new (std::nothrow) RtMath;
+    if (!m) return nullptr;
+    m->ctx = std::make_unique<VerilatedContext>();
+    m->top = std::make_unique<Vrt_math_top>(m->ctx.get());
+    m->top->rst = 1;
+    m->top->ce = 1;
+    m->top->in_valid = 0;
+    for (int i = 0; i < 4; i++) edge(m);
+    m->top->rst = 0;
+    return m;
+}
+
+void rt_math_free(RtMath* m) { delete m; }
+
+// in: valid, a0, a1, a2, b0, b1, b2, ce. out: for mul, mul_rn, dot2, dot3, div, sqrt, rsqrt
+// in that order, (valid, y, sat) after the rising edge (sqrt's sat is 0).
+void rt_math_cycle(RtMath* m, const uint32_t* in, uint32_t* out) {
+    Vrt_math_top& t = *m->top;
+    t.in_valid = in[0] != 0;
+    t.a0 = in[1];
+    t.a1 = in[2];
+    t.a2 = in[3];
+    t.b0 = in[4];
+    t.b1 = in[5];
+    t.b2 = in[6];
+    t.ce = in[7] != 0;
+    edge(m);
+    const uint32_t o[21] = {
+        t.mul_v,    t.mul_y,    t.mul_sat,    t.mul_rn_v, t.mul_rn_y, t.mul_rn_sat,
+        t.dot2_v,   t.dot2_y,   t.dot2_sat,   t.dot3_v,   t.dot3_y,   t.dot3_sat,
+        t.div_v,    t.div_y,    t.div_sat,    t.sqrt_v,   t.sqrt_y,   0,
+        t.rsqrt_v,  t.rsqrt_y,  t.rsqrt_sat,
+    };
+    for (int i = 0; i < 21; i++) out[i] = o[i];
+}
+
+}  // extern "C"

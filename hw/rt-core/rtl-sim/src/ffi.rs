@@ -1,0 +1,60 @@
+//! The C shim's API (csrc/shim.cpp), or, when build.rs could not Verilate the RTL, stubs
+//! whose constructor says why. Everything unsafe in the crate is here.
+
+use std::ptr::NonNull;
+
+use crate::RtlError;
+
+/// The shim's model: opaque to Rust.
+#[repr(C)]
+pub(crate) struct RtMath {
+    _private: [u8; 0],
+}
+
+#[cfg(verilated)]
+mod sys {
+    use super::RtMath;
+
+    extern "C" {
+        pub fn rt_math_new() -> *mut RtMath;
+        pub fn rt_math_free(m: *mut RtMath);
+        pub fn rt_math_cycle(m: *mut RtMath, inputs: *const u32, outputs: *mut u32);
+    }
+}
+
+#[cfg(verilated)]
+pub(crate) fn new() -> Result<NonNull<RtMath>, RtlError> {
+    // SAFETY: the shim returns a fresh model or null.
+    NonNull::new(unsafe { sys::rt_math_new() }).ok_or(RtlError::Construct)
+}
+
+#[cfg(verilated)]
+pub(crate) fn free(m: NonNull<RtMath>) {
+    // SAFETY: `m` came from `rt_math_new` and is freed once (by its owner's Drop).
+    unsafe { sys::rt_math_free(m.as_ptr()) }
+}
+
+#[cfg(verilated)]
+pub(crate) fn cycle(m: NonNull<RtMath>, inputs: &[u32; 8]) -> [u32; 21] {
+    let mut out = [0u32; 21];
+    // SAFETY: the shim reads 8 words and writes 21, the arrays' sizes.
+    unsafe { sys::rt_math_cycle(m.as_ptr(), inputs.as_ptr(), out.as_mut_ptr()) };
+    out
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn new() -> Result<NonNull<RtMath>, RtlError> {
+    match env!("VERILATED_MISSING") {
+        "verilator" => Err(RtlError::NoVerilator),
+        _ => Err(RtlError::NoRtl),
+    }
+}
+
+// Without a model no `MathUnits` is ever constructed, so these are never called.
+#[cfg(not(verilated))]
+pub(crate) fn free(_: NonNull<RtMath>) {}
+
+#[cfg(not(verilated))]
+pub(crate) fn cycle(_: NonNull<RtMath>, _: &[u32; 8]) -> [u32; 21] {
+    [0; 21]
+}

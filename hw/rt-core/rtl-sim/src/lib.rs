@@ -1,0 +1,173 @@
+//! The ray-casting core's RTL (`hw/rt-core/rtl/`), Verilated, as a Rust library, so that
+//! its differential tests can hold it to the golden model (`sim-target`) from Rust: today
+//! its Q16.16 arithmetic units ([`MathUnits`]), one operand set per clock.
+//!
+//! The build script Verilates the RTL when verilator is installed (`cargo xtask setup`
+//! installs it); without it the crate still builds and [`MathUnits::new`] says what was
+//! missing. `FPGFX_RT_RTL_DIR=<dir>` builds against another copy of `rtl/` (a deliberately
+//! broken unit, to watch the tests fail).
+
+mod ffi;
+
+use std::ptr::NonNull;
+
+/// Why no model could be had.
+#[derive(Debug, thiserror::Error)]
+pub enum RtlError {
+    /// The crate was built where verilator could not be found, so it holds no model.
+    #[error("verilator not found when rt-core-rtl-sim was built: run `cargo xtask setup` (installs verilator from Debian), then rebuild")]
+    NoVerilator,
+    /// The crate was built before `hw/rt-core/sim/` had its `rt_math_top` module.
+    #[error("hw/rt-core/sim/ had no `rt_math_top` module when rt-core-rtl-sim was built")]
+    NoRtl,
+    /// Allocating the model failed.
+    #[error("cannot construct the Verilated model")]
+    Construct,
+}
+
+/// One of the core's arithmetic units, as `rt_math_top` lays them side by side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unit {
+    /// `q16_dot` with one term, floor: the model's Q16.16 `*`.
+    Mul,
+    /// `q16_dot` with one term, rounded: `mul_rn`.
+    MulRn,
+    /// `q16_dot` with two terms: `dot2`.
+    Dot2,
+    /// `q16_dot` with three terms: `dot3`.
+    Dot3,
+    /// `q16_div`: `/`.
+    Div,
+    /// `q16_sqrt`: `sqrt`.
+    Sqrt,
+    /// `q16_rsqrt`: `rsqrt`.
+    Rsqrt,
+}
+
+impl Unit {
+    /// Every unit, in the order of [`Outputs::of`]'s slots.
+    pub const ALL: [Unit; 7] = [
+        Unit::Mul,
+        Unit::MulRn,
+        Unit::Dot2,
+        Unit::Dot3,
+        Unit::Div,
+        Unit::Sqrt,
+        Unit::Rsqrt,
+    ];
+
+    /// Cycles from an operand set's clock edge to the edge after which its result is out,
+    /// as each module's header states (a test holds the RTL to these).
+    pub const fn latency(self) -> u64 {
+        match self {
+            Unit::Mul | Unit::MulRn | Unit::Dot2 | Unit::Dot3 => 2,
+            Unit::Div => 34,
+            Unit::Sqrt => 27,
+            Unit::Rsqrt => 79,
+        }
+    }
+}
+
+/// Operands of one clock: the words a0, a1, a2 and b0, b1, b2 (Q16.16 bits); see
+/// `hw/rt-core/sim/rt_math_top.v` for which unit reads which.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Operands {
+    /// a0, a1, a2.
+    pub a: [i32; 3],
+    /// b0, b1, b2.
+    pub b: [i32; 3],
+}
+
+/// One unit's output after a clock edge.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Output {
+    /// A result is out this cycle.
+    pub valid: bool,
+    /// The result's Q16.16 bits (meaningful while `valid`).
+    pub y: i32,
+    /// The result was clipped to the word's range.
+    pub sat: bool,
+}
+
+/// Every unit's output after a clock edge.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Outputs([Output; 7]);
+
+impl Outputs {
+    /// The output of `unit`.
+    pub fn of(&self, unit: Unit) -> Output {
+        let i = Unit::ALL.iter().position(|u| *u == unit).unwrap_or(0);
+        self.0[i]
+    }
+}
+
+/// The Verilated `rt_math_top`: every arithmetic unit of the core on one set of operands
+/// per clock, out of reset.
+pub struct MathUnits {
+    model: NonNull<ffi::RtMath>,
+    cycle: u64,
+}
+
+// SAFETY: the model is owned by this value alone and only used through `&mut self`.
+unsafe impl Send for MathUnits {}
+
+impl MathUnits {
+    /// A fresh model, reset for four cycles.
+    pub fn new() -> Result<Self, RtlError> {
+        Ok(Self {
+            model: ffi::new()?,
+            cycle: 0,
+        })
+    }
+
+    /// One clock edge with `input` (None: no operand set this cycle); the outputs after
+    /// it.
+    pub fn cycle(&mut self, input: Option<Operands>) -> Outputs {
+        self.edge(input, true)
+    }
+
+    /// One clock edge with the clock enable low: every unit holds, and `input`, offered
+    /// with its valid high, must not be taken. Not counted in [`Self::cycles`].
+    pub fn hold(&mut self, input: Operands) -> Outputs {
+        self.edge(Some(input), false)
+    }
+
+    fn edge(&mut self, input: Option<Operands>, ce: bool) -> Outputs {
+        let ops = input.unwrap_or_default();
+        let word = |v: i32| v as u32;
+        let inputs = [
+            u32::from(input.is_some()),
+            word(ops.a[0]),
+            word(ops.a[1]),
+            word(ops.a[2]),
+            word(ops.b[0]),
+            word(ops.b[1]),
+            word(ops.b[2]),
+            u32::from(ce),
+        ];
+        let raw = ffi::cycle(self.model, &inputs);
+        if ce {
+            self.cycle += 1;
+        }
+        let mut out = [Output::default(); 7];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = Output {
+                valid: raw[3 * k] != 0,
+                y: raw[3 * k + 1] as i32,
+                sat: raw[3 * k + 2] != 0,
+            };
+        }
+        Outputs(out)
+    }
+
+    /// Clock edges with the enable high since reset.
+    pub fn cycles(&self) -> u64 {
+        self.cycle
+    }
+}
+
+impl Drop for MathUnits {
+    fn drop(&mut self) {
+        ffi::free(self.model);
+    }
+}

@@ -1,0 +1,47 @@
+#!/bin/sh
+# Lints the ray-casting core's RTL and runs its testbenches; exits non-zero on any
+# failure.
+#
+# Lint: verilator --lint-only -Wall on the synthesisable files (rtl/) with each unit as
+# top, and with the simulation top (sim/). Testbenches: Icarus (iverilog -g2012) when it
+# is installed, else Verilator's --binary --timing build (RTL_SIM=iverilog or
+# RTL_SIM=verilator forces one). Paths below are relative to this block's folder; build
+# products go to $RTL_BUILD (default target/rtl at the workspace root; a relative
+# $RTL_BUILD is taken from the workspace root). The differential tests against the golden
+# model are the bridge crate's (rtl-sim/, cargo test -p rt-core-rtl-sim).
+set -eu
+cd "$(dirname "$0")/../.."
+BUILD=${RTL_BUILD:-target/rtl}
+mkdir -p "$BUILD"
+BUILD=$(cd "$BUILD" && pwd)
+cd hw/rt-core
+SIM=${RTL_SIM:-auto}
+if [ "$SIM" = auto ]; then
+    if command -v iverilog >/dev/null 2>&1; then SIM=iverilog; else SIM=verilator; fi
+fi
+
+for top in q16_dot q16_div q16_sqrt q16_rsqrt udiv_pipe usqrt_pipe; do
+    verilator --lint-only -Wall -Irtl rtl/*.v --top-module "$top"
+done
+verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module rt_math_top
+echo "lint: clean"
+
+# testbench, then the files it needs besides rtl/
+run() {
+    tb=$1
+    shift
+    if [ "$SIM" = iverilog ]; then
+        iverilog -g2012 -I ../shared-tb -I rtl -s "$tb" -o "$BUILD/rt_$tb.vvp" "tb/$tb.v" rtl/*.v "$@"
+        # vvp exits 0 after $fatal; the testbench's summary line decides.
+        vvp -n "$BUILD/rt_$tb.vvp" | tee "$BUILD/rt_$tb.log"
+    else
+        verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style -I../shared-tb -Irtl \
+            --top-module "$tb" "tb/$tb.v" rtl/*.v "$@" -Mdir "$BUILD/rt_$tb" -o "$tb" \
+            -MAKEFLAGS "OPT_FAST=-O0 OPT_SLOW=-O0 OPT_GLOBAL=-O0" >"$BUILD/rt_$tb.build.log"
+        "$BUILD/rt_$tb/$tb" | tee "$BUILD/rt_$tb.log"
+    fi
+    grep -q ", 0 failed$" "$BUILD/rt_$tb.log"
+}
+
+run tb_units sim/rt_math_top.v
+echo "rt-core: all testbenches passed"

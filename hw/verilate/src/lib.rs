@@ -1,0 +1,189 @@
+//! What a Verilated bridge crate's `build.rs` does, in one place: find Verilator, run it
+//! on the block's folders, compile its C++ (optimised whatever the Cargo profile: a debug
+//! build of it makes the differential tests several times slower) with Verilator's
+//! runtime and the crate's C shim into a static library, and tell the crate whether that
+//! worked.
+//!
+//! Without verilator, or before the folders hold the sim top, the crate still builds (the
+//! rest of the workspace must not need Verilator): the cfg `verilated` stays unset and the
+//! environment variable `VERILATED_MISSING` names what was missing (`verilator` or
+//! `rtl`), which the crate turns into its constructor's error. A build script panics (the
+//! build fails) only when Verilator or the C++ compiler rejects the sources.
+
+use std::env;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Where `cargo xtask setup` puts verilator (Debian's package): watched while verilator
+/// is missing, so installing it triggers the rebuild the crate's error message asks for.
+const DEBIAN_VERILATOR: &str = "/usr/bin/verilator";
+
+/// One Verilated model: what to Verilate and what to call the result.
+pub struct Model<'a> {
+    /// The sim top module (`module <top>` must be in one of the sources).
+    pub top: &'a str,
+    /// The synthesisable folder (its `*.v`, and its headers on the include path).
+    pub rtl: PathBuf,
+    /// An environment variable that, when set, replaces `rtl` (a scratch copy with a
+    /// deliberately broken unit, to see the differential tests fail).
+    pub rtl_override: &'a str,
+    /// Further folders of sources read after `rtl` (the simulation top and its memories).
+    pub sim: Vec<PathBuf>,
+    /// The C++ shim that gives the model its C ABI.
+    pub shim: PathBuf,
+    /// The static library's name.
+    pub lib: &'a str,
+}
+
+impl Model<'_> {
+    /// Runs the whole build; see the crate docs for what the crate learns.
+    pub fn build(&self) {
+        println!("cargo::rustc-check-cfg=cfg(verilated)");
+        println!("cargo::rerun-if-changed=build.rs");
+        println!("cargo::rerun-if-changed={}", self.shim.display());
+        println!("cargo::rerun-if-env-changed=VERILATOR");
+        println!("cargo::rerun-if-env-changed={}", self.rtl_override);
+        let rtl = env::var_os(self.rtl_override)
+            .map(PathBuf::from)
+            .unwrap_or_else(|| self.rtl.clone());
+        let mut dirs = vec![rtl.clone()];
+        dirs.extend(self.sim.iter().cloned());
+        let sources = sources(&dirs);
+        let Some(verilator) = find_verilator() else {
+            println!("cargo::rerun-if-env-changed=PATH");
+            println!("cargo::rerun-if-changed={DEBIAN_VERILATOR}");
+            missing("verilator");
+            return;
+        };
+        println!("cargo::rerun-if-changed={}", verilator.display());
+        let has_top = sources.iter().any(|p| {
+            fs::read_to_string(p).is_ok_and(|t| t.contains(&format!("module {}", self.top)))
+        });
+        if !has_top {
+            missing("rtl");
+            return;
+        }
+        let out = PathBuf::from(env::var_os("OUT_DIR").expect("set by cargo"));
+        let mdir = out.join("verilated");
+        // A stale tree would leave classes of removed modules to be compiled.
+        let _ = fs::remove_dir_all(&mdir);
+        let run = Command::new(&verilator)
+            .args([
+                "--cc",
+                "-O3",
+                "--top-module",
+                self.top,
+                "-Wno-fatal",
+                "--Mdir",
+            ])
+            .arg(&mdir)
+            // The modules include headers that sit beside them (a generated map), so a
+            // scratch copy of the folder brings its own.
+            .arg(format!("-I{}", rtl.display()))
+            .args(&sources)
+            .output()
+            .unwrap_or_else(|e| panic!("cannot run {}: {e}", verilator.display()));
+        // Verilator's warnings go to a log, not to cargo's output.
+        let mut text = run.stdout.clone();
+        text.extend_from_slice(&run.stderr);
+        let _ = fs::write(out.join("verilator.log"), &text);
+        if !run.status.success() {
+            panic!(
+                "verilator failed on {} ({}):\n{}",
+                rtl.display(),
+                run.status,
+                String::from_utf8_lossy(&text)
+            );
+        }
+        let include = verilator_include(&verilator);
+        let mut build = cc::Build::new();
+        build
+            .cpp(true)
+            .std("c++17")
+            .opt_level(3)
+            .debug(false)
+            .warnings(false)
+            .cargo_warnings(false)
+            .define("VM_TRACE", "0")
+            .include(&mdir)
+            .include(&include)
+            .include(include.join("vltstd"))
+            .file(&self.shim);
+        for runtime in [
+            "verilated.cpp",
+            "verilated_threads.cpp",
+            "verilated_dpi.cpp",
+        ] {
+            build.file(include.join(runtime));
+        }
+        let mut generated: Vec<PathBuf> = fs::read_dir(&mdir)
+            .unwrap_or_else(|e| panic!("{}: {e}", mdir.display()))
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "cpp"))
+            .collect();
+        generated.sort();
+        build.files(generated);
+        build.compile(self.lib);
+        println!("cargo::rustc-link-lib=pthread");
+        println!("cargo::rustc-link-lib=atomic");
+        println!("cargo::rustc-cfg=verilated");
+    }
+}
+
+/// Tells the crate what was missing; see the crate docs.
+fn missing(what: &str) {
+    println!("cargo::rustc-env=VERILATED_MISSING={what}");
+}
+
+/// Every folder's `*.v`, each folder sorted, watched with the headers beside them (and
+/// the folders, for added files).
+fn sources(dirs: &[PathBuf]) -> Vec<PathBuf> {
+    let mut all = Vec::new();
+    for dir in dirs {
+        println!("cargo::rerun-if-changed={}", dir.display());
+        let Ok(entries) = fs::read_dir(dir) else {
+            continue;
+        };
+        let mut files: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "v" || x == "vh"))
+            .collect();
+        files.sort();
+        for f in &files {
+            println!("cargo::rerun-if-changed={}", f.display());
+        }
+        all.extend(
+            files
+                .into_iter()
+                .filter(|p| p.extension().is_some_and(|x| x == "v")),
+        );
+    }
+    all
+}
+
+/// `VERILATOR` if set, else the first `verilator` on the PATH.
+fn find_verilator() -> Option<PathBuf> {
+    if let Some(v) = env::var_os("VERILATOR") {
+        let p = PathBuf::from(v);
+        return p.is_file().then_some(p);
+    }
+    env::split_paths(&env::var_os("PATH")?)
+        .map(|d| d.join("verilator"))
+        .find(|p| p.is_file())
+}
+
+/// The runtime's include folder: `$VERILATOR_ROOT/include` as verilator itself reports
+/// it, else Debian's.
+fn verilator_include(verilator: &Path) -> PathBuf {
+    let root = Command::new(verilator)
+        .arg("--getenv")
+        .arg("VERILATOR_ROOT")
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .filter(|r| !r.is_empty())
+        .unwrap_or_else(|| "/usr/share/verilator".into());
+    PathBuf::from(root).join("include")
+}
