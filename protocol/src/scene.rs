@@ -1510,3 +1510,53 @@ pub fn apply<const OBJ: usize, const LIGHTS: usize>(
 ) -> Result<(), SceneError> {
     regs.write(usize::from(w.offset), &w.words)
 }
+
+/// Writes `hw/rt-core/rtl/rt_map.vh`, the ray-casting core's view of this image: the
+/// shape codes its intersection unit decodes (and, as the core grows, the word offsets it
+/// reads), so the Verilog never types a code the Rust defines. The test
+/// `rt_map_header_matches_the_rust_map` fails while the committed header differs
+/// (`FPGFX_BLESS=1` rewrites it).
+pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Result {
+    use core::fmt::Write as _;
+    writeln!(
+        out,
+        "// rt_map.vh -- the ray-casting core's codes from the scene register image."
+    )?;
+    writeln!(out, "//")?;
+    writeln!(
+        out,
+        "// GENERATED from protocol::scene (protocol/src/scene.rs); do not edit."
+    )?;
+    writeln!(
+        out,
+        "// `FPGFX_BLESS=1 cargo test -p protocol --test integration rt_map` rewrites it."
+    )?;
+    writeln!(out, "`ifndef RT_MAP_VH")?;
+    writeln!(out, "`define RT_MAP_VH")?;
+    writeln!(out, "// bits of a shape code")?;
+    writeln!(out, "`define RT_SHAPE_BITS {SHAPE_BITS}")?;
+    for s in Shape::ALL {
+        let mut name = heapless::String::<16>::new();
+        // 16 bytes hold the longest shape name
+        let _ = write!(name, "{s:?}");
+        writeln!(out, "// shape code: {s:?}")?;
+        writeln!(
+            out,
+            "`define RT_SHAPE_{} {SHAPE_BITS}'d{}",
+            name.to_ascii_uppercase(),
+            s.code()
+        )?;
+    }
+    writeln!(out, "`endif")
+}
+
+/// Bits the core's shape codes take (every [`Shape::ALL`] code fits).
+pub const SHAPE_BITS: u32 = 3;
+
+const _: () = {
+    let mut i = 0;
+    while i < Shape::ALL.len() {
+        assert!(Shape::ALL[i].code() < 1 << SHAPE_BITS);
+        i += 1;
+    }
+};

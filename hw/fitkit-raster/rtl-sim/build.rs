@@ -9,7 +9,7 @@ fn main() {
     let manifest = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("set by cargo"));
     verilate::Model {
         // the sim top the RTL provides (docs/rtl.md, "Simulating the RTL from Rust")
-        top: "fitkit_sim_top",
+        tops: &["fitkit_sim_top"],
         rtl: manifest.join("../rtl"),
         rtl_override: "FPGFX_RTL_DIR",
         sim: vec![manifest.join("../sim")],

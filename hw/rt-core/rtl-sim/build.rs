@@ -7,7 +7,7 @@ use std::path::PathBuf;
 fn main() {
     let manifest = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("set by cargo"));
     verilate::Model {
-        top: "rt_math_top",
+        tops: &["rt_math_top", "rt_isect"],
         rtl: manifest.join("../rtl"),
         rtl_override: "FPGFX_RT_RTL_DIR",
         sim: vec![manifest.join("../sim")],

@@ -19,10 +19,12 @@ use std::process::Command;
 /// is missing, so installing it triggers the rebuild the crate's error message asks for.
 const DEBIAN_VERILATOR: &str = "/usr/bin/verilator";
 
-/// One Verilated model: what to Verilate and what to call the result.
+/// What to Verilate and what to call the result: one or more sim tops of one block, each
+/// its own Verilated model (class `V<top>`), in one library with one copy of Verilator's
+/// runtime.
 pub struct Model<'a> {
-    /// The sim top module (`module <top>` must be in one of the sources).
-    pub top: &'a str,
+    /// The sim tops (each `module <top>` must be in one of the sources).
+    pub tops: &'a [&'a str],
     /// The synthesisable folder (its `*.v`, and its headers on the include path).
     pub rtl: PathBuf,
     /// An environment variable that, when set, replaces `rtl` (a scratch copy with a
@@ -57,44 +59,44 @@ impl Model<'_> {
             return;
         };
         println!("cargo::rerun-if-changed={}", verilator.display());
-        let has_top = sources.iter().any(|p| {
-            fs::read_to_string(p).is_ok_and(|t| t.contains(&format!("module {}", self.top)))
+        let has_tops = self.tops.iter().all(|top| {
+            sources
+                .iter()
+                .any(|p| fs::read_to_string(p).is_ok_and(|t| t.contains(&format!("module {top}"))))
         });
-        if !has_top {
+        if !has_tops {
             missing("rtl");
             return;
         }
         let out = PathBuf::from(env::var_os("OUT_DIR").expect("set by cargo"));
-        let mdir = out.join("verilated");
+        let verilated = out.join("verilated");
         // A stale tree would leave classes of removed modules to be compiled.
-        let _ = fs::remove_dir_all(&mdir);
-        let run = Command::new(&verilator)
-            .args([
-                "--cc",
-                "-O3",
-                "--top-module",
-                self.top,
-                "-Wno-fatal",
-                "--Mdir",
-            ])
-            .arg(&mdir)
-            // The modules include headers that sit beside them (a generated map), so a
-            // scratch copy of the folder brings its own.
-            .arg(format!("-I{}", rtl.display()))
-            .args(&sources)
-            .output()
-            .unwrap_or_else(|e| panic!("cannot run {}: {e}", verilator.display()));
-        // Verilator's warnings go to a log, not to cargo's output.
-        let mut text = run.stdout.clone();
-        text.extend_from_slice(&run.stderr);
-        let _ = fs::write(out.join("verilator.log"), &text);
-        if !run.status.success() {
-            panic!(
-                "verilator failed on {} ({}):\n{}",
-                rtl.display(),
-                run.status,
-                String::from_utf8_lossy(&text)
-            );
+        let _ = fs::remove_dir_all(&verilated);
+        let mdirs: Vec<PathBuf> = self.tops.iter().map(|top| verilated.join(top)).collect();
+        for (top, mdir) in self.tops.iter().zip(&mdirs) {
+            // Verilator makes its own folder but not the one above it
+            fs::create_dir_all(mdir).unwrap_or_else(|e| panic!("{}: {e}", mdir.display()));
+            let run = Command::new(&verilator)
+                .args(["--cc", "-O3", "--top-module", top, "-Wno-fatal", "--Mdir"])
+                .arg(mdir)
+                // The modules include headers that sit beside them (a generated map), so a
+                // scratch copy of the folder brings its own.
+                .arg(format!("-I{}", rtl.display()))
+                .args(&sources)
+                .output()
+                .unwrap_or_else(|e| panic!("cannot run {}: {e}", verilator.display()));
+            // Verilator's warnings go to a log, not to cargo's output.
+            let mut text = run.stdout.clone();
+            text.extend_from_slice(&run.stderr);
+            let _ = fs::write(out.join(format!("verilator-{top}.log")), &text);
+            if !run.status.success() {
+                panic!(
+                    "verilator failed on {} with top {top} ({}):\n{}",
+                    rtl.display(),
+                    run.status,
+                    String::from_utf8_lossy(&text)
+                );
+            }
         }
         let include = verilator_include(&verilator);
         let mut build = cc::Build::new();
@@ -106,7 +108,7 @@ impl Model<'_> {
             .warnings(false)
             .cargo_warnings(false)
             .define("VM_TRACE", "0")
-            .include(&mdir)
+            .includes(&mdirs)
             .include(&include)
             .include(include.join("vltstd"))
             .file(&self.shim);
@@ -117,13 +119,15 @@ impl Model<'_> {
         ] {
             build.file(include.join(runtime));
         }
-        let mut generated: Vec<PathBuf> = fs::read_dir(&mdir)
-            .unwrap_or_else(|e| panic!("{}: {e}", mdir.display()))
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "cpp"))
-            .collect();
-        generated.sort();
-        build.files(generated);
+        for mdir in &mdirs {
+            let mut generated: Vec<PathBuf> = fs::read_dir(mdir)
+                .unwrap_or_else(|e| panic!("{}: {e}", mdir.display()))
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "cpp"))
+                .collect();
+            generated.sort();
+            build.files(generated);
+        }
         build.compile(self.lib);
         println!("cargo::rustc-link-lib=pthread");
         println!("cargo::rustc-link-lib=atomic");

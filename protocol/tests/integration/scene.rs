@@ -580,3 +580,30 @@ proptest! {
         prop_assert!((q16_to_f64(q) - v).abs() <= 0.5 / 65536.0);
     }
 }
+
+/// The committed `hw/rt-core/rtl/rt_map.vh` is what `protocol::scene` writes today.
+#[test]
+fn rt_map_header_matches_the_rust_map() {
+    let mut text = String::new();
+    protocol::scene::write_verilog_header(&mut text).expect("writes to a String");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hw/rt-core/rtl/rt_map.vh");
+    if std::env::var_os("FPGFX_BLESS").is_some() {
+        std::fs::write(&path, &text).expect("writes the header");
+    }
+    let committed = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e} (FPGFX_BLESS=1 writes it)", path.display()));
+    assert_eq!(
+        committed,
+        text,
+        "{} differs from protocol::scene; run with FPGFX_BLESS=1 to regenerate",
+        path.display()
+    );
+    for s in protocol::scene::Shape::ALL {
+        let want = format!(
+            "`define RT_SHAPE_{} 3'd{}\n",
+            format!("{s:?}").to_uppercase(),
+            s.code()
+        );
+        assert!(text.contains(&want), "{want}");
+    }
+}

@@ -1,9 +1,11 @@
-// The C ABI over the Verilated `rt_math_top`: one call per clock cycle (operands in,
-// every unit's outputs out), so the Rust side pays one FFI crossing per cycle.
+// The C ABI over the Verilated core: `rt_math_top` (every arithmetic unit side by side)
+// and `rt_isect` (the intersection unit), each one call per clock cycle (operands in,
+// outputs out), so the Rust side pays one FFI crossing per cycle.
 
 #include <cstdint>
 #include <memory>
 
+#include "Vrt_isect.h"
 #include "Vrt_math_top.h"
 #include "verilated.h"
 
@@ -12,7 +14,13 @@ struct RtMath {
     std::unique_ptr<Vrt_math_top> top;
 };
 
-static void edge(RtMath* m) {
+struct RtIsect {
+    std::unique_ptr<VerilatedContext> ctx;
+    std::unique_ptr<Vrt_isect> top;
+};
+
+template <typename M>
+static void edge(M* m) {
     m->top->clk = 0;
     m->top->eval();
     m->top->clk = 1;
@@ -57,6 +65,46 @@ void rt_math_cycle(RtMath* m, const uint32_t* in, uint32_t* out) {
         t.rsqrt_v,  t.rsqrt_y,  t.rsqrt_sat,
     };
     for (int i = 0; i < 21; i++) out[i] = o[i];
+}
+
+// A model after 4 cycles of reset, or null when construction failed.
+RtIsect* rt_isect_new() {
+    auto* m = new (std::nothrow) RtIsect;
+    if (!m) return nullptr;
+    m->ctx = std::make_unique<VerilatedContext>();
+    m->top = std::make_unique<Vrt_isect>(m->ctx.get());
+    m->top->rst = 1;
+    m->top->ce = 1;
+    m->top->in_valid = 0;
+    for (int i = 0; i < 4; i++) edge(m);
+    m->top->rst = 0;
+    return m;
+}
+
+void rt_isect_free(RtIsect* m) { delete m; }
+
+// in: valid, shape, ox, oy, oz, dx, dy, dz, tmin, tmax, tag, ce. out: valid, hit, t,
+// unsupported, tag after the rising edge.
+void rt_isect_cycle(RtIsect* m, const uint32_t* in, uint32_t* out) {
+    Vrt_isect& t = *m->top;
+    t.in_valid = in[0] != 0;
+    t.shape = in[1];
+    t.ox = in[2];
+    t.oy = in[3];
+    t.oz = in[4];
+    t.dx = in[5];
+    t.dy = in[6];
+    t.dz = in[7];
+    t.tmin = in[8];
+    t.tmax = in[9];
+    t.tag = in[10];
+    t.ce = in[11] != 0;
+    edge(m);
+    out[0] = t.out_valid;
+    out[1] = t.hit;
+    out[2] = t.t;
+    out[3] = t.unsupported;
+    out[4] = t.tag_out;
 }
 
 }  // extern "C"

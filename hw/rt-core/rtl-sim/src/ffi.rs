@@ -11,15 +11,57 @@ pub(crate) struct RtMath {
     _private: [u8; 0],
 }
 
+/// The shim's intersection unit: opaque to Rust.
+#[repr(C)]
+pub(crate) struct RtIsect {
+    _private: [u8; 0],
+}
+
 #[cfg(verilated)]
 mod sys {
-    use super::RtMath;
+    use super::{RtIsect, RtMath};
 
     extern "C" {
         pub fn rt_math_new() -> *mut RtMath;
         pub fn rt_math_free(m: *mut RtMath);
         pub fn rt_math_cycle(m: *mut RtMath, inputs: *const u32, outputs: *mut u32);
+        pub fn rt_isect_new() -> *mut RtIsect;
+        pub fn rt_isect_free(m: *mut RtIsect);
+        pub fn rt_isect_cycle(m: *mut RtIsect, inputs: *const u32, outputs: *mut u32);
     }
+}
+
+#[cfg(verilated)]
+pub(crate) fn isect_new() -> Result<NonNull<RtIsect>, RtlError> {
+    // SAFETY: the shim returns a fresh model or null.
+    NonNull::new(unsafe { sys::rt_isect_new() }).ok_or(RtlError::Construct)
+}
+
+#[cfg(verilated)]
+pub(crate) fn isect_free(m: NonNull<RtIsect>) {
+    // SAFETY: `m` came from `rt_isect_new` and is freed once (by its owner's Drop).
+    unsafe { sys::rt_isect_free(m.as_ptr()) }
+}
+
+#[cfg(verilated)]
+pub(crate) fn isect_cycle(m: NonNull<RtIsect>, inputs: &[u32; 12]) -> [u32; 5] {
+    let mut out = [0u32; 5];
+    // SAFETY: the shim reads 12 words and writes 5, the arrays' sizes.
+    unsafe { sys::rt_isect_cycle(m.as_ptr(), inputs.as_ptr(), out.as_mut_ptr()) };
+    out
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn isect_new() -> Result<NonNull<RtIsect>, RtlError> {
+    new().map(|_| NonNull::dangling())
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn isect_free(_: NonNull<RtIsect>) {}
+
+#[cfg(not(verilated))]
+pub(crate) fn isect_cycle(_: NonNull<RtIsect>, _: &[u32; 12]) -> [u32; 5] {
+    [0; 5]
 }
 
 #[cfg(verilated)]

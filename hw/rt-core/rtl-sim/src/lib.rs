@@ -1,11 +1,14 @@
 //! The ray-casting core's RTL (`hw/rt-core/rtl/`), Verilated, as a Rust library, so that
-//! its differential tests can hold it to the golden model (`sim-target`) from Rust: today
-//! its Q16.16 arithmetic units ([`MathUnits`]), one operand set per clock.
+//! its differential tests can hold it to the golden model (`sim-target`) from Rust: its
+//! Q16.16 arithmetic units ([`MathUnits`]) and its intersection unit ([`Intersect`]), one
+//! operand set per clock.
 //!
 //! The build script Verilates the RTL when verilator is installed (`cargo xtask setup`
 //! installs it); without it the crate still builds and [`MathUnits::new`] says what was
 //! missing. `FPGFX_RT_RTL_DIR=<dir>` builds against another copy of `rtl/` (a deliberately
 //! broken unit, to watch the tests fail).
+//!
+//! Every value crosses as its Q16.16 bits in an `i32`.
 
 mod ffi;
 
@@ -169,5 +172,111 @@ impl MathUnits {
 impl Drop for MathUnits {
     fn drop(&mut self) {
         ffi::free(self.model);
+    }
+}
+
+/// One (ray, object) pair for the intersection unit: the ray in the object's space.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Pair {
+    /// The object's shape code (`protocol::scene::Shape::code`).
+    pub shape: u8,
+    /// The ray's origin in object space.
+    pub o: [i32; 3],
+    /// The ray's direction in object space (not normalised).
+    pub d: [i32; 3],
+    /// The smallest distance that counts (the scene's bias).
+    pub tmin: i32,
+    /// The largest distance that counts.
+    pub tmax: i32,
+    /// Carried to the result unchanged (the unit's `TB` = 16 bits).
+    pub tag: u16,
+}
+
+/// The intersection unit's result for one pair.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Hit {
+    /// A result is out this cycle.
+    pub valid: bool,
+    /// The ray meets the shape at a distance in [tmin, tmax].
+    pub hit: bool,
+    /// That distance (meaningful with `hit`).
+    pub t: i32,
+    /// The pair's shape is not built into this unit.
+    pub unsupported: bool,
+    /// The pair's tag.
+    pub tag: u16,
+}
+
+/// The Verilated `rt_isect` with every shape built: one (ray, object) pair per clock.
+pub struct Intersect {
+    model: NonNull<ffi::RtIsect>,
+    cycle: u64,
+}
+
+// SAFETY: the model is owned by this value alone and only used through `&mut self`.
+unsafe impl Send for Intersect {}
+
+impl Intersect {
+    /// Clock edges from a pair going in to its result coming out (`rt_isect.v`).
+    pub const LATENCY: u64 = 73;
+
+    /// A fresh model, reset for four cycles.
+    pub fn new() -> Result<Self, RtlError> {
+        Ok(Self {
+            model: ffi::isect_new()?,
+            cycle: 0,
+        })
+    }
+
+    /// One clock edge with `pair` (None: no pair this cycle); the output after it.
+    pub fn cycle(&mut self, pair: Option<Pair>) -> Hit {
+        self.edge(pair, true)
+    }
+
+    /// One clock edge with the clock enable low: the unit holds, and `pair`, offered with
+    /// its valid high, must not be taken. Not counted in [`Self::cycles`].
+    pub fn hold(&mut self, pair: Pair) -> Hit {
+        self.edge(Some(pair), false)
+    }
+
+    fn edge(&mut self, pair: Option<Pair>, ce: bool) -> Hit {
+        let p = pair.unwrap_or_default();
+        let w = |v: i32| v as u32;
+        let inputs = [
+            u32::from(pair.is_some()),
+            u32::from(p.shape),
+            w(p.o[0]),
+            w(p.o[1]),
+            w(p.o[2]),
+            w(p.d[0]),
+            w(p.d[1]),
+            w(p.d[2]),
+            w(p.tmin),
+            w(p.tmax),
+            u32::from(p.tag),
+            u32::from(ce),
+        ];
+        let raw = ffi::isect_cycle(self.model, &inputs);
+        if ce {
+            self.cycle += 1;
+        }
+        Hit {
+            valid: raw[0] != 0,
+            hit: raw[1] != 0,
+            t: raw[2] as i32,
+            unsupported: raw[3] != 0,
+            tag: raw[4] as u16,
+        }
+    }
+
+    /// Clock edges with the enable high since reset.
+    pub fn cycles(&self) -> u64 {
+        self.cycle
+    }
+}
+
+impl Drop for Intersect {
+    fn drop(&mut self) {
+        ffi::isect_free(self.model);
     }
 }

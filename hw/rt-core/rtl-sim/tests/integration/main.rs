@@ -2,3 +2,4 @@
 //! (`sim-target`). One binary, one module per part of the core.
 
 mod arith;
+mod isect;
