@@ -1540,12 +1540,11 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
         // 16 bytes hold the longest shape name
         let _ = write!(name, "{s:?}");
         writeln!(out, "// shape code: {s:?}")?;
-        writeln!(
-            out,
-            "`define RT_SHAPE_{} {SHAPE_BITS}'d{}",
-            name.to_ascii_uppercase(),
-            s.code()
-        )?;
+        write!(out, "`define RT_SHAPE_")?;
+        for c in name.chars() {
+            out.write_char(c.to_ascii_uppercase())?;
+        }
+        writeln!(out, " {SHAPE_BITS}'d{}", s.code())?;
     }
     writeln!(out, "`endif")
 }

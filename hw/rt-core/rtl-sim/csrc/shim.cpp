@@ -9,15 +9,15 @@
 #include "Vrt_math_top.h"
 #include "verilated.h"
 
-struct RtMath {
+// One Verilated top with its own context.
+template <typename V>
+struct Model {
     std::unique_ptr<VerilatedContext> ctx;
-    std::unique_ptr<Vrt_math_top> top;
+    std::unique_ptr<V> top;
 };
 
-struct RtIsect {
-    std::unique_ptr<VerilatedContext> ctx;
-    std::unique_ptr<Vrt_isect> top;
-};
+struct RtMath : Model<Vrt_math_top> {};
+struct RtIsect : Model<Vrt_isect> {};
 
 template <typename M>
 static void edge(M* m) {
@@ -27,14 +27,14 @@ static void edge(M* m) {
     m->top->eval();
 }
 
-extern "C" {
-
-// A model after 4 cycles of reset, or null when construction failed.
-RtMath* rt_math_new() {
-    auto* m = new (std::nothrow) RtMath;
+// A model after 4 cycles of reset (clock enable high, no valid input), or null when
+// construction failed. Both tops share these ports.
+template <typename M, typename V>
+static M* make() {
+    auto* m = new (std::nothrow) M;
     if (!m) return nullptr;
     m->ctx = std::make_unique<VerilatedContext>();
-    m->top = std::make_unique<Vrt_math_top>(m->ctx.get());
+    m->top = std::make_unique<V>(m->ctx.get());
     m->top->rst = 1;
     m->top->ce = 1;
     m->top->in_valid = 0;
@@ -42,6 +42,10 @@ RtMath* rt_math_new() {
     m->top->rst = 0;
     return m;
 }
+
+extern "C" {
+
+RtMath* rt_math_new() { return make<RtMath, Vrt_math_top>(); }
 
 void rt_math_free(RtMath* m) { delete m; }
 
@@ -67,19 +71,7 @@ void rt_math_cycle(RtMath* m, const uint32_t* in, uint32_t* out) {
     for (int i = 0; i < 21; i++) out[i] = o[i];
 }
 
-// A model after 4 cycles of reset, or null when construction failed.
-RtIsect* rt_isect_new() {
-    auto* m = new (std::nothrow) RtIsect;
-    if (!m) return nullptr;
-    m->ctx = std::make_unique<VerilatedContext>();
-    m->top = std::make_unique<Vrt_isect>(m->ctx.get());
-    m->top->rst = 1;
-    m->top->ce = 1;
-    m->top->in_valid = 0;
-    for (int i = 0; i < 4; i++) edge(m);
-    m->top->rst = 0;
-    return m;
-}
+RtIsect* rt_isect_new() { return make<RtIsect, Vrt_isect>(); }
 
 void rt_isect_free(RtIsect* m) { delete m; }
 
