@@ -110,9 +110,9 @@ module tri_unit #(
     endfunction
 
     // Top-left rule of the normalised edge: the input edge itself, or reversed (cw).
-    function top_left(input signed [9:0] dx, input signed [9:0] dy, input rev);
-        top_left = rev ? ((dy < 10'sd0) | ((dy == 10'sd0) & (dx > 10'sd0)))
-                       : ((dy > 10'sd0) | ((dy == 10'sd0) & (dx < 10'sd0)));
+    function top_left(input signed [9:0] ex, input signed [9:0] ey, input rev);
+        top_left = rev ? ((ey < 10'sd0) | ((ey == 10'sd0) & (ex > 10'sd0)))
+                       : ((ey > 10'sd0) | ((ey == 10'sd0) & (ex < 10'sd0)));
     endfunction
 
     // S0: the bounding box.

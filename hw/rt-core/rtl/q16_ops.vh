@@ -9,37 +9,37 @@ localparam [31:0] Q_ONE = 32'h0001_0000;
 localparam [31:0] Q_MAX = 32'h7fff_ffff;
 localparam [31:0] Q_MIN = 32'h8000_0000;
 
-function [31:0] q_add(input [31:0] x, input [31:0] y);
+function [31:0] q_add(input [31:0] qa, input [31:0] qb);
     reg [32:0] s;
     begin
-        s = {x[31], x} + {y[31], y};
+        s = {qa[31], qa} + {qb[31], qb};
         if (s[32] != s[31]) q_add = s[32] ? Q_MIN : Q_MAX;
         else q_add = s[31:0];
     end
 endfunction
 
-function [31:0] q_sub(input [31:0] x, input [31:0] y);
+function [31:0] q_sub(input [31:0] qa, input [31:0] qb);
     reg [32:0] s;
     begin
-        s = {x[31], x} - {y[31], y};
+        s = {qa[31], qa} - {qb[31], qb};
         if (s[32] != s[31]) q_sub = s[32] ? Q_MIN : Q_MAX;
         else q_sub = s[31:0];
     end
 endfunction
 
-function [31:0] q_neg(input [31:0] x);
-    q_neg = x == Q_MIN ? Q_MAX : 32'd0 - x;
+function [31:0] q_neg(input [31:0] qa);
+    q_neg = qa == Q_MIN ? Q_MAX : 32'd0 - qa;
 endfunction
 
-function [31:0] q_abs(input [31:0] x);
-    q_abs = x[31] ? q_neg(x) : x;
+function [31:0] q_abs(input [31:0] qa);
+    q_abs = qa[31] ? q_neg(qa) : qa;
 endfunction
 
-// x < y, x <= y as signed words
-function q_lt(input [31:0] x, input [31:0] y);
-    q_lt = $signed(x) < $signed(y);
+// qa < qb, qa <= qb as signed words
+function q_lt(input [31:0] qa, input [31:0] qb);
+    q_lt = $signed(qa) < $signed(qb);
 endfunction
 
-function q_le(input [31:0] x, input [31:0] y);
-    q_le = $signed(x) <= $signed(y);
+function q_le(input [31:0] qa, input [31:0] qb);
+    q_le = $signed(qa) <= $signed(qb);
 endfunction
