@@ -83,7 +83,7 @@
 #define FPGFX_PIXEL_RGB332 1
 
 // Words of the register image: `regs` must hold exactly this many (`n_regs`).
-#define FPGFX_SCENE_WORDS 420
+#define FPGFX_SCENE_WORDS 494
 
 // Texels of the texture memory: `texture` holds this many 32-bit little-endian words.
 #define FPGFX_TEXTURE_WORDS 65536

@@ -9,7 +9,7 @@ use sim_target::Device;
 use crate::{fpgfx_status, guard, input, output, put, Failure};
 
 /// Words of the register image: `regs` must hold exactly this many (`n_regs`).
-pub const FPGFX_SCENE_WORDS: usize = 420;
+pub const FPGFX_SCENE_WORDS: usize = 494;
 /// Texels of the texture memory: `texture` holds this many 32-bit little-endian words.
 pub const FPGFX_TEXTURE_WORDS: usize = 65536;
 

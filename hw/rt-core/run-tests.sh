@@ -20,21 +20,24 @@ if [ "$SIM" = auto ]; then
     if command -v iverilog >/dev/null 2>&1; then SIM=iverilog; else SIM=verilator; fi
 fi
 
-for top in q16_dot q16_div q16_sqrt q16_rsqrt udiv_pipe usqrt_pipe dly isect_quadric \
-    isect_flat isect_cube rt_isect; do
+for top in q16_dot q16_div q16_sqrt q16_rsqrt q16_norm3 udiv_pipe usqrt_pipe dly \
+    isect_quadric isect_flat isect_cube rt_isect rt_raygen rt_xform rt_normal rt_cast; do
     verilator --lint-only -Wall -Irtl rtl/*.v --top-module "$top"
 done
 # the intersection unit with one shape family, one shape, and none of the quadrics
 for shapes in 0000001 0010000 0100000 0001110 1000000 1001110; do
     verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_isect -GSHAPES="7'b$shapes"
 done
+# the frame core with one object and with spheres and planes only
+verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GOBJ=1
+verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GSHAPES="7'b0000011" -GOBJ=5
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module rt_math_top
 echo "lint: clean"
 # Icarus reads the whole core too (its testbench below covers the arithmetic units; the
-# intersection unit's differential tests run under Verilator, in rtl-sim/)
+# intersection unit's and the frame's differential tests run under Verilator, in rtl-sim/)
 if [ "$SIM" = iverilog ]; then
-    iverilog -g2012 -Irtl -s rt_isect -o "$BUILD/rt_isect.vvp" rtl/*.v
-    echo "icarus: rt_isect elaborates"
+    iverilog -g2012 -Irtl -s rt_cast -o "$BUILD/rt_cast.vvp" rtl/*.v
+    echo "icarus: rt_cast elaborates"
 fi
 
 # testbench, then the files it needs besides rtl/

@@ -25,7 +25,7 @@
 //! (a data word and a reserved word that would hold a 64-bit argument's high half, or an
 //! output's valid bit). An array argument becomes a memory in the bundle with a window of
 //! the next power of two at or above its byte size, aligned to that size, so that the
-//! slave decodes it by a bit test on the high address bits: 420 words are 1680 bytes, a
+//! slave decodes it by a bit test on the high address bits: 494 words are 1976 bytes, a
 //! 2 KiB window, and the first 2 KiB-aligned address after the scalars is `0x800`. (A
 //! 10-word array would get a 64-byte window at `0x40`, the smallest aligned place past
 //! the control registers.)
@@ -719,14 +719,14 @@ mod tests {
     fn addresses_are_where_hls_puts_them() {
         assert_eq!((AP_CTRL, GIE, IER, ISR), (0x00, 0x04, 0x08, 0x0C));
         assert_eq!((NUMERIC, AOVS), (0x10, 0x18));
-        assert_eq!(SCENE_WORDS, 420);
+        assert_eq!(SCENE_WORDS, 494);
         assert_eq!(SCENE_WINDOW, 0x800);
         assert_eq!(SCENE_BASE, 0x800);
         assert_eq!(ADDR_BITS, 12);
         assert_eq!(scene_word_addr(0), Some(0x800));
         assert_eq!(scene_word_addr(4), Some(0x810), "WIDTH");
         assert_eq!(scene_word_addr(419), Some(0xE8C));
-        assert_eq!(scene_word_addr(420), None);
+        assert_eq!(scene_word_addr(494), None);
         assert_eq!(
             (ctrl::AP_START, ctrl::AP_DONE, ctrl::AP_IDLE, ctrl::AP_READY),
             (1, 2, 4, 8)
@@ -752,13 +752,13 @@ mod tests {
         for (i, w) in regs.iter_mut().enumerate() {
             *w = 0x1000 + i as u32;
         }
-        let seq: heapless::Vec<(u32, u32), 430> =
+        let seq: heapless::Vec<(u32, u32), { SCENE_WORDS + 3 }> =
             write_sequence(&regs, &start(Numeric::Q16_16, true, false)).collect();
         assert_eq!(seq.len(), SCENE_WORDS + 3);
         assert_eq!(seq[0], (0x800, 0x1000));
         assert_eq!(seq[1], (0x804, 0x1001));
-        assert_eq!(seq[419], (0xE8C, 0x1000 + 419));
-        assert_eq!(&seq[420..], &[(0x10, 3), (0x18, 1), (0x00, 0x01)]);
+        assert_eq!(seq[493], (0x800 + 4 * 493, 0x1000 + 493));
+        assert_eq!(&seq[494..], &[(0x10, 3), (0x18, 1), (0x00, 0x01)]);
     }
 
     #[test]
@@ -789,7 +789,7 @@ mod tests {
         }
         assert_eq!(locate(0x14), None, "NUMERIC's reserved word");
         assert_eq!(locate(0x801), None, "unaligned");
-        assert_eq!(locate(0x800 + 4 * 420), None, "past the scene image");
+        assert_eq!(locate(0x800 + 4 * 494), None, "past the scene image");
         assert_eq!(locate(0x804), Some(Location::Scene(1)));
         assert_eq!(
             locate(0x1114),

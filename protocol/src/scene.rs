@@ -34,6 +34,19 @@
 //! rotate Q16.16 words, so an auto-restarted animation needs a Q16.16 image: the
 //! controller refuses a non-empty animation while word 15 says binary32.
 //!
+//! # Derived words
+//!
+//! Three groups of words are not the scene's own values but computed from them in f64
+//! by the host: the camera basis u, v, w, the pixel pitch K, and each object's inverse
+//! transform M⁻¹. A block that has no sines, tangents or f64 (ViRAY's HLS core reads u,
+//! v, w; the RTL core in `hw/rt-core` reads all three) computes with these words, while
+//! the golden model derives the same numbers itself from the decoded image. The host
+//! (`jobs::scene::to_regs`) therefore derives them from the image's *decoded* values
+//! with the model's own functions (`sim_target::rt::derive`), so the two agree bit for
+//! bit; `sim_target::scene_regs::check_derived` tells whether an image's derived words
+//! are the ones its other words imply, naming the first that is not (a controller-side
+//! ramp of the camera position or an object's rotation makes them stale).
+//!
 //! # Register map (word offsets)
 //!
 //! | offset | field | format |
@@ -57,16 +70,18 @@
 //! | 25 | fov_y, degrees | real |
 //! | 26–28, 29–31, 32–34 | basis u, v, w (ViRAY's form, derived by the host) | real × 9 |
 //! | 35 | near_plane (image plane distance along −w) | real |
-//! | 36 + 12·i | light i: [`light`] offsets | |
-//! | 36 + 12·LIGHTS + 45·j | object j: [`obj`] offsets | |
+//! | 36, 37 | pixel pitch K (derived by the host), low and high word | u64, 2⁻⁴⁰ units |
+//! | 38 + 12·i | light i: [`light`] offsets | |
+//! | 38 + 12·LIGHTS + 54·j | object j: [`obj`] offsets | |
 //!
 //! Light block (12 words): kind (0 ambient, 1 point, 2 spot), position ×3, colour ×3,
-//! direction ×3, cos_outer, cos_inner. Object block (45 words): shape, translate ×3,
+//! direction ×3, cos_outer, cos_inner. Object block (54 words): shape, translate ×3,
 //! scale ×3, rotate ×3 (degrees), ambient k + colour ×3, diffuse k + colour ×3 + model +
 //! σ², specular k + colour ×3 + model + exponent (u32 ≤ 1023), reflection mode + η + κ,
 //! texture kind, mapping, scale ×2, offset ×2, colour2 ×3, filter, seed, base texel,
-//! size (`width_log2 | height_log2 << 8`), Torrance–Sparrow η + κ, constant reflectance r.
-//! With the defaults the map is 420 words. "real" is a word in the image's value format.
+//! size (`width_log2 | height_log2 << 8`), Torrance–Sparrow η + κ, constant reflectance r,
+//! and the inverse linear transform M⁻¹ ×9 (derived by the host).
+//! With the defaults the map is 494 words. "real" is a word in the image's value format.
 
 use heapless::Vec;
 
@@ -76,7 +91,7 @@ use crate::frame::{RegWrite, REG_WRITE_WORDS};
 pub const MAGIC: u32 = 0x4650_5254;
 /// Register-map version in word 1: bumped on any layout change, so that a device refuses
 /// an image laid out for another version instead of misreading it.
-pub const VERSION: u16 = 1;
+pub const VERSION: u16 = 2;
 
 /// Flag: trace shadow rays (SHADOW_ENABLE).
 pub const FLAG_SHADOWS: u32 = 1 << 0;
@@ -147,8 +162,10 @@ pub mod cam {
     pub const W: usize = 16;
     /// [`super::CameraRegs::near_plane`].
     pub const NEAR_PLANE: usize = 19;
+    /// [`super::CameraRegs::pitch`]: low word, then high word (a u64 in both formats).
+    pub const PITCH: usize = 20;
     /// Words in the camera block.
-    pub const WORDS: usize = 20;
+    pub const WORDS: usize = 22;
 }
 
 /// Word offsets inside a light block; light i starts at
@@ -239,8 +256,10 @@ pub mod obj {
     /// [`super::MaterialRegs::reflectance`]: its own word, because the scene file gives r
     /// separately from k_s.
     pub const REFLECTANCE: usize = 44;
+    /// [`super::ObjectRegs::minv`], × 9, row-major.
+    pub const MINV: usize = 45;
     /// Words per object.
-    pub const WORDS: usize = 45;
+    pub const WORDS: usize = 54;
 }
 
 /// Which block a refused value belongs to: a scene has several lights and objects with
@@ -603,6 +622,24 @@ impl ValueFormat {
         }
     }
 
+    /// The word `value` is written as when it is derived rather than given: rounded as
+    /// [`Self::encode`] rounds, but clipped to the format's range instead of refused
+    /// (NaN gives 0 in Q16.16), which is how a datapath in this format converts the same
+    /// f64 (the golden model's `from_f64`), so that a core reading the word computes with
+    /// the model's number.
+    pub fn encode_saturating(self, value: f64) -> u32 {
+        match self {
+            ValueFormat::Q16_16 => {
+                let scaled = value * 65536.0;
+                let r = scaled + 0.5f64.copysign(scaled);
+                // `as` saturates and maps NaN to 0; truncation toward zero after adding
+                // ±½ is rounding half away from zero
+                (r as i64).clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32 as u32
+            }
+            ValueFormat::Binary32 => (value as f32).to_bits(),
+        }
+    }
+
     /// The real `word` holds, exactly (both formats widen to f64 without rounding).
     pub fn decode(self, word: u32) -> f64 {
         match self {
@@ -674,6 +711,13 @@ pub struct CameraRegs {
     pub w: [f64; 3],
     /// Distance of the image plane along −w; the host writes 1.
     pub near_plane: f64,
+    /// The pixel pitch K = tan(fov_y / 2) / (height · g) on the image plane at distance
+    /// 1, in units of 2⁻⁴⁰ (g = ⌈√spp⌉, the sub-pixel grid's side), derived by the host:
+    /// sample column c of the `width · g` columns lies at x = (2c + 1 − width · g) · K and
+    /// sample row r at y = (height · g − 2r − 1) · K. An integer, so that a fixed-point
+    /// core forms every x and y as the same word the model rounds from f64 (see
+    /// `docs/rt-core.md`); a plain u64 in both value formats.
+    pub pitch: u64,
 }
 
 /// A light block (docs/requirements.md §4.4). Words a kind does not use are written as
@@ -786,6 +830,12 @@ pub struct ObjectRegs {
     pub scale: [f64; 3],
     /// Rotation in degrees about x, then y, then z, between scale and translation.
     pub rotate: [f64; 3],
+    /// The inverse of the linear part, M⁻¹ = S⁻¹·Rᵀ, row-major, derived by the host from
+    /// `scale` and `rotate` (rays go into object space by M⁻¹, normals out by its
+    /// transpose): a core without sines reads it instead of the degrees. Written
+    /// saturating, as the model converts it: a scale below the value format's resolution
+    /// gives the format's largest value rather than an error.
+    pub minv: [[f64; 3]; 3],
     /// How the surface shades.
     pub material: MaterialRegs,
 }
@@ -863,10 +913,14 @@ impl<const OBJ: usize, const LIGHTS: usize> Default for SceneRegs<OBJ, LIGHTS> {
 }
 
 impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
-    /// Words in the map ([`map_words`] of its capacities): 420 for the defaults.
+    /// Words in the map ([`map_words`] of its capacities): 494 for the defaults.
     pub const WORDS: usize = map_words(OBJ, LIGHTS);
     /// Word offset of object 0's block, right after the light blocks.
     pub const OBJECTS_OFFSET: usize = light::OFFSET + LIGHTS * light::WORDS;
+    /// Object blocks in the image (OBJ): a const a generic caller can read.
+    pub const OBJ_CAPACITY: usize = OBJ;
+    /// Light blocks in the image (LIGHTS, the ambient light's included).
+    pub const LIGHT_CAPACITY: usize = LIGHTS;
     /// Word 1: version and capacities, so that a map built for other sizes is refused.
     pub const VERSION_WORD: u32 = VERSION as u32 | (OBJ as u32) << 16 | (LIGHTS as u32) << 24;
     // RegWrite offsets are u16 and the capacities must fit their bytes in word 1.
@@ -1102,6 +1156,8 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
             "camera.near_plane",
             c.near_plane,
         )?;
+        w[cam::PITCH] = c.pitch as u32;
+        w[cam::PITCH + 1] = (c.pitch >> 32) as u32;
         self.camera = w;
         Ok(())
     }
@@ -1120,6 +1176,7 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
             v: get_rv(fmt, w, cam::V),
             w: get_rv(fmt, w, cam::W),
             near_plane: get_r(fmt, w, cam::NEAR_PLANE),
+            pitch: u64::from(w[cam::PITCH]) | u64::from(w[cam::PITCH + 1]) << 32,
         }
     }
 
@@ -1300,6 +1357,11 @@ fn encode_object(o: &ObjectRegs, fmt: ValueFormat) -> Result<[u32; obj::WORDS], 
         "material.reflection.r",
         m.reflectance,
     )?;
+    for (r, row) in o.minv.iter().enumerate() {
+        for (c, v) in row.iter().enumerate() {
+            w[obj::MINV + 3 * r + c] = fmt.encode_saturating(*v);
+        }
+    }
     w[obj::TEX_KIND] = t.kind.code();
     w[obj::TEX_MAPPING] = t.mapping.code();
     put_rv(
@@ -1351,6 +1413,7 @@ fn decode_object(w: &[u32; obj::WORDS], fmt: ValueFormat) -> Result<ObjectRegs, 
         translate: get_rv(fmt, w, obj::TRANSLATE),
         scale: get_rv(fmt, w, obj::SCALE),
         rotate: get_rv(fmt, w, obj::ROTATE),
+        minv: core::array::from_fn(|r| get_rv(fmt, w, obj::MINV + 3 * r)),
         material: MaterialRegs {
             ambient: TermRegs {
                 k: get_r(fmt, w, obj::AMBIENT_K),
@@ -1546,8 +1609,128 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
         }
         writeln!(out, " {SHAPE_BITS}'d{}", s.code())?;
     }
+    type Default = SceneRegs;
+    let offsets: [(&str, usize, &str); 25] = [
+        (
+            "SCENE_WORDS",
+            Default::WORDS,
+            "words in the image (default capacities)",
+        ),
+        (
+            "OBJ_CAPACITY",
+            Default::OBJ_CAPACITY,
+            "object blocks in the image",
+        ),
+        (
+            "LIGHT_CAPACITY",
+            Default::LIGHT_CAPACITY,
+            "light blocks in the image",
+        ),
+        (
+            "HDR_VERSION",
+            hdr::VERSION,
+            "header: version | OBJ << 16 | LIGHTS << 24",
+        ),
+        (
+            "HDR_OBJECT_COUNT",
+            hdr::OBJECT_COUNT,
+            "header: object count",
+        ),
+        (
+            "HDR_LIGHT_COUNT",
+            hdr::LIGHT_COUNT,
+            "header: light count (ambient included)",
+        ),
+        ("HDR_WIDTH", hdr::WIDTH, "header: frame width"),
+        ("HDR_HEIGHT", hdr::HEIGHT, "header: frame height"),
+        ("HDR_DEPTH", hdr::DEPTH, "header: ray depth"),
+        ("HDR_BIAS", hdr::BIAS, "header: CORE_BIAS (real)"),
+        (
+            "HDR_MAX_DISTANCE",
+            hdr::MAX_DISTANCE,
+            "header: MAX_DISTANCE (binary32 bits)",
+        ),
+        (
+            "HDR_BACKGROUND",
+            hdr::BACKGROUND,
+            "header: background colour (real x 3)",
+        ),
+        ("HDR_SPP", hdr::SPP, "header: samples per pixel"),
+        ("HDR_FLAGS", hdr::FLAGS, "header: flags"),
+        (
+            "HDR_VALUE_FORMAT",
+            hdr::VALUE_FORMAT,
+            "header: value format code",
+        ),
+        (
+            "CAM_POSITION",
+            cam::OFFSET + cam::POSITION,
+            "camera position (real x 3)",
+        ),
+        (
+            "CAM_U",
+            cam::OFFSET + cam::U,
+            "camera basis u (real x 3, derived)",
+        ),
+        (
+            "CAM_V",
+            cam::OFFSET + cam::V,
+            "camera basis v (real x 3, derived)",
+        ),
+        (
+            "CAM_W",
+            cam::OFFSET + cam::W,
+            "camera basis w (real x 3, derived)",
+        ),
+        (
+            "CAM_PITCH",
+            cam::OFFSET + cam::PITCH,
+            "pixel pitch, 2^-40 units, low then high word (derived)",
+        ),
+        (
+            "OBJECTS_OFFSET",
+            Default::OBJECTS_OFFSET,
+            "first word of object 0",
+        ),
+        ("OBJ_WORDS", obj::WORDS, "words per object block"),
+        ("OBJ_SHAPE", obj::SHAPE, "object block: shape code"),
+        (
+            "OBJ_TRANSLATE",
+            obj::TRANSLATE,
+            "object block: translate (real x 3)",
+        ),
+        (
+            "OBJ_MINV",
+            obj::MINV,
+            "object block: inverse transform, row-major (real x 9, derived)",
+        ),
+    ];
+    writeln!(out, "// word offsets in the scene image")?;
+    for (name, value, what) in offsets {
+        writeln!(out, "// {what}")?;
+        writeln!(out, "`define RT_{name} {value}")?;
+    }
+    writeln!(out, "// value format codes")?;
+    writeln!(
+        out,
+        "`define RT_FORMAT_Q16_16 {}",
+        ValueFormat::Q16_16.code()
+    )?;
+    writeln!(
+        out,
+        "`define RT_FORMAT_BINARY32 {}",
+        ValueFormat::Binary32.code()
+    )?;
+    writeln!(out, "// register-map version")?;
+    writeln!(out, "`define RT_MAP_VERSION {VERSION}")?;
+    writeln!(out, "// fraction bits of the pixel pitch")?;
+    writeln!(out, "`define RT_PITCH_FRAC_BITS {PITCH_FRAC_BITS}")?;
     writeln!(out, "`endif")
 }
+
+/// Fraction bits of [`CameraRegs::pitch`]: the pitch is an integer number of 2⁻⁴⁰ (why
+/// 40: `sim_target::rt::derive::PITCH_FRAC_BITS`, which is this constant).
+pub const PITCH_FRAC_BITS: u32 = 40;
 
 /// Bits the core's shape codes take (every [`Shape::ALL`] code fits).
 pub const SHAPE_BITS: u32 = 3;

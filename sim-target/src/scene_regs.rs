@@ -11,8 +11,8 @@
 use protocol::scene::{self as regs, SceneError, SceneRegs, TermRegs};
 
 use crate::rt::{
-    Camera, DiffuseModel, Light, Material, Object, Reflection, Scene, Specular, SpecularModel,
-    Spot, Term, Texture, TextureKind,
+    derive, Camera, DiffuseModel, Light, Material, Object, Reflection, Scene, Specular,
+    SpecularModel, Spot, Term, Texture, TextureKind,
 };
 
 /// The default register image: the seed's OBJ_NUM = 8 and LIGHTS_NUM = 2.
@@ -31,6 +31,85 @@ pub enum SceneRegsError {
     /// An uploaded-image texture: the model only generates procedural ones.
     #[error("object {0}: image textures are not supported by this model")]
     ImageTexture(usize),
+    /// A derived word (camera basis, pixel pitch, an object's inverse transform) is not
+    /// what the image's other words imply: a core reading it would trace other rays than
+    /// the model.
+    #[error(
+        "{field} (word {offset}) holds {held:#x}, but the image's other words imply \
+         {derived:#x}: the derived words are stale or were computed another way"
+    )]
+    Derived {
+        /// The field, with its block (`camera.u[0]`, `object 2 minv[1][0]`).
+        field: String,
+        /// Word offset in the image.
+        offset: usize,
+        /// What the image holds.
+        held: u64,
+        /// What [`crate::rt::derive`] gives for the image's other words.
+        derived: u64,
+    },
+}
+
+/// Checks that an image's derived words (`protocol::scene`, "Derived words") are the
+/// ones its other words imply, as `jobs::scene::to_regs` writes them; the first that is
+/// not is named. The golden model derives these numbers itself and ignores the words, so
+/// this is what a target whose core reads them (the RTL ray-casting core) runs before a
+/// frame: without it a stale word would make the core and the model trace different rays
+/// and disagree silently.
+pub fn check_derived(r: &Regs) -> Result<(), SceneRegsError> {
+    let held = from_regs(r)?;
+    let fmt = r.value_format();
+    let word = |offset: usize| u64::from(r.word(offset).unwrap_or(0));
+    let check = |field: &dyn Fn() -> String, offset: usize, derived: u64| {
+        let held = word(offset);
+        if held == derived {
+            Ok(())
+        } else {
+            Err(SceneRegsError::Derived {
+                field: field(),
+                offset,
+                held,
+                derived,
+            })
+        }
+    };
+    let basis = derive::basis(&held.camera);
+    for (name, at, v) in [
+        ("u", regs::cam::U, basis[0]),
+        ("v", regs::cam::V, basis[1]),
+        ("w", regs::cam::W, basis[2]),
+    ] {
+        for (k, x) in v.iter().enumerate() {
+            let offset = regs::cam::OFFSET + at + k;
+            check(
+                &|| format!("camera.{name}[{k}]"),
+                offset,
+                u64::from(fmt.encode_saturating(*x)),
+            )?;
+        }
+    }
+    let pitch = derive::pitch(held.camera.fov_y, held.height, held.spp);
+    let at = regs::cam::OFFSET + regs::cam::PITCH;
+    check(
+        &|| "camera.pitch (low word)".into(),
+        at,
+        pitch & 0xffff_ffff,
+    )?;
+    check(&|| "camera.pitch (high word)".into(), at + 1, pitch >> 32)?;
+    for (i, o) in held.objects.iter().enumerate() {
+        let m = derive::inverse_linear(o.rotate, o.scale);
+        for (rr, row) in m.iter().enumerate() {
+            for (c, x) in row.iter().enumerate() {
+                let offset = Regs::object_offset(i) + regs::obj::MINV + 3 * rr + c;
+                check(
+                    &|| format!("object {i} minv[{rr}][{c}]"),
+                    offset,
+                    u64::from(fmt.encode_saturating(*x)),
+                )?;
+            }
+        }
+    }
+    Ok(())
 }
 
 fn some_term(t: TermRegs) -> Option<Term> {

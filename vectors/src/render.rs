@@ -334,7 +334,7 @@ mod tests {
         let m: toml::Value = toml::from_str(set.file("manifest.toml").unwrap().text()).unwrap();
         assert_eq!(m["width"].as_integer(), Some(4));
         assert_eq!(m["numeric"].as_str(), Some("f32"));
-        assert_eq!(m["counts"]["axi_writes"].as_integer(), Some(423));
+        assert_eq!(m["counts"]["axi_writes"].as_integer(), Some(497));
         assert_eq!(m["counts"]["texture_words"].as_integer(), Some(65536));
         assert!(m["scene_hash"].as_str().unwrap().starts_with("crc32:"));
     }

@@ -387,9 +387,9 @@ fn malformed_and_out_of_range_requests_are_answered() {
         HVec::from_slice(&[triangle(1), fill]).expect("batch"),
     )); // seq 4: the fill (index 1) is outside the frame
     rig.send(&HostFrame::Regs(RegWrite {
-        offset: 419,
+        offset: 493,
         words: HVec::from_slice(&[0, 0]).expect("words"),
-    })); // seq 5: past the 420-word map
+    })); // seq 5: past the 494-word map
     rig.pump(10);
     assert_eq!(
         rig.errors(),
@@ -397,7 +397,7 @@ fn malformed_and_out_of_range_requests_are_answered() {
             (ErrorCode::Malformed, 1, 0),
             (ErrorCode::OutOfRange, 2, 0),
             (ErrorCode::OutOfRange, 4, 1),
-            (ErrorCode::OutOfRange, 5, 419),
+            (ErrorCode::OutOfRange, 5, 493),
         ]
     );
     // The triangle before the bad fill was drawn; the setup that fitted was applied.

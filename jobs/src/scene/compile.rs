@@ -11,9 +11,9 @@ use protocol::scene::{
     self as regs, CameraRegs, LightRegs, MaterialRegs, ObjectRegs, RenderRegs, SceneError,
     TermRegs, TextureRegs, ValueFormat,
 };
-use sim_target::rt::f;
+use sim_target::rt::{derive, f};
 use sim_target::rt::{DiffuseModel, Material, Reflection, Scene, SpecularModel, Term, TextureKind};
-use sim_target::scene_regs::{Regs, SceneRegsError};
+use sim_target::scene_regs::{from_regs, Regs, SceneRegsError};
 
 /// `a`'s direction, or `None` when it is too short to have one (a camera without a basis).
 fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
@@ -119,17 +119,15 @@ pub fn to_regs_as(scene: &Scene, format: ValueFormat) -> Result<Regs, SceneRegsE
     })?;
     let c = &scene.camera;
     let w = normalize(f::sub(c.position, c.look_at)).ok_or(SceneRegsError::Camera)?;
-    let u = normalize(f::cross(c.up, w)).ok_or(SceneRegsError::Camera)?;
-    let v = f::cross(w, u);
+    normalize(f::cross(c.up, w)).ok_or(SceneRegsError::Camera)?;
     r.set_camera(&CameraRegs {
         position: c.position,
         look_at: c.look_at,
         up: c.up,
         fov_y: c.fov_y,
-        u,
-        v,
-        w,
         near_plane: 1.0,
+        // derived below, from the image's own values
+        ..Default::default()
     })?;
     r.set_light(
         0,
@@ -167,9 +165,29 @@ pub fn to_regs_as(scene: &Scene, format: ValueFormat) -> Result<Regs, SceneRegsE
                 translate: o.translate,
                 scale: o.scale,
                 rotate: o.rotate,
+                minv: [[0.0; 3]; 3],
                 material: material(m)?,
             },
         )?;
     }
+    derive_words(&mut r)?;
     Ok(r)
+}
+
+/// Writes the image's derived words (camera basis, pixel pitch, inverse transforms; see
+/// `protocol::scene`, "Derived words") from the values the image holds, with the model's
+/// own functions: derived from the scene file's unrounded numbers they could differ from
+/// the model's in the last bit, and a core reading them would then trace other rays.
+fn derive_words(r: &mut Regs) -> Result<(), SceneRegsError> {
+    let held = from_regs(r)?;
+    let mut cam = r.camera();
+    [cam.u, cam.v, cam.w] = derive::basis(&held.camera);
+    cam.pitch = derive::pitch(held.camera.fov_y, held.height, held.spp);
+    r.set_camera(&cam)?;
+    for (i, o) in held.objects.iter().enumerate() {
+        let mut regs = r.object(i)?;
+        regs.minv = derive::inverse_linear(o.rotate, o.scale);
+        r.set_object(i, &regs)?;
+    }
+    Ok(())
 }

@@ -43,6 +43,7 @@ fn example_in(format: ValueFormat) -> Regs {
         v: [0.0, 1.0, 0.0],
         w: [0.0, 0.0, 1.0],
         near_plane: 1.0,
+        pitch: 0x1922_956E,
     })
     .unwrap();
     s.set_light(
@@ -77,6 +78,7 @@ fn floor() -> ObjectRegs {
         translate: [0.0, -2.0, 0.0],
         scale: [20.0; 3],
         rotate: [0.0; 3],
+        minv: [[0.05, 0.0, 0.0], [0.0, 0.05, 0.0], [0.0, 0.0, 1e-6]],
         material: MaterialRegs {
             ambient: TermRegs {
                 k: 1.0,
@@ -120,25 +122,25 @@ fn floor() -> ObjectRegs {
 fn golden_offsets() {
     assert_eq!(hdr::WORDS, 16);
     assert_eq!(cam::OFFSET, 16);
-    assert_eq!(light::OFFSET, 36);
-    assert_eq!(Regs::light_offset(1), 48);
-    assert_eq!(Regs::OBJECTS_OFFSET, 60);
-    assert_eq!(Regs::object_offset(7), 60 + 7 * 45);
-    // 16 header + 20 camera + 2 × 12 lights + 8 × 45 objects.
-    assert_eq!(Regs::WORDS, 420);
-    assert_eq!(SceneRegs::<4, 3>::WORDS, 16 + 20 + 36 + 180);
-    assert_eq!(SceneRegs::<4, 3>::OBJECTS_OFFSET, 72);
-    assert_eq!(Regs::VERSION_WORD, 0x0208_0001);
+    assert_eq!(light::OFFSET, 38);
+    assert_eq!(Regs::light_offset(1), 50);
+    assert_eq!(Regs::OBJECTS_OFFSET, 62);
+    assert_eq!(Regs::object_offset(7), 62 + 7 * 54);
+    // 16 header + 22 camera + 2 × 12 lights + 8 × 54 objects.
+    assert_eq!(Regs::WORDS, 494);
+    assert_eq!(SceneRegs::<4, 3>::WORDS, 16 + 22 + 36 + 216);
+    assert_eq!(SceneRegs::<4, 3>::OBJECTS_OFFSET, 74);
+    assert_eq!(Regs::VERSION_WORD, 0x0208_0002);
 }
 
 #[test]
 fn golden_words() {
     let s = example();
     let w: Vec<u32> = s.words().collect();
-    assert_eq!(w.len(), 420);
+    assert_eq!(w.len(), 494);
     assert_eq!(w[hdr::MAGIC], MAGIC);
     assert_eq!(w[hdr::MAGIC].to_be_bytes(), *b"FPRT");
-    assert_eq!(w[hdr::VERSION], 0x0208_0001);
+    assert_eq!(w[hdr::VERSION], 0x0208_0002);
     assert_eq!(w[hdr::OBJECT_COUNT], 1);
     assert_eq!(w[hdr::LIGHT_COUNT], 2);
     assert_eq!(w[hdr::WIDTH], 1920);
@@ -156,24 +158,28 @@ fn golden_words() {
         &[0, 0x0001_0000, 0x0006_0000]
     );
     assert_eq!(w[cam::OFFSET + cam::FOV_Y], 45 << 16);
+    // The pitch, a u64 in two words, low first.
+    assert_eq!(w[cam::OFFSET + cam::PITCH], 0x1922_956E);
+    assert_eq!(w[cam::OFFSET + cam::PITCH + 1], 0);
     // Ambient light colour 0.1 → 6553.6 → 6554 = 0x199A.
-    assert_eq!(w[36 + light::KIND], 0);
-    assert_eq!(w[36 + light::COLOR], 0x199A);
-    // The spot light at 48: kind 2, colour 30 = 0x1E_0000,
+    assert_eq!(w[38 + light::KIND], 0);
+    assert_eq!(w[38 + light::COLOR], 0x199A);
+    // The spot light at 50: kind 2, colour 30 = 0x1E_0000,
     // direction −0.4 → −26214.4 → −26214 = 0xFFFF_999A, −1 → 0xFFFF_0000,
     // cos_outer 0.70 → 45875.2 → 0xB333, cos_inner 0.85 → 55705.6 → 55706 = 0xD99A.
-    assert_eq!(w[48 + light::KIND], 2);
-    assert_eq!(w[48 + light::COLOR], 0x001E_0000);
+    assert_eq!(w[50 + light::KIND], 2);
+    assert_eq!(w[50 + light::COLOR], 0x001E_0000);
     assert_eq!(
-        &w[48 + light::DIRECTION..48 + light::DIRECTION + 2],
+        &w[50 + light::DIRECTION..50 + light::DIRECTION + 2],
         &[0xFFFF_999A, 0xFFFF_0000]
     );
-    assert_eq!(w[48 + light::COS_OUTER], 0xB333);
-    assert_eq!(w[48 + light::COS_INNER], 0xD99A);
+    assert_eq!(w[50 + light::COS_OUTER], 0xB333);
+    assert_eq!(w[50 + light::COS_INNER], 0xD99A);
     // The floor at 60: disk = 2, translate y −2 = 0xFFFE_0000, scale 20 = 0x14_0000,
     // η 1.33 → 87162.88 → 87163 = 0x1_547B, exponent 32, Fresnel = 2, checkerboard = 2,
-    // texture scale 6 = 0x6_0000, size 8 | 8 << 8 = 0x808.
-    let o = 60;
+    // texture scale 6 = 0x6_0000, size 8 | 8 << 8 = 0x808; M⁻¹ 0.05 = 3276.8 → 0xCCD,
+    // and 10⁻⁶ (below Q16.16's resolution) saturates to 0 instead of being refused.
+    let o = 62;
     assert_eq!(w[o + obj::SHAPE], 2);
     assert_eq!(w[o + obj::TRANSLATE + 1], 0xFFFE_0000);
     assert_eq!(w[o + obj::SCALE], 0x0014_0000);
@@ -184,6 +190,9 @@ fn golden_words() {
     assert_eq!(w[o + obj::TEX_SCALE], 0x0006_0000);
     assert_eq!(w[o + obj::TEX_FILTER], 1);
     assert_eq!(w[o + obj::TEX_SIZE], 0x808);
+    assert_eq!(w[o + obj::MINV], 0xCCD);
+    assert_eq!(w[o + obj::MINV + 4], 0xCCD);
+    assert_eq!(w[o + obj::MINV + 8], 0);
     // Unused objects stay zero.
     assert!(w[Regs::object_offset(1)..].iter().all(|&x| x == 0));
     // Typed read-back gives the Q16.16-rounded values.
@@ -233,9 +242,9 @@ fn binary32_images_carry_ieee_words() {
         &[0, 1.0f32.to_bits(), 6.0f32.to_bits()]
     );
     assert_eq!(w[cam::OFFSET + cam::FOV_Y], 0x4234_0000); // 45.0
-    assert_eq!(w[48 + light::DIRECTION], (-0.4f32).to_bits());
-    assert_eq!(w[60 + obj::ETA], 1.33f32.to_bits());
-    assert_eq!(w[60 + obj::EXPONENT], 32);
+    assert_eq!(w[50 + light::DIRECTION], (-0.4f32).to_bits());
+    assert_eq!(w[62 + obj::ETA], 1.33f32.to_bits());
+    assert_eq!(w[62 + obj::EXPONENT], 32);
     // Read back: the f32-rounded values, not the Q16.16-quantised ones.
     assert_eq!(s.render().bias, f64::from(0.001f32));
     assert_eq!(s.light(1).unwrap().direction[0], f64::from(-0.4f32));
@@ -318,7 +327,7 @@ fn the_format_follows_the_targets_caps() {
 fn words_round_trip_and_checks() {
     let s = example();
     let mut buf = vec![0u32; Regs::WORDS];
-    assert_eq!(s.to_words(&mut buf), Ok(420));
+    assert_eq!(s.to_words(&mut buf), Ok(494));
     assert_eq!(Regs::from_words(&buf).unwrap(), s);
     let mut bad = buf.clone();
     bad[0] = 0;
@@ -326,14 +335,14 @@ fn words_round_trip_and_checks() {
     assert!(matches!(
         Regs::from_words(&buf[..395]),
         Err(SceneError::Length {
-            expected: 420,
+            expected: 494,
             got: 395
         })
     ));
     // A 4-object map is refused by the 8-object decoder even at the right length.
     let small = SceneRegs::<4, 2>::new();
     let mut sw: Vec<u32> = small.words().collect();
-    sw.resize(420, 0);
+    sw.resize(494, 0);
     assert!(matches!(
         Regs::from_words(&sw),
         Err(SceneError::Version { .. })
@@ -434,7 +443,7 @@ fn one_changed_field_is_one_one_word_write() {
     b.set_light(1, &l).unwrap();
     let writes: Vec<RegWrite> = diff(&a, &b).collect();
     assert_eq!(writes.len(), 1);
-    assert_eq!(usize::from(writes[0].offset), 48 + light::COS_INNER);
+    assert_eq!(usize::from(writes[0].offset), 50 + light::COS_INNER);
     assert_eq!(
         writes[0].words.as_slice(),
         &[q16_from_f64("", 0.9).unwrap() as u32]
@@ -471,25 +480,25 @@ fn apply_checks_bounds() {
     let mut s = example();
     let before = s.clone();
     let w = RegWrite {
-        offset: 419,
+        offset: 493,
         words: heapless::Vec::from_slice(&[1, 2]).unwrap(),
     };
     assert_eq!(
         apply(&mut s, &w),
         Err(SceneError::Bounds {
-            offset: 419,
+            offset: 493,
             len: 2,
-            size: 420
+            size: 494
         })
     );
     assert_eq!(s, before);
     let w = RegWrite {
-        offset: 419,
+        offset: 493,
         words: heapless::Vec::from_slice(&[1]).unwrap(),
     };
     apply(&mut s, &w).unwrap();
-    assert_eq!(s.word(419), Some(1));
-    assert_eq!(s.word(420), None);
+    assert_eq!(s.word(493), Some(1));
+    assert_eq!(s.word(494), None);
 }
 
 fn image(words: Vec<u32>) -> Regs {
@@ -509,8 +518,8 @@ proptest! {
     /// and bridges no gap wider than the merge gap.
     #[test]
     fn diff_then_apply_reproduces(
-        base in proptest::collection::vec(any::<u32>(), 420),
-        edits in proptest::collection::vec((2usize..420, any::<u32>()), 0..60),
+        base in proptest::collection::vec(any::<u32>(), 494),
+        edits in proptest::collection::vec((2usize..494, any::<u32>()), 0..60),
         gap in 0usize..4,
     ) {
         let old = image(base);

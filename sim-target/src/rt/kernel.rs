@@ -16,7 +16,7 @@
 
 use super::prepare::{Cam, PObj, PRefl, Prepared};
 use super::pretest::{self, RayF32};
-use super::{cull, shade, shapes, texture, Features, RenderOptions, ToneMap, V3};
+use super::{cull, derive, shade, shapes, texture, Features, RenderOptions, ToneMap, V3};
 use crate::num::{Scalar, SqrtKind};
 
 /// One monomorphised kernel: a row of the frame (see `Prepared::row`).
@@ -25,7 +25,7 @@ use crate::num::{Scalar, SqrtKind};
 /// hit through the stack, and the per-pixel loop's wide reload of fields stored one by
 /// one stalled on store forwarding (perf: ≈ 2.5 % of an f32 frame). With the pixel loop
 /// inside the kernel, `trace` inlines into it and the result stays in registers.
-pub(super) type RowFn<S> = fn(&Prepared<S>, &FrameCtx<S>, u32) -> Rendered<Vec<f32>>;
+pub(super) type RowFn<S> = fn(&Prepared<S>, &FrameCtx<S>, u32) -> Rendered<Vec<f32>, Vec<u16>>;
 
 /// What every row of a frame shares, computed once per frame.
 pub(super) struct FrameCtx<S> {
@@ -42,9 +42,10 @@ pub(super) struct FrameCtx<S> {
     grid: u32,
     spp: u32,
     inv_spp: S,
-    hf: f64,
-    /// tan(fov/2).
-    s: f64,
+    /// Sample rows in the frame (height · grid).
+    sample_rows: i64,
+    /// The pixel pitch in 2⁻⁴⁰ units ([`derive::pitch`]).
+    pitch: u64,
     aovs: bool,
     tone_map: ToneMap,
     sqrt: SqrtKind,
@@ -65,7 +66,7 @@ impl<S: Scalar> FrameCtx<S> {
             V3::<S>::from_f64(cam.v),
             V3::<S>::from_f64(cam.w),
         );
-        let grid = (spp as f64).sqrt().ceil() as u32;
+        let grid = derive::grid(spp);
         let mut ctx = FrameCtx {
             cols: Vec::new(),
             cv,
@@ -77,34 +78,28 @@ impl<S: Scalar> FrameCtx<S> {
             grid,
             spp,
             inv_spp: S::from_f64(1.0 / spp as f64),
-            hf: height as f64,
-            s: cam.s,
+            sample_rows: i64::from(height) * i64::from(grid),
+            pitch: cam.pitch,
             aovs: opts.aovs,
             tone_map: opts.tone_map,
             sqrt: opts.math.sqrt,
         };
         // u·x of every column and sub-pixel column, computed once per frame instead of once
-        // per pixel (same operations, same bits)
-        let wf = width as f64;
+        // per pixel (same operations, same bits); sample column c = i·grid + k lies at
+        // x = (2c + 1 − width·grid)·K, an exact f64 that rounds as a core's integer
+        // product does (`derive::coordinate`)
+        let sample_cols = i64::from(width) * i64::from(grid);
+        let pitch = cam.pitch;
         ctx.cols = (0..width)
             .flat_map(|i| {
-                let ctx = &ctx;
                 (0..grid).map(move |k| {
-                    let x = (2.0 * (i as f64 + ctx.offset(k)) / wf - 1.0) * cam.s * cam.a;
+                    let c = i64::from(i) * i64::from(grid) + i64::from(k);
+                    let x = derive::coordinate(2 * c + 1 - sample_cols, pitch);
                     cu.scale(S::from_f64(x))
                 })
             })
             .collect();
         ctx
-    }
-
-    /// Sub-pixel offset of grid cell k along one axis.
-    fn offset(&self, k: u32) -> f64 {
-        if self.spp == 1 {
-            0.5
-        } else {
-            (k as f64 + 0.5) / self.grid as f64
-        }
     }
 }
 
@@ -123,10 +118,11 @@ pub(super) struct Counts {
     occluder: usize,
 }
 
-/// A ray's first hit: distance and the shading normal.
+/// A ray's first hit: distance, the shading normal and the object's index.
 struct Hit<S> {
     t: S,
     n: V3<S>,
+    obj: usize,
 }
 
 impl<S: Scalar> Prepared<S> {
@@ -356,7 +352,7 @@ impl<S: Scalar> Prepared<S> {
                 n = -n; // INTERNAL_SHADING: both sides shade
             }
             if level == 0 {
-                first = Some(Hit { t, n });
+                first = Some(Hit { t, n, obj: i });
             }
             let mat = &self.mats[ob.material];
             let wo = -d;
@@ -494,10 +490,11 @@ impl<S: Scalar> Prepared<S> {
         &self,
         f: &FrameCtx<S>,
         j: u32,
-    ) -> Rendered<Vec<f32>> {
+    ) -> Rendered<Vec<f32>, Vec<u16>> {
         let row: Vec<V3<S>> = (0..f.grid)
             .map(|k| {
-                let y = (1.0 - 2.0 * (j as f64 + f.offset(k)) / f.hf) * f.s;
+                let r = i64::from(j) * i64::from(f.grid) + i64::from(k);
+                let y = derive::coordinate(f.sample_rows - 2 * r - 1, f.pitch);
                 f.cv.scale(S::from_f64(y))
             })
             .collect();
@@ -505,6 +502,7 @@ impl<S: Scalar> Prepared<S> {
         let mut rgb = Vec::with_capacity(f.width as usize * 3);
         let mut depth = Vec::new();
         let mut normal = Vec::new();
+        let mut object = Vec::new();
         for i in 0..f.width {
             let eye_objs = match &f.tiles {
                 Some(t) => t.at(i, j),
@@ -533,10 +531,12 @@ impl<S: Scalar> Prepared<S> {
                         Some(h) => {
                             depth.push(h.t.to_f64() as f32);
                             normal.extend(h.n.to_f64().map(|v| v as f32));
+                            object.push(u16::try_from(h.obj).unwrap_or(super::NO_OBJECT));
                         }
                         None => {
                             depth.push(f32::INFINITY);
                             normal.extend([0.0f32; 3]);
+                            object.push(super::NO_OBJECT);
                         }
                     }
                 }
@@ -562,9 +562,9 @@ impl<S: Scalar> Prepared<S> {
             let q = |v: S| (v.clamp(S::zero(), S::one()) * S::from_f64(255.0)).to_f64() as u8;
             rgb.extend([q(c.x), q(c.y), q(c.z)]);
         }
-        (rgb, depth, normal, cnt)
+        (rgb, depth, normal, object, cnt)
     }
 }
 
-/// rgb8, depth, normal, ray counts of a frame or a row.
-pub(super) type Rendered<A = Option<Vec<f32>>> = (Vec<u8>, A, A, Counts);
+/// rgb8, depth, normal, object index, ray counts of a frame or a row.
+pub(super) type Rendered<A = Option<Vec<f32>>, B = Option<Vec<u16>>> = (Vec<u8>, A, A, B, Counts);

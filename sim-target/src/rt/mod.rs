@@ -19,6 +19,8 @@
 //! packers and the feature subsets are private modules re-exported here too; the
 //! secondary rays' pretest is internal.
 //!
+//! The frame constants a scene implies ([`derive`]: camera basis, pixel pitch, inverse
+//! transforms) are public for the host, which writes them into the register image.
 //! The kernel's stages ([`cull`], [`shade`], [`shapes`], [`texture`]) are public as
 //! namespaces: each is tested on its own against an f64 reference (the integration
 //! tests) and benched (`benches/rt.rs`), and their functions read right only qualified
@@ -26,6 +28,7 @@
 //! the scene's f64 vector arithmetic (`f::normalize`, `f::rotation`).
 
 pub mod cull;
+pub mod derive;
 pub mod shade;
 pub mod shapes;
 pub mod texture;
@@ -51,7 +54,7 @@ pub use protocol::frame::Numeric;
 pub use render::{
     nominal_rays, primary_candidates, render, render_instrumented, render_with_progress, Dispatch,
     Frame, Kernel, Math, RenderOptions, RtError, Stats, ToneMap, BOARD_CLOCK_HZ,
-    BOARD_FRAME_OVERHEAD, BOARD_II,
+    BOARD_FRAME_OVERHEAD, BOARD_II, NO_OBJECT,
 };
 pub use scene::{
     Camera, DiffuseModel, Filter, Light, Mapping, Material, Object, Reflection, Scene, Shape,

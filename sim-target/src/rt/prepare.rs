@@ -2,6 +2,7 @@
 //! materials and texture memory converted once per frame, each object's intersector and
 //! its primary rays' hoisted constants), and the camera the frame is seen through.
 
+use super::derive;
 use super::pretest;
 use super::shade::{DiffuseParams, SpecParams};
 use super::shapes::{self, IntersectFn};
@@ -100,10 +101,7 @@ pub(super) fn prepare<S: Scalar>(
         .objects
         .iter()
         .map(|o| {
-            // M = T·R·S, M⁻¹ = S⁻¹·Rᵀ (on the linear part)
-            let r = f::rotation(o.rotate);
-            let sinv = f::diag(o.scale.map(|s| 1.0 / s));
-            let minv = f::mul(sinv, f::transpose(r));
+            let minv = derive::inverse_linear(o.rotate, o.scale);
             let rotated = o.rotate.iter().any(|a| *a != 0.0);
             let mut ob = PObj {
                 diag: (!rotated).then(|| V3::from_f64([minv[0][0], minv[1][1], minv[2][2]])),
@@ -248,7 +246,8 @@ impl<S: Scalar> PObj<S> {
     }
 }
 
-/// The camera's frame in f64: eye, the u, v, w axes, tan(fov/2) and the aspect ratio.
+/// The camera's frame in f64: eye, the u, v, w axes, tan(fov/2), the aspect ratio and the
+/// pixel pitch of the sample grid ([`derive::pitch`]).
 pub(super) struct Cam {
     pub(super) eye: [f64; 3],
     pub(super) u: [f64; 3],
@@ -256,13 +255,12 @@ pub(super) struct Cam {
     pub(super) w: [f64; 3],
     pub(super) s: f64,
     pub(super) a: f64,
+    pub(super) pitch: u64,
 }
 
-/// The camera of a `width`×`height` frame.
-pub(super) fn camera(c: &Camera, width: u32, height: u32) -> Cam {
-    let w = f::normalize(f::sub(c.position, c.look_at));
-    let u = f::normalize(f::cross(c.up, w));
-    let v = f::cross(w, u);
+/// The camera of a `width`×`height` frame at `spp` samples per pixel.
+pub(super) fn camera(c: &Camera, width: u32, height: u32, spp: u32) -> Cam {
+    let [u, v, w] = derive::basis(c);
     Cam {
         eye: c.position,
         u,
@@ -270,5 +268,6 @@ pub(super) fn camera(c: &Camera, width: u32, height: u32) -> Cam {
         w,
         s: (c.fov_y.to_radians() / 2.0).tan(),
         a: width as f64 / height as f64,
+        pitch: derive::pitch(c.fov_y, height, spp),
     }
 }

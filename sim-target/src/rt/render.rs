@@ -225,11 +225,18 @@ pub struct Frame {
     pub depth: Option<Vec<f32>>,
     /// World-space unit normal after the shading flip, 3 floats per pixel (0 for a miss).
     pub normal: Option<Vec<f32>>,
+    /// Index of the object the centre primary ray hits first ([`NO_OBJECT`] for a miss):
+    /// which object a pixel shows, the plane an RTL core's nearest-hit reduction is held
+    /// to.
+    pub object: Option<Vec<u16>>,
     /// Rays traced, wall time and the board-time estimate.
     pub stats: Stats,
     /// The plan the scene compiled to.
     pub plan: Plan,
 }
+
+/// The object-index plane's value for a pixel whose primary ray hits nothing.
+pub const NO_OBJECT: u16 = u16::MAX;
 
 /// Errors of [`render`].
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -334,7 +341,7 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
         Kernel::General => Features::ALL,
     };
     let row_fn = (build.kernel)(features);
-    let cam = camera(&scene.camera, width, height);
+    let cam = camera(&scene.camera, width, height, spp);
     let tiles = bounds
         .iter()
         .any(Option::is_some)
@@ -344,12 +351,12 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
     let setup_saturations = saturation::total().wrapping_sub(setup_start);
     let one_row = |j: u32| {
         let (mut r, saturations) = saturation::count(|| row_fn(&prep, &ctx, j));
-        r.3.saturations = saturations;
+        r.4.saturations = saturations;
         let done = rows_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         progress(done, height);
         r
     };
-    let rows: Vec<Rendered<Vec<f32>>> = if build.parallel {
+    let rows: Vec<Rendered<Vec<f32>, Vec<u16>>> = if build.parallel {
         (0..height).into_par_iter().map(one_row).collect()
     } else {
         (0..height).map(one_row).collect()
@@ -357,24 +364,26 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
     let mut rgb8 = Vec::with_capacity(width as usize * height as usize * 3);
     let mut depth = Vec::new();
     let mut normal = Vec::new();
+    let mut object = Vec::new();
     let mut total = Counts::default();
     total.saturations = setup_saturations;
-    for (r, d, n, c) in rows {
+    for (r, d, n, o, c) in rows {
         rgb8.extend(r);
         depth.extend(d);
         normal.extend(n);
+        object.extend(o);
         total.primary += c.primary;
         total.shadow += c.shadow;
         total.reflected += c.reflected;
         total.refracted += c.refracted;
         total.saturations += c.saturations;
     }
-    let (depth, normal) = if aovs {
-        (Some(depth), Some(normal))
+    let (depth, normal, object) = if aovs {
+        (Some(depth), Some(normal), Some(object))
     } else {
-        (None, None)
+        (None, None, None)
     };
-    (rgb8, depth, normal, total)
+    (rgb8, depth, normal, object, total)
 }
 
 /// Mean number of objects per 16×16 tile that the planned kernel's primary rays test in
@@ -388,7 +397,7 @@ pub fn primary_candidates<S: Scalar>(scene: &Scene, width: u32, height: u32, mat
     if bounds.iter().all(Option::is_none) || width == 0 || height == 0 {
         return scene.objects.len() as f64;
     }
-    let cam = camera(&scene.camera, width, height);
+    let cam = camera(&scene.camera, width, height, 1);
     cull::Tiles::new(&bounds, &cam, width, height).mean_candidates()
 }
 
@@ -483,7 +492,7 @@ fn finish(
     plan: Plan,
     r: Rendered,
 ) -> Frame {
-    let (rgb8, depth, normal, c) = r;
+    let (rgb8, depth, normal, object, c) = r;
     let seconds = start.elapsed().as_secs_f64();
     let stats = Stats {
         primary_rays: c.primary,
@@ -501,6 +510,7 @@ fn finish(
         rgb8,
         depth,
         normal,
+        object,
         stats,
         plan,
     }

@@ -130,7 +130,7 @@ fn bad_accesses_name_their_register() {
     assert!(wmsg(m.write(0x14, 1)).contains("0x14: outside the AXI4-Lite map"));
     assert!(msg(m.read(0x802)).contains("outside"), "unaligned");
     assert!(
-        msg(m.read(0x800 + 4 * 420)).contains("outside"),
+        msg(m.read(0x800 + 4 * 494)).contains("outside"),
         "past the image"
     );
     assert!(msg(m.read(0x20_0000)).contains("outside"));

@@ -75,3 +75,57 @@ fn too_many_objects_is_an_error_naming_the_limit() {
         .to_string();
     assert!(err.contains('9') && err.contains('8'), "{err}");
 }
+
+#[test]
+fn the_hosts_derived_words_are_the_models_and_a_stale_one_is_named() {
+    use protocol::scene::{cam, obj};
+    use sim_target::scene_regs::{check_derived, SceneRegsError};
+    let mut scene = reference();
+    // a rotated object, so that M⁻¹ has off-diagonal words
+    scene.objects[1].rotate = [30.0, -45.0, 10.0];
+    let regs = to_regs(&scene).expect("fits");
+    check_derived(&regs).expect("the host derives what the model derives");
+    // the model's own numbers, rounded as the kernel rounds them, are the words
+    let held = from_regs(&regs).expect("decodes");
+    let m = rt::derive::inverse_linear(held.objects[1].rotate, held.objects[1].scale);
+    let at = Regs::object_offset(1) + obj::MINV;
+    assert_eq!(
+        regs.word(at + 1),
+        Some(protocol::scene::ValueFormat::Q16_16.encode_saturating(m[0][1]))
+    );
+    assert_ne!(regs.word(at + 1), Some(0), "rotated: an off-diagonal word");
+    let pitch = rt::derive::pitch(held.camera.fov_y, held.height, held.spp);
+    assert_eq!(regs.camera().pitch, pitch);
+
+    // a controller-side ramp of the camera position leaves the basis stale
+    let mut moved = regs.clone();
+    let x = cam::OFFSET + cam::POSITION;
+    let w = moved.word(x).expect("in the map");
+    moved
+        .write(x, &[w.wrapping_add(3 << 16)])
+        .expect("in the map");
+    let err = check_derived(&moved).expect_err("stale basis");
+    assert!(
+        matches!(&err, SceneRegsError::Derived { field, .. } if field.starts_with("camera.")),
+        "{err}"
+    );
+    // one LSB off in an inverse transform word is named with its object
+    let mut off = regs.clone();
+    let v = off.word(at + 4).expect("in the map");
+    off.write(at + 4, &[v ^ 1]).expect("in the map");
+    let err = check_derived(&off).expect_err("wrong M⁻¹");
+    assert_eq!(
+        err.to_string().split(" (word").next(),
+        Some("object 1 minv[1][1]"),
+        "{err}"
+    );
+    // the pitch's high word
+    let mut wide = regs.clone();
+    let p = cam::OFFSET + cam::PITCH + 1;
+    wide.write(p, &[1]).expect("in the map");
+    let err = check_derived(&wide).expect_err("wrong pitch");
+    assert!(
+        err.to_string().starts_with("camera.pitch (high word)"),
+        "{err}"
+    );
+}

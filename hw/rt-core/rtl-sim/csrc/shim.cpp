@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "Vrt_cast.h"
 #include "Vrt_isect.h"
 #include "Vrt_math_top.h"
 #include "verilated.h"
@@ -18,6 +19,7 @@ struct Model {
 
 struct RtMath : Model<Vrt_math_top> {};
 struct RtIsect : Model<Vrt_isect> {};
+struct RtCast : Model<Vrt_cast> {};
 
 template <typename M>
 static void edge(M* m) {
@@ -97,6 +99,47 @@ void rt_isect_cycle(RtIsect* m, const uint32_t* in, uint32_t* out) {
     out[2] = t.t;
     out[3] = t.unsupported;
     out[4] = t.tag_out;
+}
+
+RtCast* rt_cast_new() {
+    auto* m = new (std::nothrow) RtCast;
+    if (!m) return nullptr;
+    m->ctx = std::make_unique<VerilatedContext>();
+    m->top = std::make_unique<Vrt_cast>(m->ctx.get());
+    Vrt_cast& t = *m->top;
+    t.rst = 1;
+    t.hold = 0;
+    t.start = 0;
+    t.cfg_we = 0;
+    for (int i = 0; i < 4; i++) edge(m);
+    t.rst = 0;
+    return m;
+}
+
+void rt_cast_free(RtCast* m) { delete m; }
+
+// One clock. in: cfg_we, cfg_addr, cfg_data, start, hold. out: busy, done, err,
+// pix_valid, pix_x, pix_y, pix_hit, pix_obj, pix_t, pix_n x, y, z after the rising edge.
+void rt_cast_cycle(RtCast* m, const uint32_t* in, uint32_t* out) {
+    Vrt_cast& t = *m->top;
+    t.cfg_we = in[0] != 0;
+    t.cfg_addr = in[1];
+    t.cfg_data = in[2];
+    t.start = in[3] != 0;
+    t.hold = in[4] != 0;
+    edge(m);
+    out[0] = t.busy;
+    out[1] = t.done;
+    out[2] = t.err;
+    out[3] = t.pix_valid;
+    out[4] = t.pix_x;
+    out[5] = t.pix_y;
+    out[6] = t.pix_hit;
+    out[7] = t.pix_obj;
+    out[8] = t.pix_t;
+    out[9] = t.pix_n[0];
+    out[10] = t.pix_n[1];
+    out[11] = t.pix_n[2];
 }
 
 }  // extern "C"

@@ -17,9 +17,15 @@ pub(crate) struct RtIsect {
     _private: [u8; 0],
 }
 
+/// The shim's frame core: opaque to Rust.
+#[repr(C)]
+pub(crate) struct RtCast {
+    _private: [u8; 0],
+}
+
 #[cfg(verilated)]
 mod sys {
-    use super::{RtIsect, RtMath};
+    use super::{RtCast, RtIsect, RtMath};
 
     extern "C" {
         pub fn rt_math_new() -> *mut RtMath;
@@ -28,7 +34,43 @@ mod sys {
         pub fn rt_isect_new() -> *mut RtIsect;
         pub fn rt_isect_free(m: *mut RtIsect);
         pub fn rt_isect_cycle(m: *mut RtIsect, inputs: *const u32, outputs: *mut u32);
+        pub fn rt_cast_new() -> *mut RtCast;
+        pub fn rt_cast_free(m: *mut RtCast);
+        pub fn rt_cast_cycle(m: *mut RtCast, inputs: *const u32, outputs: *mut u32);
     }
+}
+
+#[cfg(verilated)]
+pub(crate) fn cast_new() -> Result<NonNull<RtCast>, RtlError> {
+    // SAFETY: the shim returns a fresh model or null.
+    NonNull::new(unsafe { sys::rt_cast_new() }).ok_or(RtlError::Construct)
+}
+
+#[cfg(verilated)]
+pub(crate) fn cast_free(m: NonNull<RtCast>) {
+    // SAFETY: `m` came from `rt_cast_new` and is freed once (by its owner's Drop).
+    unsafe { sys::rt_cast_free(m.as_ptr()) }
+}
+
+#[cfg(verilated)]
+pub(crate) fn cast_cycle(m: NonNull<RtCast>, inputs: &[u32; 5]) -> [u32; 12] {
+    let mut out = [0u32; 12];
+    // SAFETY: the shim reads 5 words and writes 12, the arrays' sizes.
+    unsafe { sys::rt_cast_cycle(m.as_ptr(), inputs.as_ptr(), out.as_mut_ptr()) };
+    out
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn cast_new() -> Result<NonNull<RtCast>, RtlError> {
+    new().map(|_| NonNull::dangling())
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn cast_free(_: NonNull<RtCast>) {}
+
+#[cfg(not(verilated))]
+pub(crate) fn cast_cycle(_: NonNull<RtCast>, _: &[u32; 5]) -> [u32; 12] {
+    [0; 12]
 }
 
 #[cfg(verilated)]

@@ -2,4 +2,5 @@
 //! (`sim-target`). One binary, one module per part of the core.
 
 mod arith;
+mod cast;
 mod isect;

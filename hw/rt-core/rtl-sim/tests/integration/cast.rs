@@ -1,0 +1,271 @@
+//! The frame core `rt_cast` against the golden model rendering the same register image in
+//! Q16.16 with its AOV planes: for every pixel the same hit or miss, the same object, the
+//! same depth and the same normal, bit for bit, and the frame's cycle count by formula.
+//!
+//! Scenes: random cameras (position, aim, up, field of view) and one to eight objects of
+//! every shape, rotated or not, scaled per axis, in front of, around and behind the
+//! camera; mixed in: duplicated objects (coincident surfaces: the later one must win the
+//! tie, as the model's t <= best does), touching spheres, a max_distance that cuts
+//! through the scene, a zero bias, far scenes whose values come near the edge of
+//! Q16.16's range, and scenes without objects.
+
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+use rt_core_rtl_sim::{Cast, CastFrame};
+use sim_target::rt::{
+    self, Camera, DiffuseModel, Material, Numeric, Object, Reflection, RenderOptions, Scene, Shape,
+    Term, NO_OBJECT,
+};
+use sim_target::scene_regs::from_regs;
+
+fn material() -> Material {
+    Material {
+        name: "m".into(),
+        ambient: None,
+        diffuse: Term {
+            k: 0.8,
+            color: [0.5, 0.6, 0.7],
+        },
+        diffuse_model: DiffuseModel::Lambert,
+        specular: None,
+        reflection: Reflection::None,
+        texture: None,
+    }
+}
+
+fn v3(rng: &mut SmallRng, s: f64) -> [f64; 3] {
+    [0, 1, 2].map(|_| rng.gen_range(-s..=s))
+}
+
+/// A random scene of class `class` (see the module doc).
+fn scene(rng: &mut SmallRng, class: u32) -> Scene {
+    let far = class == 5;
+    let unit = if far { 400.0 } else { 1.0 };
+    let width = rng.gen_range(4..=28);
+    let height = rng.gen_range(3..=20);
+    let position = loop {
+        let p = v3(rng, 12.0 * unit);
+        if p.iter().map(|x| x * x).sum::<f64>() > (2.0 * unit) * (2.0 * unit) {
+            break p;
+        }
+    };
+    let look_at = v3(rng, 2.0 * unit);
+    let up = if rng.gen_bool(0.7) {
+        [0.0, 1.0, 0.0]
+    } else {
+        v3(rng, 1.0)
+    };
+    let count = match class {
+        4 => 0,
+        _ => rng.gen_range(1..=8),
+    };
+    let mut objects: Vec<Object> = (0..count)
+        .map(|_| {
+            let uniform = rng.gen_range(0.3..3.0) * unit;
+            Object {
+                // planes are infinite and would take most pixels: half as often
+                shape: loop {
+                    let s = Shape::ALL[rng.gen_range(0..Shape::ALL.len())];
+                    if s != Shape::Plane || rng.gen_bool(0.5) {
+                        break s;
+                    }
+                },
+                translate: v3(rng, 5.0 * unit),
+                scale: if rng.gen_bool(0.5) {
+                    [uniform; 3]
+                } else {
+                    [0, 1, 2].map(|_| rng.gen_range(0.2..3.0) * unit)
+                },
+                rotate: if rng.gen_bool(0.5) {
+                    [0.0; 3]
+                } else {
+                    v3(rng, 180.0)
+                },
+                material: 0,
+            }
+        })
+        .collect();
+    match class {
+        // coincident: a copy of an object later in the list
+        1 if !objects.is_empty() => {
+            let k = rng.gen_range(0..objects.len());
+            let copy = objects[k].clone();
+            let at = rng.gen_range(k..objects.len());
+            objects.insert(at + 1, copy);
+            objects.truncate(8);
+        }
+        // touching spheres along x
+        2 => {
+            objects.truncate(6);
+            let r = rng.gen_range(0.5..1.5);
+            let c = v3(rng, 2.0);
+            for s in [-1.0, 1.0] {
+                objects.push(Object {
+                    shape: Shape::Sphere,
+                    translate: [c[0] + s * r, c[1], c[2]],
+                    scale: [r; 3],
+                    rotate: [0.0; 3],
+                    material: 0,
+                });
+            }
+        }
+        // objects behind the camera: mirrored through it
+        3 => {
+            for o in objects.iter_mut().step_by(2) {
+                for (t, p) in o.translate.iter_mut().zip(position) {
+                    *t = 2.0 * p - *t;
+                }
+            }
+        }
+        _ => {}
+    }
+    let dist = (0..3)
+        .map(|a| (position[a] - look_at[a]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    Scene {
+        width,
+        height,
+        depth: 1,
+        bias: match rng.gen_range(0..4) {
+            0 => 0.0,
+            1 => 1.0 / 65536.0,
+            _ => rng.gen_range(0.0005..0.01),
+        },
+        max_distance: if class == 6 {
+            rng.gen_range(0.5..1.2) * dist
+        } else {
+            1e6
+        },
+        background: [0.1, 0.2, 0.3],
+        spp: 1,
+        shadows: false,
+        camera: Camera {
+            position,
+            look_at,
+            up,
+            fov_y: rng.gen_range(15.0..120.0),
+        },
+        ambient: [0.1; 3],
+        lights: Vec::new(),
+        materials: vec![material()],
+        objects,
+    }
+}
+
+/// Clock edges of a frame by the core's schedule: the start edge, the setup, the first
+/// ray through the generator, one ray per max(N, 1) edges, the last ray's tail.
+fn expected_cycles(w: u32, h: u32, n: usize) -> u64 {
+    1 + Cast::SETUP + Cast::RAYGEN + u64::from(w * h) * n.max(1) as u64 + Cast::TAIL
+}
+
+/// The model's frame of `scene`, through the register image the core reads.
+fn model(scene: &Scene) -> (Vec<u32>, rt::Frame) {
+    let regs = jobs::scene::to_regs(scene).expect("scene fits the registers");
+    let words: Vec<u32> = regs.words().collect();
+    let held = from_regs(&regs).expect("image reads back");
+    let opts = RenderOptions {
+        numeric: Numeric::Q16_16,
+        aovs: true,
+        ..Default::default()
+    };
+    (words, rt::render(&held, &opts).expect("model renders"))
+}
+
+fn f(bits: i32) -> f32 {
+    (f64::from(bits) / 65536.0) as f32
+}
+
+/// Every pixel of the core's frame against the model's planes; the first difference.
+fn compare(rtl: &CastFrame, m: &rt::Frame) -> Result<(), String> {
+    let (w, h) = (m.width as usize, m.height as usize);
+    if rtl.pixels.len() != w * h {
+        return Err(format!("{} pixels, model {}", rtl.pixels.len(), w * h));
+    }
+    let (Some(depth), Some(normal), Some(object)) = (&m.depth, &m.normal, &m.object) else {
+        return Err("model has no AOV planes".into());
+    };
+    for (i, p) in rtl.pixels.iter().enumerate() {
+        let (x, y) = (i % w, i / w);
+        if (usize::from(p.x), usize::from(p.y)) != (x, y) {
+            return Err(format!("pixel {i} came as ({}, {})", p.x, p.y));
+        }
+        let obj = if p.hit { u16::from(p.obj) } else { NO_OBJECT };
+        let d = if p.hit { f(p.t) } else { f32::INFINITY };
+        let n = p.n.map(f);
+        let mn = [normal[3 * i], normal[3 * i + 1], normal[3 * i + 2]];
+        if obj != object[i]
+            || d.to_bits() != depth[i].to_bits()
+            || n.map(f32::to_bits) != mn.map(f32::to_bits)
+        {
+            return Err(format!(
+                "pixel ({x}, {y}): RTL object {obj} depth {d} normal {n:?}, \
+                 model object {} depth {} normal {mn:?}",
+                object[i], depth[i]
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn generated_scenes_give_the_models_aov_planes() {
+    let mut rng = SmallRng::seed_from_u64(0x7274_6361);
+    let mut core = Cast::new().expect("Verilated rt_cast");
+    let (mut pixels, mut hits) = (0usize, 0usize);
+    let mut shapes_hit = [0usize; 7];
+    for k in 0..300u32 {
+        let s = scene(&mut rng, k % 8);
+        let (words, m) = model(&s);
+        core.load(&words).expect("image fits");
+        let frame = core.render(1 << 22, |_| false).expect("frame completes");
+        assert_eq!(frame.err, 0, "scene {k}: the core refused it");
+        if let Err(e) = compare(&frame, &m) {
+            panic!("scene {k} (class {}): {e}\n{s:#?}", k % 8);
+        }
+        assert_eq!(
+            frame.cycles,
+            expected_cycles(s.width, s.height, s.objects.len()),
+            "scene {k}: cycles"
+        );
+        pixels += frame.pixels.len();
+        for p in frame.pixels.iter().filter(|p| p.hit) {
+            hits += 1;
+            shapes_hit[s.objects[usize::from(p.obj)].shape.code() as usize] += 1;
+        }
+    }
+    eprintln!("{pixels} pixels, {hits} hits, per shape {shapes_hit:?}");
+    assert!(hits * 5 > pixels, "too few hits: {hits} of {pixels}");
+    assert!(
+        shapes_hit.iter().all(|&n| n > 200),
+        "a shape is hit too rarely: {shapes_hit:?}"
+    );
+}
+
+#[test]
+fn holding_the_core_changes_nothing_but_time() {
+    let mut rng = SmallRng::seed_from_u64(0x686f_6c64);
+    let mut core = Cast::new().expect("Verilated rt_cast");
+    for k in 0..6u32 {
+        let s = scene(&mut rng, k % 4);
+        let (words, m) = model(&s);
+        core.load(&words).expect("image fits");
+        let mut held = 0u64;
+        let mut hold_rng = SmallRng::seed_from_u64(u64::from(k));
+        let frame = core
+            .render(1 << 22, |_| {
+                let h = hold_rng.gen_bool(0.3);
+                held += u64::from(h);
+                h
+            })
+            .expect("frame completes");
+        if let Err(e) = compare(&frame, &m) {
+            panic!("scene {k} under holds: {e}");
+        }
+        assert_eq!(
+            frame.cycles,
+            expected_cycles(s.width, s.height, s.objects.len()) + held,
+            "scene {k}: every held edge adds one cycle"
+        );
+    }
+}

@@ -1,0 +1,333 @@
+// rt_cast -- the ray-casting core's frame: every pixel's primary ray, each object tested
+// in object order, the nearest hit, its object, depth and shading normal (the golden
+// model's AOV planes, `--numeric q16.16 --aovs`; sim-target/src/rt/kernel.rs `row`,
+// `trace`, `closest`), bit for bit; seed 002 §3.2-3.4.
+//
+// Why this shape: the intersection unit takes one (ray, object) pair per clock, so a ray
+// of a scene with N objects occupies it N clocks. The ray generator runs one pixel ahead
+// under its own clock enable: it is held while its ray is paired with objects 0 .. N-1
+// and advances with the last pair, so no FIFO sits between them. Every pair is tested
+// with tmax = max_distance and the reduction keeps, in object order, each hit with
+// t <= best (why that is the model's nearest hit: rt_isect). Each object's inverse
+// transform, translation and shape are read from the scene image's words, written
+// through the cfg port at their register-map offsets (rt_map.vh, generated from
+// protocol::scene): the core keeps only the words it reads.
+//
+// What it refuses (err, sticky until the next start; the frame still runs to its end):
+// bit 0 an image in another value format than Q16.16, bit 1 more samples per pixel than
+// one, bit 2 more objects than OBJ, bit 3 a pair whose shape this instance does not build,
+// bit 4 a frame of zero width or height (no pixel is produced; done follows the setup) or
+// a pitch of 2^52 or more (the host keeps |n*K| < 2^52, which a pitch that wide breaks).
+//
+// Ports
+//   cfg_we, cfg_addr, cfg_data: a write of scene-image word cfg_addr (ignored while busy).
+//   start: a pulse begins a frame from the words written; busy until done pulses.
+//   hold: high stalls every stage and the pixel sequencer (the output's back-pressure).
+//   pix_*: one result per pixel in raster order: x, y, hit, obj (the nearest object's
+//   index), t (its distance, Q16.16), n (world-space unit normal facing the ray; 0 for a
+//   miss), pix_valid.
+// Timing: after start, SETUP = 17 clocks, then one ray per max(N, 1) clocks into the
+// generator (latency 87); a pixel's result leaves 169 clocks after its ray's last pair
+// (xform 3, isect 73, the reduction 1, the normal 92).
+// Parameters: OBJ 1..`RT_OBJ_CAPACITY` objects held; SHAPES as rt_isect.
+`default_nettype none
+`include "rt_map.vh"
+module rt_cast #(
+    parameter integer OBJ = `RT_OBJ_CAPACITY,
+    parameter [6:0] SHAPES = 7'b111_1111
+) (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        cfg_we,
+    input  wire [8:0]  cfg_addr,
+    input  wire [31:0] cfg_data,
+    input  wire        start,
+    input  wire        hold,
+    output reg         busy,
+    output reg         done,
+    output reg  [4:0]  err,
+    output wire        pix_valid,
+    output wire [15:0] pix_x,
+    output wire [15:0] pix_y,
+    output wire        pix_hit,
+    output wire [7:0]  pix_obj,
+    output wire [31:0] pix_t,
+    output wire [95:0] pix_n
+);
+    generate
+        if (OBJ < 1 || OBJ > `RT_OBJ_CAPACITY || OBJ > 255) begin : bad_parameter
+            rt_cast_parameter_out_of_range unsupported();
+        end
+    endgenerate
+
+    localparam integer SB = `RT_SHAPE_BITS;
+    localparam integer PB = 54;             // n*K, 2^-40 units: |n*K| < 2^52
+    localparam integer KB = 8;              // object index bits
+    // setup after start: 16 clocks of the two products (W-1)*K and (H-1)*K, 1 to negate
+    localparam integer SETUP = 17;
+    localparam integer IB = OBJ > 1 ? $clog2(OBJ) : 1;  // bits that index the table
+
+    wire ce = !hold;
+
+    // ---- the scene words the core reads --------------------------------------------
+    reg [15:0]  width, height;
+    reg [31:0]  spp, value_format, obj_count, bias, max_f32;
+    reg [63:0]  pitch;
+    reg [95:0]  eye, cu, cv, cw;
+    reg [SB-1:0] shape_k [0:OBJ-1];
+    reg [95:0]  trans_k [0:OBJ-1];
+    reg [287:0] minv_k  [0:OBJ-1];
+
+    integer k;
+    wire [31:0] addr = {23'd0, cfg_addr};
+    always @(posedge clk) begin
+        if (cfg_we && !busy) begin
+            case (cfg_addr)
+                `RT_HDR_WIDTH: width <= cfg_data[15:0];
+                `RT_HDR_HEIGHT: height <= cfg_data[15:0];
+                `RT_HDR_SPP: spp <= cfg_data;
+                `RT_HDR_VALUE_FORMAT: value_format <= cfg_data;
+                `RT_HDR_OBJECT_COUNT: obj_count <= cfg_data;
+                `RT_HDR_BIAS: bias <= cfg_data;
+                `RT_HDR_MAX_DISTANCE: max_f32 <= cfg_data;
+                `RT_CAM_PITCH: pitch[31:0] <= cfg_data;
+                `RT_CAM_PITCH + 1: pitch[63:32] <= cfg_data;
+                `RT_CAM_POSITION: eye[31:0] <= cfg_data;
+                `RT_CAM_POSITION + 1: eye[63:32] <= cfg_data;
+                `RT_CAM_POSITION + 2: eye[95:64] <= cfg_data;
+                `RT_CAM_U: cu[31:0] <= cfg_data;
+                `RT_CAM_U + 1: cu[63:32] <= cfg_data;
+                `RT_CAM_U + 2: cu[95:64] <= cfg_data;
+                `RT_CAM_V: cv[31:0] <= cfg_data;
+                `RT_CAM_V + 1: cv[63:32] <= cfg_data;
+                `RT_CAM_V + 2: cv[95:64] <= cfg_data;
+                `RT_CAM_W: cw[31:0] <= cfg_data;
+                `RT_CAM_W + 1: cw[63:32] <= cfg_data;
+                `RT_CAM_W + 2: cw[95:64] <= cfg_data;
+                default: ;
+            endcase
+            for (k = 0; k < OBJ; k = k + 1) begin
+                if (addr == `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_SHAPE)
+                    shape_k[k] <= cfg_data[SB-1:0];
+                if (addr >= `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_TRANSLATE &&
+                    addr < `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_TRANSLATE + 3)
+                    trans_k[k][32 * (addr - (`RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS +
+                        `RT_OBJ_TRANSLATE)) +: 32] <= cfg_data;
+                if (addr >= `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_MINV &&
+                    addr < `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_MINV + 9)
+                    minv_k[k][32 * (addr - (`RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS +
+                        `RT_OBJ_MINV)) +: 32] <= cfg_data;
+            end
+        end
+    end
+
+    // ---- MAX_DISTANCE: binary32 bits to Q16.16 as the model converts it ----------------
+    // min(value, Q16.16's largest), rounded half away from zero, clipped; NaN gives the
+    // largest (f64::min ignores NaN)
+    function [31:0] f32_to_q16(input [31:0] f);
+        reg [7:0]  e;
+        reg [23:0] m;
+        reg [63:0] mag;
+        integer sh;
+        begin
+            e = f[30:23];
+            m = {e != 0, f[22:0]};
+            sh = {24'd0, e} - 134;  // value * 2^16 = m * 2^(e - 127 - 23 + 16)
+            if (e == 8'hff) mag = f[22:0] != 0 ? 64'h7fff_ffff : 64'hffff_ffff_ffff_ffff;
+            else if (sh > 8) mag = 64'hffff_ffff_ffff_ffff;
+            else if (sh >= 0) mag = {40'd0, m} << sh;
+            else if (sh < -25) mag = 64'd0;
+            else mag = ({40'd0, m} + (64'd1 << (-sh - 1))) >> (-sh);
+            if (e == 8'hff && f[22:0] != 0) f32_to_q16 = 32'h7fff_ffff;
+            else if (!f[31]) f32_to_q16 = mag > 64'h7fff_ffff ? 32'h7fff_ffff : mag[31:0];
+            else f32_to_q16 = mag >= 64'h8000_0000 ? 32'h8000_0000 : 32'd0 - mag[31:0];
+        end
+    endfunction
+
+    // ---- frame sequencer ------------------------------------------------------------
+    reg [31:0]          tmax;
+    reg [KB-1:0]        n_obj;    // objects tested per ray (0: every ray misses)
+    reg [4:0]           setup;    // counts the setup clocks down
+    reg signed [PB-1:0] xm, acc_x, acc_y, k2;
+    reg [15:0]          wm1, hm1; // shifted out during setup, most significant bit first
+    reg [15:0]          col, row;
+    reg                 feeding;  // pixels remain to be generated
+    reg [31:0]          pixels_out;
+    wire [31:0]         pixels = {16'd0, width} * {16'd0, height};
+    wire signed [PB-1:0] kp = pitch[PB-1:0];
+
+    // the generator's output is paired with objects; it advances with the last pair
+    wire              rg_out_valid;
+    reg  [KB-1:0]     pair_k;
+    wire              last_pair = n_obj == 0 || pair_k == n_obj - 1'b1;
+    wire              rg_ce = ce && (!rg_out_valid || last_pair);
+    wire              rg_in_valid = feeding && setup == 0;
+    wire              isect_valid, isect_unsupported;
+    wire              pix_valid_w;
+
+    always @(posedge clk) begin
+        if (rst) begin
+            busy <= 1'b0;
+            done <= 1'b0;
+            err <= 5'd0;
+            feeding <= 1'b0;
+            setup <= 5'd0;
+        end else begin
+            done <= 1'b0;
+            if (start && !busy) begin
+                busy <= 1'b1;
+                err <= {width == 0 || height == 0 || pitch[63:PB-2] != 0, 1'b0,
+                        obj_count > OBJ, spp != 1, value_format != `RT_FORMAT_Q16_16};
+                n_obj <= obj_count > OBJ ? OBJ[KB-1:0] : obj_count[KB-1:0];
+                tmax <= f32_to_q16(max_f32);
+                wm1 <= width - 16'd1;
+                hm1 <= height - 16'd1;
+                k2 <= kp <<< 1;
+                xm <= 0;
+                acc_y <= 0;
+                col <= 16'd0;
+                row <= 16'd0;
+                pixels_out <= 32'd0;
+                feeding <= width != 0 && height != 0;
+                setup <= SETUP[4:0];
+            end else if (busy && ce) begin
+                if (setup > 5'd1) begin
+                    // Horner: (W - 1) K and (H - 1) K, one bit of each per clock
+                    xm <= (xm <<< 1) + (wm1[15] ? kp : 0);
+                    acc_y <= (acc_y <<< 1) + (hm1[15] ? kp : 0);
+                    wm1 <= wm1 << 1;
+                    hm1 <= hm1 << 1;
+                    setup <= setup - 5'd1;
+                end else if (setup == 5'd1) begin
+                    // column 0 lies at (1 - W) K
+                    xm <= 0 - xm;
+                    acc_x <= 0 - xm;
+                    setup <= 5'd0;
+                end else if (rg_ce && rg_in_valid) begin
+                    if (col == width - 16'd1) begin
+                        col <= 16'd0;
+                        acc_x <= xm;
+                        acc_y <= acc_y - k2;
+                        if (row == height - 16'd1) feeding <= 1'b0;
+                        else row <= row + 16'd1;
+                    end else begin
+                        col <= col + 16'd1;
+                        acc_x <= acc_x + k2;
+                    end
+                end
+                if (pix_valid_w) begin
+                    pixels_out <= pixels_out + 32'd1;
+                    if (pixels_out + 32'd1 == pixels) begin
+                        busy <= 1'b0;
+                        done <= 1'b1;
+                    end
+                end
+                if (setup == 0 && pixels == 0) begin
+                    busy <= 1'b0;
+                    done <= 1'b1;
+                end
+                if (isect_valid && isect_unsupported) err[3] <= 1'b1;
+            end
+        end
+    end
+
+    // ---- primary rays ---------------------------------------------------------------
+    wire [95:0] rd;
+    wire [31:0] rg_tag;
+    rt_raygen #(.PB(PB), .TB(32)) u_raygen (.clk(clk), .rst(rst), .ce(rg_ce),
+        .in_valid(rg_in_valid), .px(acc_x), .py(acc_y),
+        .ux(cu[31:0]), .uy(cu[63:32]), .uz(cu[95:64]),
+        .vx(cv[31:0]), .vy(cv[63:32]), .vz(cv[95:64]),
+        .wx(cw[31:0]), .wy(cw[63:32]), .wz(cw[95:64]),
+        .tag({row, col}), .out_valid(rg_out_valid),
+        .dx(rd[31:0]), .dy(rd[63:32]), .dz(rd[95:64]), .tag_out(rg_tag));
+
+    // ---- pairs: the ray with objects 0 .. N-1 ----------------------------------------
+    always @(posedge clk) begin
+        if (rst || (start && !busy)) pair_k <= {KB{1'b0}};
+        else if (ce && rg_out_valid) pair_k <= last_pair ? {KB{1'b0}} : pair_k + 1'b1;
+    end
+    wire [IB-1:0] obj_sel = pair_k[IB-1:0];  // pair_k < n_obj <= OBJ
+    // pair tag: last pair of its ray, no object at all, object, pixel, world direction
+    localparam integer PT = 1 + 1 + KB + 32 + 96;
+    wire [PT-1:0] pair_tag = {last_pair, n_obj == 0, pair_k, rg_tag, rd};
+    wire          xf_valid;
+    wire [95:0]   lo, ld;
+    wire [PT+SB-1:0] xf_tag;
+    rt_xform #(.TB(PT + SB)) u_xform (.clk(clk), .rst(rst), .ce(ce), .in_valid(rg_out_valid),
+        .o(eye), .d(rd), .m(minv_k[obj_sel]), .t(trans_k[obj_sel]),
+        .tag({shape_k[obj_sel], pair_tag}), .out_valid(xf_valid), .lo(lo), .ld(ld),
+        .tag_out(xf_tag));
+
+    // ---- intersection -----------------------------------------------------------------
+    localparam integer IT = PT + 192;
+    wire          isect_hit;
+    wire [31:0]   isect_t;
+    wire [IT-1:0] it;
+    rt_isect #(.SHAPES(SHAPES), .TB(IT)) u_isect (.clk(clk), .rst(rst), .ce(ce),
+        .in_valid(xf_valid), .shape(xf_tag[PT +: SB]),
+        .ox(lo[31:0]), .oy(lo[63:32]), .oz(lo[95:64]),
+        .dx(ld[31:0]), .dy(ld[63:32]), .dz(ld[95:64]),
+        .tmin(bias), .tmax(tmax), .tag({ld, lo, xf_tag[PT-1:0]}),
+        .out_valid(isect_valid), .hit(isect_hit), .t(isect_t),
+        .unsupported(isect_unsupported), .tag_out(it));
+    wire          i_last = it[PT-1];
+    wire          i_none = it[PT-2];
+    wire [KB-1:0] i_k = it[PT-3 -: KB];
+    wire [31:0]   i_pix = it[127:96];
+    wire [95:0]   i_d = it[95:0];
+    wire [95:0]   i_lo = it[PT +: 96];
+    wire [95:0]   i_ld = it[PT + 96 +: 96];
+
+    // ---- nearest hit, in object order --------------------------------------------------
+    reg           first = 1'b1;        // the next pair is its ray's first
+    reg           found;
+    reg [KB-1:0]  best_k;
+    reg [31:0]    best_t;
+    reg [95:0]    best_lo, best_ld;
+    wire cand = isect_hit && !i_none && !isect_unsupported;
+    wire take = cand && (first || !found || $signed(isect_t) <= $signed(best_t));
+    wire          now_found = take || (!first && found);
+    always @(posedge clk) begin
+        if (rst) first <= 1'b1;
+        else if (ce && isect_valid) first <= i_last;
+        if (ce && isect_valid) begin
+            found <= now_found;
+            if (take) begin
+                best_k <= i_k;
+                best_t <= isect_t;
+                best_lo <= i_lo;
+                best_ld <= i_ld;
+            end
+        end
+    end
+    // the ray's result, one clock after its last pair
+    reg           r_valid;
+    reg [31:0]    r_pix;
+    reg [95:0]    r_d;
+    always @(posedge clk) begin
+        if (rst) r_valid <= 1'b0;
+        else if (ce) r_valid <= isect_valid && i_last;
+        if (ce) begin
+            r_pix <= i_pix;
+            r_d <= i_d;
+        end
+    end
+    wire [IB-1:0] best_sel = best_k[IB-1:0];
+
+    // ---- the normal, and the pixel ------------------------------------------------------
+    wire [KB+1+32+32-1:0] nt;
+    wire [95:0] nrm;
+    rt_normal #(.TB(KB + 1 + 32 + 32)) u_normal (.clk(clk), .rst(rst), .ce(ce),
+        .in_valid(r_valid), .shape(shape_k[best_sel]), .lo(best_lo), .ld(best_ld),
+        .t(best_t), .m(minv_k[best_sel]), .d(r_d), .tag({best_k, found, best_t, r_pix}),
+        .out_valid(pix_valid_w), .n(nrm), .tag_out(nt));
+    assign pix_valid = pix_valid_w;
+    assign pix_x = nt[15:0];
+    assign pix_y = nt[31:16];
+    assign pix_t = nt[63:32];
+    assign pix_hit = nt[64];
+    assign pix_obj = nt[65 +: KB];
+    assign pix_n = pix_hit ? nrm : 96'd0;
+endmodule
+`default_nettype wire

@@ -1,0 +1,152 @@
+// rt_normal -- the shading normal at a ray's nearest hit, as the golden model's `trace`
+// computes it (sim-target/src/rt/kernel.rs): the object-space hit point
+// lp = lo + ld.scale(t) (`mul_rn` per component, saturating sum), the shape's normal
+// there (`shapes::normal`), back to world space by the transpose of M^-1 (each row one
+// `dot3`), normalised (`q16_norm3`), and turned towards the ray when it points away from
+// it: n = -n when n.d >= 0 (INTERNAL_SHADING, seed 002 §3.5: both sides shade).
+//
+// Shape normals (rt_map.vh codes): sphere lp; plane, disk, square (0, 1, 0); cylinder
+// (x, 0, z); cone (x, 1 - y, z); cube the axis of the largest |component| (x before y
+// before z on ties) with that component's sign, |.| saturating as the model's `abs`.
+//
+// Ports: shape, lo, ld (the object-space ray), t (its hit distance), m (M^-1 row-major as
+// rt_xform takes it), d (the world-space ray direction), tag (TB bits alongside);
+// in_valid / out_valid; n (world space, unit, facing the ray). ce low holds every stage.
+// Timing: latency 92 (hit point 3, shape normal 1, transform 2, normalise 83, facing
+// test 2, flip 1), one hit per clock.
+// Parameters: TB >= 1.
+`default_nettype none
+`include "rt_map.vh"
+module rt_normal #(
+    parameter integer TB = 1
+) (
+    input  wire                      clk,
+    input  wire                      rst,
+    input  wire                      ce,
+    input  wire                      in_valid,
+    input  wire [`RT_SHAPE_BITS-1:0] shape,
+    input  wire [95:0]               lo,
+    input  wire [95:0]               ld,
+    input  wire [31:0]               t,
+    input  wire [287:0]              m,
+    input  wire [95:0]               d,
+    input  wire [TB-1:0]             tag,
+    output wire                      out_valid,
+    output reg  [95:0]               n,
+    output wire [TB-1:0]             tag_out
+);
+    generate
+        if (TB < 1) begin : bad_parameter
+            rt_normal_parameter_out_of_range unsupported();
+        end
+    endgenerate
+
+    `include "q16_ops.vh"
+
+    localparam integer LATENCY = 92;
+    localparam integer SB = `RT_SHAPE_BITS;
+
+    // stage 1-2: ld * t
+    wire [95:0] ldt;
+    genvar c;
+    generate
+        for (c = 0; c < 3; c = c + 1) begin : scale
+            /* verilator lint_off PINCONNECTEMPTY */
+            q16_dot #(.TERMS(1), .ROUND(1)) u_s (.clk(clk), .rst(rst), .ce(ce),
+                .in_valid(1'b1), .a(ld[32*c +: 32]), .b(t), .out_valid(), .y(ldt[32*c +: 32]),
+                .sat());
+            /* verilator lint_on PINCONNECTEMPTY */
+        end
+    endgenerate
+    wire [95:0] lo2;
+    wire [SB-1:0] shape2;
+    dly #(.W(96 + SB), .N(2)) u_lo2 (.clk(clk), .rst(rst), .ce(ce), .d({shape, lo}),
+        .q({shape2, lo2}));
+
+    // stage 3: lp = lo + ld * t
+    reg [95:0] lp3;
+    reg [SB-1:0] shape3;
+    always @(posedge clk) begin
+        if (ce) begin
+            lp3 <= {q_add(lo2[95:64], ldt[95:64]), q_add(lo2[63:32], ldt[63:32]),
+                    q_add(lo2[31:0], ldt[31:0])};
+            shape3 <= shape2;
+        end
+    end
+
+    // stage 4: the shape's normal at lp
+    wire [31:0] px = lp3[31:0], py = lp3[63:32], pz = lp3[95:64];
+    wire [31:0] ax = q_abs(px), ay = q_abs(py), az = q_abs(pz);
+    // -1 for a negative component, else 1
+    function [31:0] sgn(input negative);
+        sgn = negative ? q_neg(Q_ONE) : Q_ONE;
+    endfunction
+    reg [95:0] on4;
+    always @(posedge clk) begin
+        if (ce) begin
+            case (shape3)
+                `RT_SHAPE_SPHERE: on4 <= lp3;
+                `RT_SHAPE_CYLINDER: on4 <= {pz, 32'd0, px};
+                `RT_SHAPE_CONE: on4 <= {pz, q_sub(Q_ONE, py), px};
+                `RT_SHAPE_CUBE: begin
+                    if (!q_lt(ax, ay) && !q_lt(ax, az)) on4 <= {32'd0, 32'd0, sgn(px[31])};
+                    else if (!q_lt(ay, az)) on4 <= {32'd0, sgn(py[31]), 32'd0};
+                    else on4 <= {sgn(pz[31]), 32'd0, 32'd0};
+                end
+                default: on4 <= {32'd0, Q_ONE, 32'd0};  // plane, disk, square
+            endcase
+        end
+    end
+
+    // stage 5-6: back to world space by the transpose of M^-1: row r is column r of m
+    wire [287:0] m4;
+    dly #(.W(288), .N(4)) u_m4 (.clk(clk), .rst(rst), .ce(ce), .d(m), .q(m4));
+    wire [95:0] nw6;
+    genvar r;
+    generate
+        for (r = 0; r < 3; r = r + 1) begin : row
+            /* verilator lint_off PINCONNECTEMPTY */
+            q16_dot #(.TERMS(3), .ROUND(1)) u_n (.clk(clk), .rst(rst), .ce(ce),
+                .in_valid(1'b1), .a({m4[32*(6+r) +: 32], m4[32*(3+r) +: 32], m4[32*r +: 32]}),
+                .b(on4), .out_valid(), .y(nw6[32*r +: 32]), .sat());
+            /* verilator lint_on PINCONNECTEMPTY */
+        end
+    endgenerate
+
+    // stage 7-89: normalised
+    wire [95:0] nn89;
+    /* verilator lint_off PINCONNECTEMPTY */
+    q16_norm3 #(.TB(1)) u_norm (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
+        .x(nw6[31:0]), .y(nw6[63:32]), .z(nw6[95:64]), .tag(1'b0), .out_valid(),
+        .nx(nn89[31:0]), .ny(nn89[63:32]), .nz(nn89[95:64]), .tag_out());
+    /* verilator lint_on PINCONNECTEMPTY */
+
+    // stage 90-91: n.d, with n alongside
+    wire [95:0] d89;
+    dly #(.W(96), .N(89)) u_d89 (.clk(clk), .rst(rst), .ce(ce), .d(d), .q(d89));
+    // only its sign is read
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [31:0] nd91;
+    /* verilator lint_on UNUSEDSIGNAL */
+    /* verilator lint_off PINCONNECTEMPTY */
+    q16_dot #(.TERMS(3), .ROUND(1)) u_nd (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
+        .a(nn89), .b(d89), .out_valid(), .y(nd91), .sat());
+    /* verilator lint_on PINCONNECTEMPTY */
+    wire [95:0] nn91;
+    dly #(.W(96), .N(2)) u_nn91 (.clk(clk), .rst(rst), .ce(ce), .d(nn89), .q(nn91));
+
+    // stage 92: facing the ray
+    always @(posedge clk) begin
+        if (ce) begin
+            if (!nd91[31])
+                n <= {q_neg(nn91[95:64]), q_neg(nn91[63:32]), q_neg(nn91[31:0])};
+            else
+                n <= nn91;
+        end
+    end
+
+    dly #(.W(1), .N(LATENCY), .RESET(1)) u_valid (.clk(clk), .rst(rst), .ce(ce),
+        .d(in_valid), .q(out_valid));
+    dly #(.W(TB), .N(LATENCY)) u_tag (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag_out));
+endmodule
+`default_nettype wire
