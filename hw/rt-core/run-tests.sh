@@ -20,15 +20,18 @@ if [ "$SIM" = auto ]; then
     if command -v iverilog >/dev/null 2>&1; then SIM=iverilog; else SIM=verilator; fi
 fi
 
-for top in q16_dot q16_div q16_sqrt q16_rsqrt q16_norm3 udiv_pipe usqrt_pipe dly \
-    isect_quadric isect_flat isect_cube rt_isect rt_raygen rt_xform rt_normal rt_cast; do
+for top in q16_dot q16_div q16_sqrt q16_rsqrt q16_norm3 q16_powi udiv_pipe usqrt_pipe dly \
+    isect_quadric isect_flat isect_cube rt_isect rt_raygen rt_xform rt_normal rt_light \
+    rt_shade rt_cast; do
     verilator --lint-only -Wall -Irtl rtl/*.v --top-module "$top"
 done
 # the intersection unit with one shape family, one shape, and none of the quadrics
 for shapes in 0000001 0010000 0100000 0001110 1000000 1001110; do
     verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_isect -GSHAPES="7'b$shapes"
 done
-# the frame core with one object and with spheres and planes only
+# the colour with several lanes; the frame core with one object and with spheres and
+# planes only
+verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_shade -GLIGHTS=3
 verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GOBJ=1
 verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GSHAPES="7'b0000011" -GOBJ=5
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module rt_math_top

@@ -1610,7 +1610,7 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
         writeln!(out, " {SHAPE_BITS}'d{}", s.code())?;
     }
     type Default = SceneRegs;
-    let offsets: [(&str, usize, &str); 25] = [
+    let offsets: [(&str, usize, &str); 40] = [
         (
             "SCENE_WORDS",
             Default::WORDS,
@@ -1704,12 +1704,105 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
             obj::MINV,
             "object block: inverse transform, row-major (real x 9, derived)",
         ),
+        (
+            "OBJ_AMBIENT_K",
+            obj::AMBIENT_K,
+            "object block: ambient k (real)",
+        ),
+        (
+            "OBJ_AMBIENT_COLOR",
+            obj::AMBIENT_COLOR,
+            "object block: ambient colour (real x 3)",
+        ),
+        (
+            "OBJ_DIFFUSE_K",
+            obj::DIFFUSE_K,
+            "object block: diffuse k (real)",
+        ),
+        (
+            "OBJ_DIFFUSE_COLOR",
+            obj::DIFFUSE_COLOR,
+            "object block: diffuse colour (real x 3)",
+        ),
+        (
+            "OBJ_DIFFUSE_MODEL",
+            obj::DIFFUSE_MODEL,
+            "object block: diffuse model code",
+        ),
+        (
+            "OBJ_SPECULAR_K",
+            obj::SPECULAR_K,
+            "object block: specular k (real)",
+        ),
+        (
+            "OBJ_SPECULAR_COLOR",
+            obj::SPECULAR_COLOR,
+            "object block: specular colour (real x 3)",
+        ),
+        (
+            "OBJ_SPECULAR_MODEL",
+            obj::SPECULAR_MODEL,
+            "object block: specular model code",
+        ),
+        (
+            "OBJ_EXPONENT",
+            obj::EXPONENT,
+            "object block: specular exponent (u32)",
+        ),
+        (
+            "OBJ_REFLECTION_MODE",
+            obj::REFLECTION_MODE,
+            "object block: reflection mode code",
+        ),
+        (
+            "OBJ_TEX_KIND",
+            obj::TEX_KIND,
+            "object block: texture kind code",
+        ),
+        (
+            "LIGHTS_OFFSET",
+            light::OFFSET,
+            "first word of light 0 (the ambient light)",
+        ),
+        ("LIGHT_WORDS", light::WORDS, "words per light block"),
+        ("LIGHT_KIND", light::KIND, "light block: kind code"),
+        (
+            "LIGHT_POSITION",
+            light::POSITION,
+            "light block: position (real x 3)",
+        ),
     ];
     writeln!(out, "// word offsets in the scene image")?;
     for (name, value, what) in offsets {
         writeln!(out, "// {what}")?;
         writeln!(out, "`define RT_{name} {value}")?;
     }
+    writeln!(out, "// light block: colour (real x 3)")?;
+    writeln!(out, "`define RT_LIGHT_COLOR {}", light::COLOR)?;
+    writeln!(out, "// light kind code of a point light")?;
+    writeln!(out, "`define RT_LIGHT_POINT {}", LightKind::Point.code())?;
+    writeln!(out, "// header flags: shadows")?;
+    writeln!(out, "`define RT_FLAG_SHADOWS {FLAG_SHADOWS}")?;
+    writeln!(
+        out,
+        "// model codes the core builds: Lambert, Blinn-Phong, no reflection, no texture"
+    )?;
+    writeln!(
+        out,
+        "`define RT_DIFFUSE_LAMBERT {}",
+        DiffuseModel::Lambert.code()
+    )?;
+    writeln!(
+        out,
+        "`define RT_SPECULAR_BLINN_PHONG {}",
+        SpecularModel::BlinnPhong.code()
+    )?;
+    writeln!(
+        out,
+        "`define RT_REFLECTION_NONE {}",
+        ReflectionMode::None.code()
+    )?;
+    writeln!(out, "`define RT_TEXTURE_NONE {}", TextureKind::None.code())?;
     writeln!(out, "// value format codes")?;
     writeln!(
         out,

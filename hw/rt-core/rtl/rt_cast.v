@@ -1,7 +1,8 @@
 // rt_cast -- the ray-casting core's frame: every pixel's primary ray, each object tested
 // in object order, the nearest hit, its object, depth and shading normal (the golden
 // model's AOV planes, `--numeric q16.16 --aovs`; sim-target/src/rt/kernel.rs `row`,
-// `trace`, `closest`), bit for bit; seed 002 §3.2-3.4.
+// `trace`, `closest`) and its colour (ambient, Lambert, Blinn-Phong for point lights,
+// RGB888), bit for bit; seed 002 §3.2-3.5.
 //
 // Why this shape: the intersection unit takes one (ray, object) pair per clock, so a ray
 // of a scene with N objects occupies it N clocks. The ray generator runs one pixel ahead
@@ -17,7 +18,10 @@
 // bit 0 an image in another value format than Q16.16, bit 1 more samples per pixel than
 // one, bit 2 more objects than OBJ, bit 3 a pair whose shape this instance does not build,
 // bit 4 a frame of zero width or height (no pixel is produced; done follows the setup) or
-// a pitch of 2^52 or more (the host keeps |n*K| < 2^52, which a pitch that wide breaks).
+// a pitch of 2^52 or more (the host keeps |n*K| < 2^52, which a pitch that wide breaks),
+// bit 5 shadows on (not built yet), bit 6 more point lights than LIGHTS or a light that
+// is not a point light, bit 7 a material the core does not build (Oren-Nayar,
+// Torrance-Sparrow, a texture, a reflection with depth > 1).
 //
 // Ports
 //   cfg_we, cfg_addr, cfg_data: a write of scene-image word cfg_addr (ignored while busy).
@@ -25,15 +29,17 @@
 //   hold: high stalls every stage and the pixel sequencer (the output's back-pressure).
 //   pix_*: one result per pixel in raster order: x, y, hit, obj (the nearest object's
 //   index), t (its distance, Q16.16), n (world-space unit normal facing the ray; 0 for a
-//   miss), pix_valid.
+//   miss), rgb (R in bits 23:16), pix_valid.
 // Timing: after start, SETUP = 17 clocks, then one ray per max(N, 1) clocks into the
-// generator (latency 87); a pixel's result leaves 169 clocks after its ray's last pair
-// (xform 3, isect 73, the reduction 1, the normal 92).
-// Parameters: OBJ 1..`RT_OBJ_CAPACITY` objects held; SHAPES as rt_isect.
+// generator (latency 87); a pixel's result leaves 377 clocks after its ray's last pair
+// (xform 3, isect 73, the reduction 1, the normal 92, the colour 208).
+// Parameters: OBJ 1..`RT_OBJ_CAPACITY` objects held; LIGHTS 1..`RT_LIGHT_CAPACITY` - 1
+// point-light lanes; SHAPES as rt_isect.
 `default_nettype none
 `include "rt_map.vh"
 module rt_cast #(
     parameter integer OBJ = `RT_OBJ_CAPACITY,
+    parameter integer LIGHTS = `RT_LIGHT_CAPACITY - 1,
     parameter [6:0] SHAPES = 7'b111_1111
 ) (
     input  wire        clk,
@@ -45,17 +51,19 @@ module rt_cast #(
     input  wire        hold,
     output reg         busy,
     output reg         done,
-    output reg  [4:0]  err,
+    output reg  [7:0]  err,
     output wire        pix_valid,
     output wire [15:0] pix_x,
     output wire [15:0] pix_y,
     output wire        pix_hit,
     output wire [7:0]  pix_obj,
     output wire [31:0] pix_t,
-    output wire [95:0] pix_n
+    output wire [95:0] pix_n,
+    output wire [23:0] pix_rgb
 );
     generate
-        if (OBJ < 1 || OBJ > `RT_OBJ_CAPACITY || OBJ > 255) begin : bad_parameter
+        if (OBJ < 1 || OBJ > `RT_OBJ_CAPACITY || OBJ > 255 || LIGHTS < 1 ||
+            LIGHTS > `RT_LIGHT_CAPACITY - 1 || LIGHTS > 8) begin : bad_parameter
             rt_cast_parameter_out_of_range unsupported();
         end
     endgenerate
@@ -77,9 +85,31 @@ module rt_cast #(
     reg [SB-1:0] shape_k [0:OBJ-1];
     reg [95:0]  trans_k [0:OBJ-1];
     reg [287:0] minv_k  [0:OBJ-1];
+    // materials: k and colour of the ambient, diffuse and specular terms, the exponent,
+    // and the codes the core refuses unless they name what it builds
+    reg [31:0]  ka_k [0:OBJ-1], kd_k [0:OBJ-1], ks_k [0:OBJ-1];
+    reg [95:0]  ca_k [0:OBJ-1], cd_k [0:OBJ-1], cs_k [0:OBJ-1];
+    reg [9:0]   e_k [0:OBJ-1];
+    reg [31:0]  dmodel_k [0:OBJ-1], smodel_k [0:OBJ-1], refl_k [0:OBJ-1], tex_k [0:OBJ-1];
+    // lights: 0 is the ambient light (its colour), 1 .. the point lights
+    reg [31:0]  lkind [0:`RT_LIGHT_CAPACITY-1];
+    reg [95:0]  lpos [0:`RT_LIGHT_CAPACITY-1], lcol [0:`RT_LIGHT_CAPACITY-1];
+    reg [95:0]  background;
+    reg [31:0]  flags, light_count, depth;
 
     integer k;
     wire [31:0] addr = {23'd0, cfg_addr};
+    // the image offset of field f of object o, of light l; whether addr is in a field of
+    // n words at a
+    function [31:0] obj_at(input integer o, input integer f);
+        obj_at = `RT_OBJECTS_OFFSET + o * `RT_OBJ_WORDS + f;
+    endfunction
+    function [31:0] light_at(input integer l, input integer f);
+        light_at = `RT_LIGHTS_OFFSET + l * `RT_LIGHT_WORDS + f;
+    endfunction
+    function in_field(input [31:0] a, input integer n);
+        in_field = addr >= a && addr < a + n;
+    endfunction
     always @(posedge clk) begin
         if (cfg_we && !busy) begin
             case (cfg_addr)
@@ -89,6 +119,12 @@ module rt_cast #(
                 `RT_HDR_VALUE_FORMAT: value_format <= cfg_data;
                 `RT_HDR_OBJECT_COUNT: obj_count <= cfg_data;
                 `RT_HDR_BIAS: bias <= cfg_data;
+                `RT_HDR_BACKGROUND: background[31:0] <= cfg_data;
+                `RT_HDR_BACKGROUND + 1: background[63:32] <= cfg_data;
+                `RT_HDR_BACKGROUND + 2: background[95:64] <= cfg_data;
+                `RT_HDR_FLAGS: flags <= cfg_data;
+                `RT_HDR_LIGHT_COUNT: light_count <= cfg_data;
+                `RT_HDR_DEPTH: depth <= cfg_data;
                 `RT_HDR_MAX_DISTANCE: max_f32 <= cfg_data;
                 `RT_CAM_PITCH: pitch[31:0] <= cfg_data;
                 `RT_CAM_PITCH + 1: pitch[63:32] <= cfg_data;
@@ -107,16 +143,32 @@ module rt_cast #(
                 default: ;
             endcase
             for (k = 0; k < OBJ; k = k + 1) begin
-                if (addr == `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_SHAPE)
-                    shape_k[k] <= cfg_data[SB-1:0];
-                if (addr >= `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_TRANSLATE &&
-                    addr < `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_TRANSLATE + 3)
-                    trans_k[k][32 * (addr - (`RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS +
-                        `RT_OBJ_TRANSLATE)) +: 32] <= cfg_data;
-                if (addr >= `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_MINV &&
-                    addr < `RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS + `RT_OBJ_MINV + 9)
-                    minv_k[k][32 * (addr - (`RT_OBJECTS_OFFSET + k * `RT_OBJ_WORDS +
-                        `RT_OBJ_MINV)) +: 32] <= cfg_data;
+                if (addr == obj_at(k, `RT_OBJ_SHAPE)) shape_k[k] <= cfg_data[SB-1:0];
+                if (in_field(obj_at(k, `RT_OBJ_TRANSLATE), 3))
+                    trans_k[k][32 * (addr - obj_at(k, `RT_OBJ_TRANSLATE)) +: 32] <= cfg_data;
+                if (in_field(obj_at(k, `RT_OBJ_MINV), 9))
+                    minv_k[k][32 * (addr - obj_at(k, `RT_OBJ_MINV)) +: 32] <= cfg_data;
+                if (addr == obj_at(k, `RT_OBJ_AMBIENT_K)) ka_k[k] <= cfg_data;
+                if (addr == obj_at(k, `RT_OBJ_DIFFUSE_K)) kd_k[k] <= cfg_data;
+                if (addr == obj_at(k, `RT_OBJ_SPECULAR_K)) ks_k[k] <= cfg_data;
+                if (in_field(obj_at(k, `RT_OBJ_AMBIENT_COLOR), 3))
+                    ca_k[k][32 * (addr - obj_at(k, `RT_OBJ_AMBIENT_COLOR)) +: 32] <= cfg_data;
+                if (in_field(obj_at(k, `RT_OBJ_DIFFUSE_COLOR), 3))
+                    cd_k[k][32 * (addr - obj_at(k, `RT_OBJ_DIFFUSE_COLOR)) +: 32] <= cfg_data;
+                if (in_field(obj_at(k, `RT_OBJ_SPECULAR_COLOR), 3))
+                    cs_k[k][32 * (addr - obj_at(k, `RT_OBJ_SPECULAR_COLOR)) +: 32] <= cfg_data;
+                if (addr == obj_at(k, `RT_OBJ_EXPONENT)) e_k[k] <= cfg_data[9:0];
+                if (addr == obj_at(k, `RT_OBJ_DIFFUSE_MODEL)) dmodel_k[k] <= cfg_data;
+                if (addr == obj_at(k, `RT_OBJ_SPECULAR_MODEL)) smodel_k[k] <= cfg_data;
+                if (addr == obj_at(k, `RT_OBJ_REFLECTION_MODE)) refl_k[k] <= cfg_data;
+                if (addr == obj_at(k, `RT_OBJ_TEX_KIND)) tex_k[k] <= cfg_data;
+            end
+            for (k = 0; k < `RT_LIGHT_CAPACITY; k = k + 1) begin
+                if (addr == light_at(k, `RT_LIGHT_KIND)) lkind[k] <= cfg_data;
+                if (in_field(light_at(k, `RT_LIGHT_POSITION), 3))
+                    lpos[k][32 * (addr - light_at(k, `RT_LIGHT_POSITION)) +: 32] <= cfg_data;
+                if (in_field(light_at(k, `RT_LIGHT_COLOR), 3))
+                    lcol[k][32 * (addr - light_at(k, `RT_LIGHT_COLOR)) +: 32] <= cfg_data;
             end
         end
     end
@@ -144,6 +196,24 @@ module rt_cast #(
         end
     endfunction
 
+    // ---- what the core refuses ------------------------------------------------------
+    reg bad_material, bad_lights;
+    integer j;
+    always @(*) begin
+        bad_material = 1'b0;
+        for (j = 0; j < OBJ; j = j + 1) begin
+            if (j < obj_count && (dmodel_k[j] != `RT_DIFFUSE_LAMBERT ||
+                (ks_k[j] != 0 && smodel_k[j] != `RT_SPECULAR_BLINN_PHONG) ||
+                (refl_k[j] != `RT_REFLECTION_NONE && depth > 1) ||
+                tex_k[j] != `RT_TEXTURE_NONE))
+                bad_material = 1'b1;
+        end
+        bad_lights = light_count == 0 || light_count - 1 > LIGHTS;
+        for (j = 1; j < `RT_LIGHT_CAPACITY; j = j + 1) begin
+            if (j < light_count && lkind[j] != `RT_LIGHT_POINT) bad_lights = 1'b1;
+        end
+    end
+
     // ---- frame sequencer ------------------------------------------------------------
     reg [31:0]          tmax;
     reg [KB-1:0]        n_obj;    // objects tested per ray (0: every ray misses)
@@ -169,14 +239,15 @@ module rt_cast #(
         if (rst) begin
             busy <= 1'b0;
             done <= 1'b0;
-            err <= 5'd0;
+            err <= 8'd0;
             feeding <= 1'b0;
             setup <= 5'd0;
         end else begin
             done <= 1'b0;
             if (start && !busy) begin
                 busy <= 1'b1;
-                err <= {width == 0 || height == 0 || pitch[63:PB-2] != 0, 1'b0,
+                err <= {bad_material, bad_lights, (flags & `RT_FLAG_SHADOWS) != 0,
+                        width == 0 || height == 0 || pitch[63:PB-2] != 0, 1'b0,
                         obj_count > OBJ, spp != 1, value_format != `RT_FORMAT_Q16_16};
                 n_obj <= obj_count > OBJ ? OBJ[KB-1:0] : obj_count[KB-1:0];
                 tmax <= f32_to_q16(max_f32);
@@ -315,19 +386,49 @@ module rt_cast #(
     end
     wire [IB-1:0] best_sel = best_k[IB-1:0];
 
-    // ---- the normal, and the pixel ------------------------------------------------------
-    wire [KB+1+32+32-1:0] nt;
-    wire [95:0] nrm;
-    rt_normal #(.TB(KB + 1 + 32 + 32)) u_normal (.clk(clk), .rst(rst), .ce(ce),
+    // ---- the normal -------------------------------------------------------------------
+    localparam integer NT = KB + 1 + 32 + 32 + 96;
+    wire [NT-1:0] nt;
+    wire [95:0]   nrm;
+    wire          n_valid;
+    rt_normal #(.TB(NT)) u_normal (.clk(clk), .rst(rst), .ce(ce),
         .in_valid(r_valid), .shape(shape_k[best_sel]), .lo(best_lo), .ld(best_ld),
-        .t(best_t), .m(minv_k[best_sel]), .d(r_d), .tag({best_k, found, best_t, r_pix}),
-        .out_valid(pix_valid_w), .n(nrm), .tag_out(nt));
+        .t(best_t), .m(minv_k[best_sel]), .d(r_d), .tag({best_k, found, best_t, r_pix, r_d}),
+        .out_valid(n_valid), .n(nrm), .tag_out(nt));
+    wire [95:0]   n_d = nt[95:0];
+    wire [31:0]   n_t = nt[159:128];
+    wire          n_hit = nt[160];
+    wire [IB-1:0] n_sel = nt[161 +: IB];
+
+    // ---- the colour, and the pixel ---------------------------------------------------------
+    reg [96*LIGHTS-1:0] lane_pos, lane_col;
+    reg [LIGHTS-1:0]    lane_lit;
+    always @(*) begin
+        for (j = 0; j < LIGHTS; j = j + 1) begin
+            lane_pos[96*j +: 96] = lpos[j + 1];
+            lane_col[96*j +: 96] = lcol[j + 1];
+            lane_lit[j] = j + 1 < light_count;
+        end
+    end
+    localparam integer ST = KB + 1 + 32 + 32 + 96;
+    wire [ST-1:0] st;
+    wire [23:0]   rgb;
+    /* verilator lint_off PINCONNECTEMPTY */
+    rt_shade #(.LIGHTS(LIGHTS), .TB(ST)) u_shade (.clk(clk), .rst(rst), .ce(ce),
+        .in_valid(n_valid), .hit(n_hit), .eye(eye), .d(n_d), .t(n_t), .n(nrm),
+        .ka(ka_k[n_sel]), .ca(ca_k[n_sel]), .kd(kd_k[n_sel]), .cd(cd_k[n_sel]),
+        .ks(ks_k[n_sel]), .cs(cs_k[n_sel]), .e(e_k[n_sel]), .la(lcol[0]),
+        .background(background), .lit(lane_lit), .lights(lane_pos), .colours(lane_col),
+        .tag({nt[NT-1:96], nrm}), .out_valid(pix_valid_w), .colour(), .rgb(rgb),
+        .tag_out(st));
+    /* verilator lint_on PINCONNECTEMPTY */
     assign pix_valid = pix_valid_w;
-    assign pix_x = nt[15:0];
-    assign pix_y = nt[31:16];
-    assign pix_t = nt[63:32];
-    assign pix_hit = nt[64];
-    assign pix_obj = nt[65 +: KB];
-    assign pix_n = pix_hit ? nrm : 96'd0;
+    assign pix_x = st[111:96];
+    assign pix_y = st[127:112];
+    assign pix_t = st[159:128];
+    assign pix_hit = st[160];
+    assign pix_obj = st[161 +: KB];
+    assign pix_n = pix_hit ? st[95:0] : 96'd0;
+    assign pix_rgb = rgb;
 endmodule
 `default_nettype wire

@@ -71,6 +71,47 @@
 `define RT_OBJ_TRANSLATE 1
 // object block: inverse transform, row-major (real x 9, derived)
 `define RT_OBJ_MINV 45
+// object block: ambient k (real)
+`define RT_OBJ_AMBIENT_K 10
+// object block: ambient colour (real x 3)
+`define RT_OBJ_AMBIENT_COLOR 11
+// object block: diffuse k (real)
+`define RT_OBJ_DIFFUSE_K 14
+// object block: diffuse colour (real x 3)
+`define RT_OBJ_DIFFUSE_COLOR 15
+// object block: diffuse model code
+`define RT_OBJ_DIFFUSE_MODEL 18
+// object block: specular k (real)
+`define RT_OBJ_SPECULAR_K 20
+// object block: specular colour (real x 3)
+`define RT_OBJ_SPECULAR_COLOR 21
+// object block: specular model code
+`define RT_OBJ_SPECULAR_MODEL 24
+// object block: specular exponent (u32)
+`define RT_OBJ_EXPONENT 25
+// object block: reflection mode code
+`define RT_OBJ_REFLECTION_MODE 26
+// object block: texture kind code
+`define RT_OBJ_TEX_KIND 29
+// first word of light 0 (the ambient light)
+`define RT_LIGHTS_OFFSET 38
+// words per light block
+`define RT_LIGHT_WORDS 12
+// light block: kind code
+`define RT_LIGHT_KIND 0
+// light block: position (real x 3)
+`define RT_LIGHT_POSITION 1
+// light block: colour (real x 3)
+`define RT_LIGHT_COLOR 4
+// light kind code of a point light
+`define RT_LIGHT_POINT 1
+// header flags: shadows
+`define RT_FLAG_SHADOWS 1
+// model codes the core builds: Lambert, Blinn-Phong, no reflection, no texture
+`define RT_DIFFUSE_LAMBERT 0
+`define RT_SPECULAR_BLINN_PHONG 0
+`define RT_REFLECTION_NONE 0
+`define RT_TEXTURE_NONE 0
 // value format codes
 `define RT_FORMAT_Q16_16 0
 `define RT_FORMAT_BINARY32 1

@@ -906,3 +906,17 @@ fn q16_cores_are_integer_formulas_everywhere() {
         .collect();
     assert!(bad.is_empty(), "words whose cores differ: {bad:?}");
 }
+
+/// The Blinn–Phong norm (e + 2)/(2π), which the model rounds to Q16.16 from f64
+/// (`shade::SpecParams::new`), is the integer ((e + 2)·C + 2³⁹) ≫ 40 with
+/// C = round(2⁵⁶/(2π)) for every exponent the register map allows: the formula the RTL's
+/// light lane computes (hw/rt-core/rtl/rt_light.v, NORM_C), which has no f64.
+#[test]
+fn blinn_phong_norm_is_an_integer_formula() {
+    const C: u64 = 0x28_be60_db93_9105;
+    for e in 0..=1023u32 {
+        let p = sim_target::rt::shade::SpecParams::<Q16_16>::new(e, 1.0, 0.0, SqrtKind::Exact);
+        let rtl = ((u64::from(e) + 2) * C + (1 << 39)) >> 40;
+        assert_eq!(i64::from(p.norm.0.to_bits()), rtl as i64, "exponent {e}");
+    }
+}

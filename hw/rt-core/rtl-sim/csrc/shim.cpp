@@ -119,7 +119,8 @@ RtCast* rt_cast_new() {
 void rt_cast_free(RtCast* m) { delete m; }
 
 // One clock. in: cfg_we, cfg_addr, cfg_data, start, hold. out: busy, done, err,
-// pix_valid, pix_x, pix_y, pix_hit, pix_obj, pix_t, pix_n x, y, z after the rising edge.
+// pix_valid, pix_x, pix_y, pix_hit, pix_obj, pix_t, pix_n x, y, z, pix_rgb after the
+// rising edge.
 void rt_cast_cycle(RtCast* m, const uint32_t* in, uint32_t* out) {
     Vrt_cast& t = *m->top;
     t.cfg_we = in[0] != 0;
@@ -140,6 +141,7 @@ void rt_cast_cycle(RtCast* m, const uint32_t* in, uint32_t* out) {
     out[9] = t.pix_n[0];
     out[10] = t.pix_n[1];
     out[11] = t.pix_n[2];
+    out[12] = t.pix_rgb;
 }
 
 }  // extern "C"

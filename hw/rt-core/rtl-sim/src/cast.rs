@@ -1,5 +1,5 @@
 //! The frame core `rt_cast`: a scene image in through its configuration port, one result
-//! per pixel out (the nearest hit's object, distance and normal).
+//! per pixel out (the nearest hit's object, distance and normal, and the colour).
 
 use std::ptr::NonNull;
 
@@ -20,6 +20,8 @@ pub struct CastPixel {
     pub t: i32,
     /// The world-space unit normal facing the ray, Q16.16 bits (0 for a miss).
     pub n: [i32; 3],
+    /// The colour, RGB888 (R, G, B).
+    pub rgb: [u8; 3],
 }
 
 /// A frame from `rt_cast`.
@@ -30,7 +32,8 @@ pub struct CastFrame {
     /// Clock edges from the start pulse to the one after which `done` was high.
     pub cycles: u64,
     /// The core's refusal bits (`rt_cast.v`: value format, samples per pixel, object
-    /// count, a shape not built, the frame's geometry); 0 for a frame it could render.
+    /// count, a shape not built, the frame's geometry, shadows, lights, materials); 0 for
+    /// a frame it could render.
     pub err: u8,
 }
 
@@ -57,7 +60,8 @@ pub enum CastError {
     Address(usize),
 }
 
-/// The Verilated `rt_cast` with every shape built and the default object capacity.
+/// The Verilated `rt_cast` with every shape built, the default object capacity and one
+/// point-light lane.
 pub struct Cast {
     model: NonNull<ffi::RtCast>,
     cycle: u64,
@@ -73,8 +77,8 @@ impl Cast {
     /// latency.
     pub const RAYGEN: u64 = 87;
     /// Clock edges from a ray's last pair to its pixel's result: transform 3,
-    /// intersection 73, reduction 1, normal 92.
-    pub const TAIL: u64 = 169;
+    /// intersection 73, reduction 1, normal 92, colour 208.
+    pub const TAIL: u64 = 377;
 
     /// A fresh model, reset for four cycles.
     pub fn new() -> Result<Self, RtlError> {
@@ -84,7 +88,7 @@ impl Cast {
         })
     }
 
-    fn edge(&mut self, cfg: Option<(u16, u32)>, start: bool, hold: bool) -> [u32; 12] {
+    fn edge(&mut self, cfg: Option<(u16, u32)>, start: bool, hold: bool) -> [u32; 13] {
         let (addr, data) = cfg.unwrap_or_default();
         let inputs = [
             u32::from(cfg.is_some()),
@@ -137,6 +141,7 @@ impl Cast {
                     obj: out[7] as u8,
                     t: out[8] as i32,
                     n: [out[9] as i32, out[10] as i32, out[11] as i32],
+                    rgb: [(out[12] >> 16) as u8, (out[12] >> 8) as u8, out[12] as u8],
                 });
             }
             out = self.edge(None, false, held);

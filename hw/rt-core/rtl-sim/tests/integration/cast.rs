@@ -1,6 +1,9 @@
 //! The frame core `rt_cast` against the golden model rendering the same register image in
-//! Q16.16 with its AOV planes: for every pixel the same hit or miss, the same object, the
-//! same depth and the same normal, bit for bit, and the frame's cycle count by formula.
+//! Q16.16 with its AOV planes: for every pixel the same colour, the same hit or miss, the
+//! same object, the same depth and the same normal, bit for bit, and the frame's cycle
+//! count by formula. Materials: Lambert with or without an ambient term and a Blinn-Phong
+//! highlight (exponents 0 to 1023), one point light or none, lights bright enough to
+//! clip, backgrounds beyond [0, 1].
 //!
 //! Scenes: random cameras (position, aim, up, field of view) and one to eight objects of
 //! every shape, rotated or not, scaled per axis, in front of, around and behind the
@@ -13,21 +16,35 @@ use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use rt_core_rtl_sim::{Cast, CastFrame};
 use sim_target::rt::{
-    self, Camera, DiffuseModel, Material, Numeric, Object, Reflection, RenderOptions, Scene, Shape,
-    Term, NO_OBJECT,
+    self, Camera, DiffuseModel, Light, Material, Numeric, Object, Reflection, RenderOptions, Scene,
+    Shape, Specular, SpecularModel, Term, NO_OBJECT,
 };
 use sim_target::scene_regs::from_regs;
 
-fn material() -> Material {
+/// A Lambert material, with or without an ambient term and a Blinn-Phong highlight.
+fn material(rng: &mut SmallRng) -> Material {
+    let colour = |rng: &mut SmallRng| [0, 1, 2].map(|_| rng.gen_range(0.0..1.0));
     Material {
         name: "m".into(),
-        ambient: None,
+        ambient: rng.gen_bool(0.7).then(|| Term {
+            k: rng.gen_range(0.05..1.0),
+            color: colour(rng),
+        }),
         diffuse: Term {
-            k: 0.8,
-            color: [0.5, 0.6, 0.7],
+            k: rng.gen_range(0.0..1.0),
+            color: colour(rng),
         },
         diffuse_model: DiffuseModel::Lambert,
-        specular: None,
+        specular: rng.gen_bool(0.6).then(|| Specular {
+            k: rng.gen_range(0.05..1.0),
+            color: colour(rng),
+            model: SpecularModel::BlinnPhong,
+            exponent: match rng.gen_range(0..4) {
+                0 => rng.gen_range(0..4),
+                1 => rng.gen_range(0..=1023),
+                _ => rng.gen_range(4..200),
+            },
+        }),
         reflection: Reflection::None,
         texture: None,
     }
@@ -85,6 +102,7 @@ fn scene(rng: &mut SmallRng, class: u32) -> Scene {
             }
         })
         .collect();
+    let mut materials = Vec::new();
     match class {
         // coincident: a copy of an object later in the list
         1 if !objects.is_empty() => {
@@ -119,6 +137,24 @@ fn scene(rng: &mut SmallRng, class: u32) -> Scene {
         }
         _ => {}
     }
+    for (i, o) in objects.iter_mut().enumerate() {
+        o.material = i;
+        materials.push(material(rng));
+    }
+    if materials.is_empty() {
+        materials.push(material(rng));
+    }
+    // none or one point light (the core's default build has one lane), sometimes bright
+    // enough to clip
+    let lights = if rng.gen_bool(0.85) {
+        vec![Light {
+            position: v3(rng, 10.0 * unit),
+            color: [0, 1, 2].map(|_| rng.gen_range(0.0..60.0) * unit.min(400.0)),
+            spot: None,
+        }]
+    } else {
+        Vec::new()
+    };
     let dist = (0..3)
         .map(|a| (position[a] - look_at[a]).powi(2))
         .sum::<f64>()
@@ -137,7 +173,7 @@ fn scene(rng: &mut SmallRng, class: u32) -> Scene {
         } else {
             1e6
         },
-        background: [0.1, 0.2, 0.3],
+        background: [0, 1, 2].map(|_| rng.gen_range(-0.2..1.2)),
         spp: 1,
         shadows: false,
         camera: Camera {
@@ -146,9 +182,9 @@ fn scene(rng: &mut SmallRng, class: u32) -> Scene {
             up,
             fov_y: rng.gen_range(15.0..120.0),
         },
-        ambient: [0.1; 3],
-        lights: Vec::new(),
-        materials: vec![material()],
+        ambient: [0, 1, 2].map(|_| rng.gen_range(0.0..0.5)),
+        lights,
+        materials,
         objects,
     }
 }
@@ -194,6 +230,13 @@ fn compare(rtl: &CastFrame, m: &rt::Frame) -> Result<(), String> {
         let d = if p.hit { f(p.t) } else { f32::INFINITY };
         let n = p.n.map(f);
         let mn = [normal[3 * i], normal[3 * i + 1], normal[3 * i + 2]];
+        let mrgb = [m.rgb8[3 * i], m.rgb8[3 * i + 1], m.rgb8[3 * i + 2]];
+        if p.rgb != mrgb {
+            return Err(format!(
+                "pixel ({x}, {y}): RTL colour {:?}, model {mrgb:?} (object {obj}, depth {d})",
+                p.rgb
+            ));
+        }
         if obj != object[i]
             || d.to_bits() != depth[i].to_bits()
             || n.map(f32::to_bits) != mn.map(f32::to_bits)
@@ -212,7 +255,7 @@ fn compare(rtl: &CastFrame, m: &rt::Frame) -> Result<(), String> {
 fn generated_scenes_give_the_models_aov_planes() {
     let mut rng = SmallRng::seed_from_u64(0x7274_6361);
     let mut core = Cast::new().expect("Verilated rt_cast");
-    let (mut pixels, mut hits) = (0usize, 0usize);
+    let (mut pixels, mut hits, mut mid) = (0usize, 0usize, 0usize);
     let mut shapes_hit = [0usize; 7];
     for k in 0..300u32 {
         let s = scene(&mut rng, k % 8);
@@ -231,11 +274,15 @@ fn generated_scenes_give_the_models_aov_planes() {
         pixels += frame.pixels.len();
         for p in frame.pixels.iter().filter(|p| p.hit) {
             hits += 1;
+            // a colour neither black nor clipped in some channel: the shading's arithmetic
+            // showed, not only its clamps
+            mid += usize::from(p.rgb.iter().any(|c| (1..=254).contains(c)));
             shapes_hit[s.objects[usize::from(p.obj)].shape.code() as usize] += 1;
         }
     }
-    eprintln!("{pixels} pixels, {hits} hits, per shape {shapes_hit:?}");
+    eprintln!("{pixels} pixels, {hits} hits ({mid} in mid-tones), per shape {shapes_hit:?}");
     assert!(hits * 5 > pixels, "too few hits: {hits} of {pixels}");
+    assert!(mid * 2 > hits, "too few mid-tone hits: {mid} of {hits}");
     assert!(
         shapes_hit.iter().all(|&n| n > 200),
         "a shape is hit too rarely: {shapes_hit:?}"
@@ -268,4 +315,66 @@ fn holding_the_core_changes_nothing_but_time() {
             "scene {k}: every held edge adds one cycle"
         );
     }
+}
+
+/// A change to a scene.
+type Edit = Box<dyn Fn(&mut Scene)>;
+
+/// Each scene feature the core does not build raises its own refusal bit.
+#[test]
+fn what_the_core_does_not_build_is_refused() {
+    let mut rng = SmallRng::seed_from_u64(0x7265_6675);
+    let mut core = Cast::new().expect("Verilated rt_cast");
+    let base = loop {
+        let s = scene(&mut rng, 0);
+        if !s.lights.is_empty() {
+            break s;
+        }
+    };
+    let cases: Vec<(&str, u8, Edit)> = vec![
+        ("nothing", 0, Box::new(|_| {})),
+        ("2 samples per pixel", 1 << 1, Box::new(|s| s.spp = 2)),
+        ("shadows", 1 << 5, Box::new(|s| s.shadows = true)),
+        (
+            "a spot light",
+            1 << 6,
+            Box::new(|s| {
+                s.lights[0].spot = Some(rt::Spot {
+                    direction: [0.0, -1.0, 0.0],
+                    cos_outer: 0.5,
+                    cos_inner: 0.7,
+                })
+            }),
+        ),
+        (
+            "Oren-Nayar",
+            1 << 7,
+            Box::new(|s| s.materials[0].diffuse_model = DiffuseModel::OrenNayar { sigma2: 0.3 }),
+        ),
+        (
+            "a reflection at depth 2",
+            1 << 7,
+            Box::new(|s| {
+                s.depth = 2;
+                s.materials[0].reflection = Reflection::Constant(0.5);
+            }),
+        ),
+    ];
+    for (what, bits, edit) in cases {
+        let mut s = base.clone();
+        edit(&mut s);
+        let regs = jobs::scene::to_regs(&s).expect("scene fits the registers");
+        let words: Vec<u32> = regs.words().collect();
+        core.load(&words).expect("image fits");
+        let frame = core.render(1 << 22, |_| false).expect("frame completes");
+        assert_eq!(frame.err, bits, "{what}: err {:#010b}", frame.err);
+    }
+    // more lights than the core's lanes: the map itself holds only one point light, so
+    // the word is written directly
+    let regs = jobs::scene::to_regs(&base).expect("scene fits the registers");
+    let mut words: Vec<u32> = regs.words().collect();
+    words[protocol::scene::hdr::LIGHT_COUNT] = 3;
+    core.load(&words).expect("image fits");
+    let frame = core.render(1 << 22, |_| false).expect("frame completes");
+    assert_eq!(frame.err, 1 << 6, "three lights: err {:#010b}", frame.err);
 }
