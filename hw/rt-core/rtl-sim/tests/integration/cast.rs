@@ -378,3 +378,60 @@ fn what_the_core_does_not_build_is_refused() {
     let frame = core.render(1 << 22, |_| false).expect("frame completes");
     assert_eq!(frame.err, 1 << 6, "three lights: err {:#010b}", frame.err);
 }
+
+/// The reference scene reduced to what the core builds: textures, reflections and
+/// shadows off, the spot light a point light, Oren–Nayar as Lambert, Torrance–Sparrow as
+/// Blinn–Phong with its exponent.
+fn reduced_reference(width: u32, height: u32) -> Scene {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../examples/reference.toml"
+    ))
+    .expect("examples/reference.toml");
+    let mut s = jobs::scene::parse(&text, "reference.toml").expect("reference parses");
+    s.width = width;
+    s.height = height;
+    s.depth = 1;
+    s.shadows = false;
+    for l in &mut s.lights {
+        l.spot = None;
+    }
+    for m in &mut s.materials {
+        m.texture = None;
+        m.reflection = Reflection::None;
+        m.diffuse_model = DiffuseModel::Lambert;
+        if let Some(sp) = &mut m.specular {
+            sp.model = SpecularModel::BlinnPhong;
+        }
+    }
+    s
+}
+
+/// The reduced reference scene at 160 × 90: every plane equal to the model's. Prints the
+/// Verilated core's wall time and pairs per second (the figures docs/rt-core.md quotes).
+#[test]
+fn the_reduced_reference_scene_matches_the_model() {
+    let s = reduced_reference(160, 90);
+    let (words, m) = model(&s);
+    let mut core = Cast::new().expect("Verilated rt_cast");
+    core.load(&words).expect("image fits");
+    let start = std::time::Instant::now();
+    let frame = core.render(1 << 26, |_| false).expect("frame completes");
+    let secs = start.elapsed().as_secs_f64();
+    assert_eq!(frame.err, 0, "the core refused the reduced reference scene");
+    if let Err(e) = compare(&frame, &m) {
+        panic!("reduced reference: {e}");
+    }
+    assert_eq!(
+        frame.cycles,
+        expected_cycles(s.width, s.height, s.objects.len())
+    );
+    let pairs = u64::from(s.width * s.height) * s.objects.len() as u64;
+    eprintln!(
+        "reduced reference 160x90: {} cycles, {:.2} s Verilated, {:.0} pairs/s, {:.0} rays/s",
+        frame.cycles,
+        secs,
+        pairs as f64 / secs,
+        f64::from(s.width * s.height) / secs
+    );
+}
