@@ -168,3 +168,64 @@ fn bad_input_names_the_file() {
     ]);
     assert!(err.contains(&out), "{err}");
 }
+
+/// The ray-casting core's RTL checked by the tools: `fpgfx vectors render` of a scene the
+/// core builds drives `hw/rt-core/tb/tb_rt_vectors.v` under Icarus (every pixel's colour,
+/// depth and normal against the vectors), and `fpgfx compare` finds the frame the bench
+/// wrote identical to the expected one. A missing Icarus fails with "run cargo xtask
+/// setup".
+#[test]
+fn render_vectors_drive_the_rt_core_under_icarus_and_compare_finds_an_exact_match() {
+    use std::process::Command;
+    let dir = tmp("vectors-rt-core");
+    ok(&[
+        "vectors",
+        "render",
+        &example("rt/core.toml"),
+        "-o",
+        &dir,
+        "--numeric",
+        "q16.16",
+        "--size",
+        "24x14",
+    ]);
+    let ws = crate::common::workspace();
+    let core = ws.join("hw/rt-core");
+    let vvp = format!("{dir}/tb_rt_vectors.vvp");
+    let build = Command::new("iverilog")
+        .args(["-g2012", "-I"])
+        .arg(core.join("rtl"))
+        .arg("-I")
+        .arg(ws.join("hw/shared-tb"))
+        .args(["-s", "tb_rt_vectors", "-o", &vvp])
+        .arg(core.join("tb/tb_rt_vectors.v"))
+        .args(
+            std::fs::read_dir(core.join("rtl"))
+                .expect("hw/rt-core/rtl")
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "v")),
+        )
+        .output()
+        .unwrap_or_else(|e| panic!("iverilog: {e} (run cargo xtask setup)"));
+    assert!(
+        build.status.success(),
+        "iverilog: {}",
+        String::from_utf8_lossy(&build.stderr)
+    );
+    let sim = Command::new("vvp")
+        .args(["-n", &vvp, &format!("+vec={dir}")])
+        .output()
+        .unwrap_or_else(|e| panic!("vvp: {e} (run cargo xtask setup)"));
+    let out = String::from_utf8_lossy(&sim.stdout);
+    assert!(out.contains("TB_RT_CORE PASS: 1680 checks"), "{out}");
+    let cmp = ok(&[
+        "compare",
+        &format!("{dir}/expected_rgb888.hex"),
+        &format!("{dir}/actual_rgb888.hex"),
+    ]);
+    assert!(
+        cmp.stdout.contains("336 identical") && cmp.stdout.contains("failing     0"),
+        "{}",
+        cmp.stdout
+    );
+}
