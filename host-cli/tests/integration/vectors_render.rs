@@ -217,7 +217,7 @@ fn render_vectors_drive_the_rt_core_under_icarus_and_compare_finds_an_exact_matc
         .output()
         .unwrap_or_else(|e| panic!("vvp: {e} (run cargo xtask setup)"));
     let out = String::from_utf8_lossy(&sim.stdout);
-    assert!(out.contains("TB_RT_CORE PASS: 1680 checks"), "{out}");
+    assert!(out.contains("TB_RT_CORE PASS: 2016 checks"), "{out}");
     let cmp = ok(&[
         "compare",
         &format!("{dir}/expected_rgb888.hex"),

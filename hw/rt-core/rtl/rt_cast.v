@@ -29,7 +29,8 @@
 //   hold: high stalls every stage and the pixel sequencer (the output's back-pressure).
 //   pix_*: one result per pixel in raster order: x, y, hit, obj (the nearest object's
 //   index), t (its distance, Q16.16), n (world-space unit normal facing the ray; 0 for a
-//   miss), rgb (R in bits 23:16), pix_valid.
+//   miss), rgb (R in bits 23:16), kcu116 (G << 8 | B at even x, G << 8 | R at odd x),
+//   pix_valid.
 // Timing: after start, SETUP = 17 clocks, then one ray per max(N, 1) clocks into the
 // generator (latency 87); a pixel's result leaves 377 clocks after its ray's last pair
 // (xform 3, isect 73, the reduction 1, the normal 92, the colour 208).
@@ -59,7 +60,8 @@ module rt_cast #(
     output wire [7:0]  pix_obj,
     output wire [31:0] pix_t,
     output wire [95:0] pix_n,
-    output wire [23:0] pix_rgb
+    output wire [23:0] pix_rgb,
+    output wire [15:0] pix_kcu116
 );
     generate
         if (OBJ < 1 || OBJ > `RT_OBJ_CAPACITY || OBJ > 255 || LIGHTS < 1 ||
@@ -430,5 +432,8 @@ module rt_cast #(
     assign pix_obj = st[161 +: KB];
     assign pix_n = pix_hit ? st[95:0] : 96'd0;
     assign pix_rgb = rgb;
+    // ViRAY's 16-bit mode on the KCU116 (sim-target's `pack_kcu116`): G and B at even x,
+    // G and R at odd x
+    assign pix_kcu116 = {rgb[15:8], pix_x[0] ? rgb[23:16] : rgb[7:0]};
 endmodule
 `default_nettype wire

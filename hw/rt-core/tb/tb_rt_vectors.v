@@ -1,7 +1,8 @@
 // tb_rt_vectors -- the ray-casting core driven by `fpgfx vectors render` output: the
 // scene image (scene_regs.hex) through the configuration port, one frame, and every
-// pixel's colour, depth and normal against the golden model's (expected_rgb888.hex,
-// expected_depth.hex, expected_normal.hex; docs/vectors.md). Writes the core's frame as
+// pixel's colour (RGB888 and the KCU116 word), depth and normal against the golden
+// model's (expected_rgb888.hex, expected_kcu116.hex, expected_depth.hex,
+// expected_normal.hex; docs/vectors.md). Writes the core's frame as
 // actual_rgb888.hex beside them, for `fpgfx compare`.
 //
 // Usage (Icarus): iverilog -g2012 -I hw/rt-core/rtl -I hw/shared-tb -s tb_rt_vectors
@@ -29,13 +30,16 @@ module tb_rt_vectors;
     wire [31:0] pix_t;
     wire [95:0] pix_n;
     wire [23:0] pix_rgb;
+    wire [15:0] pix_kcu116;
     rt_cast dut (.clk(clk), .rst(rst), .cfg_we(cfg_we), .cfg_addr(cfg_addr),
         .cfg_data(cfg_data), .start(start), .hold(1'b0), .busy(busy), .done(done), .err(err),
         .pix_valid(pix_valid), .pix_x(pix_x), .pix_y(pix_y), .pix_hit(pix_hit),
-        .pix_obj(pix_obj), .pix_t(pix_t), .pix_n(pix_n), .pix_rgb(pix_rgb));
+        .pix_obj(pix_obj), .pix_t(pix_t), .pix_n(pix_n), .pix_rgb(pix_rgb),
+        .pix_kcu116(pix_kcu116));
 
     reg [31:0] regs [0:`RT_SCENE_WORDS-1];
     reg [23:0] exp_rgb [0:MAXPIX-1];
+    reg [15:0] exp_kcu [0:MAXPIX-1];
     reg [31:0] exp_depth [0:MAXPIX-1];
     reg [31:0] exp_normal [0:3*MAXPIX-1];
     reg [23:0] got_rgb [0:MAXPIX-1];
@@ -106,6 +110,8 @@ module tb_rt_vectors;
         end
         $sformat(path, "%0s/expected_rgb888.hex", dir);
         $readmemh(path, exp_rgb, 0, w * h - 1);
+        $sformat(path, "%0s/expected_kcu116.hex", dir);
+        $readmemh(path, exp_kcu, 0, w * h - 1);
         $sformat(path, "%0s/expected_depth.hex", dir);
         $readmemh(path, exp_depth, 0, w * h - 1);
         $sformat(path, "%0s/expected_normal.hex", dir);
@@ -139,6 +145,7 @@ module tb_rt_vectors;
                 end
                 got_rgb[n] = pix_rgb;
                 check("colour", n, {8'd0, pix_rgb}, {8'd0, exp_rgb[n]});
+                check("kcu116", n, {16'd0, pix_kcu116}, {16'd0, exp_kcu[n]});
                 depth = pix_hit ? q16_to_f32(pix_t) : 32'h7f80_0000;
                 check("depth", n, depth, exp_depth[n]);
                 nx = q16_to_f32(pix_n[31:0]);

@@ -119,8 +119,8 @@ RtCast* rt_cast_new() {
 void rt_cast_free(RtCast* m) { delete m; }
 
 // One clock. in: cfg_we, cfg_addr, cfg_data, start, hold. out: busy, done, err,
-// pix_valid, pix_x, pix_y, pix_hit, pix_obj, pix_t, pix_n x, y, z, pix_rgb after the
-// rising edge.
+// pix_valid, pix_x, pix_y, pix_hit, pix_obj, pix_t, pix_n x, y, z, pix_rgb, pix_kcu116
+// after the rising edge.
 void rt_cast_cycle(RtCast* m, const uint32_t* in, uint32_t* out) {
     Vrt_cast& t = *m->top;
     t.cfg_we = in[0] != 0;
@@ -142,6 +142,7 @@ void rt_cast_cycle(RtCast* m, const uint32_t* in, uint32_t* out) {
     out[10] = t.pix_n[1];
     out[11] = t.pix_n[2];
     out[12] = t.pix_rgb;
+    out[13] = t.pix_kcu116;
 }
 
 }  // extern "C"

@@ -22,6 +22,8 @@ pub struct CastPixel {
     pub n: [i32; 3],
     /// The colour, RGB888 (R, G, B).
     pub rgb: [u8; 3],
+    /// The colour in ViRAY's 16-bit KCU116 mode: G << 8 | B at even x, G << 8 | R at odd.
+    pub kcu116: u16,
 }
 
 /// A frame from `rt_cast`.
@@ -88,7 +90,7 @@ impl Cast {
         })
     }
 
-    fn edge(&mut self, cfg: Option<(u16, u32)>, start: bool, hold: bool) -> [u32; 13] {
+    fn edge(&mut self, cfg: Option<(u16, u32)>, start: bool, hold: bool) -> [u32; 14] {
         let (addr, data) = cfg.unwrap_or_default();
         let inputs = [
             u32::from(cfg.is_some()),
@@ -142,6 +144,7 @@ impl Cast {
                     t: out[8] as i32,
                     n: [out[9] as i32, out[10] as i32, out[11] as i32],
                     rgb: [(out[12] >> 16) as u8, (out[12] >> 8) as u8, out[12] as u8],
+                    kcu116: out[13] as u16,
                 });
             }
             out = self.edge(None, false, held);

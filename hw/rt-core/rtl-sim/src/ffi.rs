@@ -53,9 +53,9 @@ pub(crate) fn cast_free(m: NonNull<RtCast>) {
 }
 
 #[cfg(verilated)]
-pub(crate) fn cast_cycle(m: NonNull<RtCast>, inputs: &[u32; 5]) -> [u32; 13] {
-    let mut out = [0u32; 13];
-    // SAFETY: the shim reads 5 words and writes 13, the arrays' sizes.
+pub(crate) fn cast_cycle(m: NonNull<RtCast>, inputs: &[u32; 5]) -> [u32; 14] {
+    let mut out = [0u32; 14];
+    // SAFETY: the shim reads 5 words and writes 14, the arrays' sizes.
     unsafe { sys::rt_cast_cycle(m.as_ptr(), inputs.as_ptr(), out.as_mut_ptr()) };
     out
 }
@@ -69,8 +69,8 @@ pub(crate) fn cast_new() -> Result<NonNull<RtCast>, RtlError> {
 pub(crate) fn cast_free(_: NonNull<RtCast>) {}
 
 #[cfg(not(verilated))]
-pub(crate) fn cast_cycle(_: NonNull<RtCast>, _: &[u32; 5]) -> [u32; 13] {
-    [0; 13]
+pub(crate) fn cast_cycle(_: NonNull<RtCast>, _: &[u32; 5]) -> [u32; 14] {
+    [0; 14]
 }
 
 #[cfg(verilated)]

@@ -221,6 +221,7 @@ fn compare(rtl: &CastFrame, m: &rt::Frame) -> Result<(), String> {
     let (Some(depth), Some(normal), Some(object)) = (&m.depth, &m.normal, &m.object) else {
         return Err("model has no AOV planes".into());
     };
+    let kcu116 = rt::pack_kcu116(&m.rgb8, m.width);
     for (i, p) in rtl.pixels.iter().enumerate() {
         let (x, y) = (i % w, i / w);
         if (usize::from(p.x), usize::from(p.y)) != (x, y) {
@@ -231,6 +232,12 @@ fn compare(rtl: &CastFrame, m: &rt::Frame) -> Result<(), String> {
         let n = p.n.map(f);
         let mn = [normal[3 * i], normal[3 * i + 1], normal[3 * i + 2]];
         let mrgb = [m.rgb8[3 * i], m.rgb8[3 * i + 1], m.rgb8[3 * i + 2]];
+        if p.kcu116 != kcu116[i] {
+            return Err(format!(
+                "pixel ({x}, {y}): RTL KCU116 word {:#06x}, model {:#06x}",
+                p.kcu116, kcu116[i]
+            ));
+        }
         if p.rgb != mrgb {
             return Err(format!(
                 "pixel ({x}, {y}): RTL colour {:?}, model {mrgb:?} (object {obj}, depth {d})",
