@@ -213,6 +213,58 @@ pub struct Caps {
     /// picks the image's format with [`crate::scene::ValueFormat::for_caps`]. Empty: the
     /// seed's Q16.16 image for every format.
     pub float_regs: NumericSet,
+    /// What the ray tracer's datapath builds: a hardware core carries only the shapes
+    /// and shading terms its scenes need, and the host refuses a scene that asks for more,
+    /// naming the field, before anything is sent. [`RtBuild::FULL`] (the default) for the
+    /// golden model and every block that implements the whole register map.
+    pub rt_build: RtBuild,
+}
+
+/// The shapes, lights and shading terms a ray-tracing datapath builds ([`Caps::rt_build`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Schema)]
+pub struct RtBuild {
+    /// Shapes built: bit i is shape code i ([`crate::scene::Shape::code`]).
+    pub shapes: u8,
+    /// Point and spot lights shaded, the ambient light not counted.
+    pub lights: u8,
+    /// Samples per pixel taken at most.
+    pub max_spp: u16,
+    /// The `RtBuild::SHADOWS` … bits of the terms built.
+    pub features: u16,
+}
+
+impl RtBuild {
+    /// Shadow rays (the scene's `shadows`).
+    pub const SHADOWS: u16 = 1 << 0;
+    /// Spot lights (a point light is always built).
+    pub const SPOT_LIGHTS: u16 = 1 << 1;
+    /// Textures.
+    pub const TEXTURES: u16 = 1 << 2;
+    /// Reflected and refracted rays (a material's reflection at depth > 1).
+    pub const REFLECTION: u16 = 1 << 3;
+    /// The Oren–Nayar diffuse term (Lambert is always built).
+    pub const OREN_NAYAR: u16 = 1 << 4;
+    /// The Torrance–Sparrow highlight (Blinn–Phong is always built).
+    pub const TORRANCE_SPARROW: u16 = 1 << 5;
+    /// Every shape, light count, sample count and term: the whole register map.
+    pub const FULL: RtBuild = RtBuild {
+        shapes: 0x7f,
+        lights: u8::MAX,
+        max_spp: u16::MAX,
+        features: 0x3f,
+    };
+
+    /// Whether every bit of `feature` is built.
+    pub const fn has(&self, feature: u16) -> bool {
+        self.features & feature == feature
+    }
+}
+
+/// A target that says nothing about its ray tracer builds the whole map.
+impl Default for RtBuild {
+    fn default() -> Self {
+        Self::FULL
+    }
 }
 
 /// The first message in each direction. Each side compares the other's

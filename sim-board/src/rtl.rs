@@ -52,6 +52,8 @@ pub fn caps() -> Caps {
         // The engine fills in the layout it packs in.
         raster_layout: None,
         float_regs: NumericSet::default(),
+        // no ray tracer: `ray_trace` is false, which refuses every scene first
+        rt_build: protocol::frame::RtBuild::FULL,
     }
 }
 

@@ -145,6 +145,8 @@ impl Device {
             // The float datapaths take IEEE words; the fixed ones (and f16, an experiment
             // without an HLS port of its own) read the seed's Q16.16.
             float_regs: NumericSet::default().with(Numeric::F32).with(Numeric::F64),
+            // the golden model renders everything the register map can express
+            rt_build: protocol::frame::RtBuild::FULL,
         }
     }
 

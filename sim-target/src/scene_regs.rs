@@ -31,6 +31,10 @@ pub enum SceneRegsError {
     /// An uploaded-image texture: the model only generates procedural ones.
     #[error("object {0}: image textures are not supported by this model")]
     ImageTexture(usize),
+    /// The target's ray tracer does not build what the scene asks for
+    /// (`protocol::frame::RtBuild`); the message names the scene field.
+    #[error("the target does not build this scene: {0}")]
+    NotBuilt(String),
     /// A derived word (camera basis, pixel pitch, an object's inverse transform) is not
     /// what the image's other words imply: a core reading it would trace other rays than
     /// the model.

@@ -179,6 +179,7 @@ fn caps() -> Caps {
         texture_words: 4096,
         raster_layout: None,
         float_regs: NumericSet::default(),
+        rt_build: protocol::frame::RtBuild::FULL,
     }
 }
 

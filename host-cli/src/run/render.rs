@@ -188,12 +188,17 @@ pub struct RenderOutput {
 /// Writes `scene` into the register image the connected target wants for a frame in
 /// `numeric`: binary32 reals where its caps list the format as a float datapath, Q16.16
 /// otherwise (and before a handshake, when the target is unknown). The one place the host
-/// decides the image's value format, so render and animate cannot disagree.
+/// decides the image's value format, so render and animate cannot disagree; also where a
+/// scene asking for more than the target's ray tracer builds (`Caps::rt_build`) is
+/// refused, naming the field, before anything is sent.
 pub fn scene_regs<T: Transport>(
     session: &Session<T>,
     scene: &Scene,
     numeric: Numeric,
 ) -> Result<Regs, SceneRegsError> {
+    if let Some(p) = session.peer() {
+        jobs::scene::check_build(scene, &p.caps.rt_build)?;
+    }
     let format = session.peer().map_or(ValueFormat::Q16_16, |p| {
         ValueFormat::for_caps(&p.caps, numeric)
     });

@@ -124,6 +124,7 @@ fn caps() -> Caps {
         texture_words: 65536,
         raster_layout: None,
         float_regs: NumericSet::default(),
+        rt_build: protocol::frame::RtBuild::FULL,
     }
 }
 

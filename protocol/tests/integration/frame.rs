@@ -31,6 +31,7 @@ fn caps() -> Caps {
         texture_words: 65536,
         raster_layout: Some(protocol::bus::LayoutId::Fitkit),
         float_regs: NumericSet(0b11),
+        rt_build: protocol::frame::RtBuild::FULL,
     }
 }
 
@@ -54,6 +55,8 @@ const HELLO: &[u8] = &[
     0x08, 0x02, 0x80, 0x80, 0x04, // objects, lights, texture words 65536
     0x01, 0x00, // raster layout Some(Fitkit)
     0x03, // float_regs mask (f64, f32)
+    0x7f, 0xff, // rt_build: every shape, any number of lights
+    0xff, 0xff, 0x03, 0x3f, // max_spp 65535, every feature
     0x02, 0x66, 0x77, // "fw"
 ];
 
@@ -371,7 +374,7 @@ fn schema_hash_is_pinned() {
     // by version rather than by hash.
     assert_eq!(SCHEMA_HASH, schema_hash());
     println!("schema hash {SCHEMA_HASH:#018x}");
-    assert_eq!(SCHEMA_HASH, 0xb2f4f9af77649538);
+    assert_eq!(SCHEMA_HASH, 0x0fda_4794_50b3_6bc8);
 }
 
 #[test]
@@ -761,6 +764,7 @@ fn hello_s() -> impl Strategy<Value = Hello> {
                     texture_words: c.11,
                     raster_layout,
                     float_regs: NumericSet(float_regs),
+                    rt_build: protocol::frame::RtBuild::FULL,
                 },
                 ident: String::try_from(ident.as_str()).expect("≤ 32 ASCII bytes"),
             }

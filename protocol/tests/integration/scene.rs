@@ -307,6 +307,7 @@ fn the_format_follows_the_targets_caps() {
     use protocol::frame::{Caps, Numeric, NumericSet};
     let caps = Caps {
         float_regs: NumericSet::default().with(Numeric::F32).with(Numeric::F64),
+        rt_build: protocol::frame::RtBuild::FULL,
         ..Default::default()
     };
     for n in Numeric::ALL {
