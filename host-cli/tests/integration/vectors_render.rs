@@ -178,10 +178,12 @@ fn bad_input_names_the_file() {
 fn render_vectors_drive_the_rt_core_under_icarus_and_compare_finds_an_exact_match() {
     use std::process::Command;
     let dir = tmp("vectors-rt-core");
+    let ws = crate::common::workspace();
+    let scene = ws.join("hw/rt-core/scenes/core.toml").display().to_string();
     ok(&[
         "vectors",
         "render",
-        &example("rt/core.toml"),
+        &scene,
         "-o",
         &dir,
         "--numeric",
@@ -189,7 +191,6 @@ fn render_vectors_drive_the_rt_core_under_icarus_and_compare_finds_an_exact_matc
         "--size",
         "24x14",
     ]);
-    let ws = crate::common::workspace();
     let core = ws.join("hw/rt-core");
     let vvp = format!("{dir}/tb_rt_vectors.vvp");
     let build = Command::new("iverilog")

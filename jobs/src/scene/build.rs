@@ -142,7 +142,7 @@ mod tests {
 
     #[test]
     fn the_rt_core_build_takes_its_example() {
-        let text = include_str!("../../../examples/rt/core.toml");
+        let text = include_str!("../../../hw/rt-core/scenes/core.toml");
         let s = crate::scene::parse(text, "core.toml").expect("core.toml parses");
         let core = RtBuild {
             shapes: 0x7f,
@@ -150,6 +150,6 @@ mod tests {
             max_spp: 1,
             features: 0,
         };
-        check_build(&s, &core).expect("the RTL core builds examples/rt/core.toml");
+        check_build(&s, &core).expect("the RTL core builds hw/rt-core/scenes/core.toml");
     }
 }
