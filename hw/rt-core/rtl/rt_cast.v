@@ -1,15 +1,30 @@
 // rt_cast -- the ray-casting core's frame: every pixel's primary ray, each object tested
 // in object order, the nearest hit, its object, depth and shading normal (the golden
 // model's AOV planes, `--numeric q16.16 --aovs`; sim-target/src/rt/kernel.rs `row`,
-// `trace`, `closest`) and its colour (ambient, Lambert, Blinn-Phong for point lights,
-// RGB888), bit for bit; seed 002 §3.2-3.5.
+// `trace`, `closest`, `occluded`) and its colour (ambient, Lambert, Blinn-Phong and hard
+// shadows for point lights, RGB888), bit for bit; seed 002 §3.2-3.5.
 //
 // Why this shape: the intersection unit takes one (ray, object) pair per clock, so a ray
 // of a scene with N objects occupies it N clocks. The ray generator runs one pixel ahead
 // under its own clock enable: it is held while its ray is paired with objects 0 .. N-1
 // and advances with the last pair, so no FIFO sits between them. Every pair is tested
 // with tmax = max_distance and the reduction keeps, in object order, each hit with
-// t <= best (why that is the model's nearest hit: rt_isect). Each object's inverse
+// t <= best (why that is the model's nearest hit: rt_isect).
+//
+// Shadows share the intersection unit on a fixed schedule, so that a frame's clock count
+// stays a formula: each pixel has a slot of S = N (1 + L) clocks (L point lights; S = N
+// without shadows, and 1 with no object): its N primary pairs first, then L N shadow
+// pairs (light l with objects 0 .. N-1, in light order) of the oldest pixel whose shadow
+// rays are queued when the shadow part begins, or none. The colour stage sends every
+// pixel's L shadow rays (origin p + n.scale(bias), direction wi, tmin = bias, tmax =
+// dist: the model's `occluded`) about 260 clocks after its primary pairs, into a queue
+// of 2^SQA pixels; a shadow pair that hits anything marks its light blocked (an any(),
+// so the object order does not matter), and after the pixel's last shadow pair its
+// occlusion word goes back to the colour stage, which joins it with the pixel's light
+// terms (rt_shade). A miss sends rays too, whose answer nothing reads: the slots stay
+// fixed. The queues' depths are bounded by the schedule (rt-core.md derives the bounds).
+//
+// Each object's inverse
 // transform, translation and shape are read from the scene image's words, written
 // through the cfg port at their register-map offsets (rt_map.vh, generated from
 // protocol::scene): the core keeps only the words it reads.
@@ -19,9 +34,9 @@
 // one, bit 2 more objects than OBJ, bit 3 a pair whose shape this instance does not build,
 // bit 4 a frame of zero width or height (no pixel is produced; done follows the setup) or
 // a pitch of 2^52 or more (the host keeps |n*K| < 2^52, which a pitch that wide breaks),
-// bit 5 shadows on (not built yet), bit 6 more point lights than LIGHTS or a light that
-// is not a point light, bit 7 a material the core does not build (Oren-Nayar,
-// Torrance-Sparrow, a texture, a reflection with depth > 1).
+// bit 5 shadows on in an instance built without them (SHADOWS = 0), bit 6 more point
+// lights than LIGHTS or a light that is not a point light, bit 7 a material the core
+// does not build (Oren-Nayar, Torrance-Sparrow, a texture, a reflection with depth > 1).
 //
 // Ports
 //   cfg_we, cfg_addr, cfg_data: a write of scene-image word cfg_addr (ignored while busy).
@@ -31,17 +46,25 @@
 //   index), t (its distance, Q16.16), n (world-space unit normal facing the ray; 0 for a
 //   miss), rgb (R in bits 23:16), kcu116 (G << 8 | B at even x, G << 8 | R at odd x),
 //   pix_valid.
-// Timing: after start, SETUP = 17 clocks, then one ray per max(N, 1) clocks into the
-// generator (latency 87); a pixel's result leaves 377 clocks after its ray's last pair
-// (xform 3, isect 73, the reduction 1, the normal 92, the colour 208).
+// Timing: after start, SETUP = 17 clocks, then the generator's latency 87, then one
+// slot per pixel. Without shadows a pixel's result leaves 378 clocks after its ray's
+// last pair (xform 3, isect 73, the reduction 1, the normal 92, the colour 209); with
+// them, when both its terms and its occlusion word have arrived (rt-core.md gives the
+// frame's count). hold adds one clock per held clock.
 // Parameters: OBJ 1..`RT_OBJ_CAPACITY` objects held; LIGHTS 1..`RT_LIGHT_CAPACITY` - 1
-// point-light lanes; SHAPES as rt_isect.
+// point-light lanes; SHAPES as rt_isect; SHADOWS 1 builds shadows; SQA >= 8, OQA >= 5,
+// TQA >= 2 the address bits of the queues of shadow rays, occlusion words and light
+// terms (the schedule's bounds: 130, 20 and 3 entries, rt-core.md).
 `default_nettype none
 `include "rt_map.vh"
 module rt_cast #(
     parameter integer OBJ = `RT_OBJ_CAPACITY,
     parameter integer LIGHTS = `RT_LIGHT_CAPACITY - 1,
-    parameter [6:0] SHAPES = 7'b111_1111
+    parameter [6:0] SHAPES = 7'b111_1111,
+    parameter integer SHADOWS = 1,
+    parameter integer SQA = 8,
+    parameter integer OQA = 5,
+    parameter integer TQA = 2
 ) (
     input  wire        clk,
     input  wire        rst,
@@ -65,7 +88,8 @@ module rt_cast #(
 );
     generate
         if (OBJ < 1 || OBJ > `RT_OBJ_CAPACITY || OBJ > 255 || LIGHTS < 1 ||
-            LIGHTS > `RT_LIGHT_CAPACITY - 1 || LIGHTS > 8) begin : bad_parameter
+            LIGHTS > `RT_LIGHT_CAPACITY - 1 || LIGHTS > 8 || (SHADOWS != 0 && SHADOWS != 1) ||
+            SQA < 8 || OQA < 5 || TQA < 2) begin : bad_parameter
             rt_cast_parameter_out_of_range unsupported();
         end
     endgenerate
@@ -76,6 +100,7 @@ module rt_cast #(
     // setup after start: 16 clocks of the two products (W-1)*K and (H-1)*K, 1 to negate
     localparam integer SETUP = 17;
     localparam integer IB = OBJ > 1 ? $clog2(OBJ) : 1;  // bits that index the table
+    localparam integer LB = LIGHTS > 1 ? $clog2(LIGHTS) : 1;  // bits that index a lane
 
     wire ce = !hold;
 
@@ -219,6 +244,8 @@ module rt_cast #(
     // ---- frame sequencer ------------------------------------------------------------
     reg [31:0]          tmax;
     reg [KB-1:0]        n_obj;    // objects tested per ray (0: every ray misses)
+    reg [3:0]           n_l;      // point lights (lanes in use)
+    reg                 sh_on;    // shadow rays this frame
     reg [4:0]           setup;    // counts the setup clocks down
     reg signed [PB-1:0] xm, acc_x, acc_y, k2;
     reg [15:0]          wm1, hm1; // shifted out during setup, most significant bit first
@@ -228,11 +255,19 @@ module rt_cast #(
     wire [31:0]         pixels = {16'd0, width} * {16'd0, height};
     wire signed [PB-1:0] kp = pitch[PB-1:0];
 
-    // the generator's output is paired with objects; it advances with the last pair
+    // the slot: phase ph, the primary part first (np clocks), then the shadow part; the
+    // phase waits at 0 for the first ray, then runs every clock to the frame's end
     wire              rg_out_valid;
-    reg  [KB-1:0]     pair_k;
-    wire              last_pair = n_obj == 0 || pair_k == n_obj - 1'b1;
-    wire              rg_ce = ce && (!rg_out_valid || last_pair);
+    reg               running;
+    reg  [15:0]       ph;
+    wire [15:0]       np = n_obj == 0 ? 16'd1 : {8'd0, n_obj};
+    wire [15:0]       s_len = np + (sh_on ? {12'd0, n_l} * {8'd0, n_obj} : 16'd0);
+    wire              in_primary = ph < np;
+    wire              advance = ce && busy && (running || rg_out_valid);
+    wire [KB-1:0]     pair_k = ph[KB-1:0];  // the primary part's object
+    wire              last_pair = ph == np - 16'd1;
+    // the generator's output is paired with objects; it advances with the last pair
+    wire              rg_ce = ce && (!rg_out_valid || (advance && last_pair));
     wire              rg_in_valid = feeding && setup == 0;
     wire              isect_valid, isect_unsupported;
     wire              pix_valid_w;
@@ -248,10 +283,15 @@ module rt_cast #(
             done <= 1'b0;
             if (start && !busy) begin
                 busy <= 1'b1;
-                err <= {bad_material, bad_lights, (flags & `RT_FLAG_SHADOWS) != 0,
+                err <= {bad_material, bad_lights,
+                        SHADOWS == 0 && (flags & `RT_FLAG_SHADOWS) != 0,
                         width == 0 || height == 0 || pitch[63:PB-2] != 0, 1'b0,
                         obj_count > OBJ, spp != 1, value_format != `RT_FORMAT_Q16_16};
                 n_obj <= obj_count > OBJ ? OBJ[KB-1:0] : obj_count[KB-1:0];
+                n_l <= light_count == 0 ? 4'd0 :
+                       light_count - 1 > LIGHTS ? LIGHTS[3:0] : light_count[3:0] - 4'd1;
+                sh_on <= SHADOWS != 0 && (flags & `RT_FLAG_SHADOWS) != 0 && light_count > 1 &&
+                         obj_count != 0;
                 tmax <= f32_to_q16(max_f32);
                 wm1 <= width - 16'd1;
                 hm1 <= height - 16'd1;
@@ -315,22 +355,51 @@ module rt_cast #(
         .tag({row, col}), .out_valid(rg_out_valid),
         .dx(rd[31:0]), .dy(rd[63:32]), .dz(rd[95:64]), .tag_out(rg_tag));
 
-    // ---- pairs: the ray with objects 0 .. N-1 ----------------------------------------
+    // ---- pairs: the ray with objects 0 .. N-1, then a queued pixel's shadow rays -------------
+    reg               sh_go;         // this slot's shadow part tests the queue's head
+    reg  [KB-1:0]     sh_k;          // its object
+    reg  [LB-1:0]     sh_l;          // and lane
+    wire              shq_empty;
+    wire [96*LIGHTS-1:0] shq_d;
+    wire [32*LIGHTS-1:0] shq_tmax;
+    wire [95:0]       shq_o;
+    wire              sh_go_now = ph == np ? !shq_empty : sh_go;
+    wire              is_sh = !in_primary && sh_go_now;
+    wire              last_sh = {{(4 - LB){1'b0}}, sh_l} == n_l - 4'd1 && sh_k == n_obj - 1'b1;
     always @(posedge clk) begin
-        if (rst || (start && !busy)) pair_k <= {KB{1'b0}};
-        else if (ce && rg_out_valid) pair_k <= last_pair ? {KB{1'b0}} : pair_k + 1'b1;
+        if (rst || (start && !busy)) begin
+            running <= 1'b0;
+            ph <= 16'd0;
+            sh_go <= 1'b0;
+            sh_k <= {KB{1'b0}};
+            sh_l <= {LB{1'b0}};
+        end else if (advance) begin
+            running <= 1'b1;
+            ph <= ph == s_len - 16'd1 ? 16'd0 : ph + 16'd1;
+            sh_go <= sh_go_now;
+            if (in_primary || sh_k == n_obj - 1'b1) sh_k <= {KB{1'b0}};
+            else sh_k <= sh_k + 1'b1;
+            if (in_primary) sh_l <= {LB{1'b0}};
+            else if (sh_k == n_obj - 1'b1) sh_l <= sh_l + 1'b1;
+        end
     end
-    wire [IB-1:0] obj_sel = pair_k[IB-1:0];  // pair_k < n_obj <= OBJ
-    // pair tag: last pair of its ray, no object at all, object, pixel, world direction
-    localparam integer PT = 1 + 1 + KB + 32 + 96;
-    wire [PT-1:0] pair_tag = {last_pair, n_obj == 0, pair_k, rg_tag, rd};
+    wire [KB-1:0] obj_k = is_sh ? sh_k : pair_k;
+    wire [IB-1:0] obj_sel = obj_k[IB-1:0];  // < n_obj <= OBJ
+    // pair tag: shadow pair, its lane, last pair of its ray (or of its pixel's shadow
+    // rays), no object at all, object, pixel, world direction
+    localparam integer PT = 1 + LB + 1 + 1 + KB + 32 + 96;
+    wire [PT-1:0] pair_tag = {is_sh, sh_l, is_sh ? last_sh : last_pair, n_obj == 0, obj_k,
+                              rg_tag, rd};
+    wire [31:0]   pair_tmax = is_sh ? shq_tmax[32*sh_l +: 32] : tmax;
+    wire          pair_valid = busy && (in_primary ? rg_out_valid : is_sh);
     wire          xf_valid;
     wire [95:0]   lo, ld;
-    wire [PT+SB-1:0] xf_tag;
-    rt_xform #(.TB(PT + SB)) u_xform (.clk(clk), .rst(rst), .ce(ce), .in_valid(rg_out_valid),
-        .o(eye), .d(rd), .m(minv_k[obj_sel]), .t(trans_k[obj_sel]),
-        .tag({shape_k[obj_sel], pair_tag}), .out_valid(xf_valid), .lo(lo), .ld(ld),
-        .tag_out(xf_tag));
+    wire [PT+SB+31:0] xf_tag;
+    rt_xform #(.TB(PT + SB + 32)) u_xform (.clk(clk), .rst(rst), .ce(ce),
+        .in_valid(pair_valid), .o(is_sh ? shq_o : eye), .d(is_sh ? shq_d[96*sh_l +: 96] : rd),
+        .m(minv_k[obj_sel]), .t(trans_k[obj_sel]),
+        .tag({pair_tmax, shape_k[obj_sel], pair_tag}), .out_valid(xf_valid), .lo(lo),
+        .ld(ld), .tag_out(xf_tag));
 
     // ---- intersection -----------------------------------------------------------------
     localparam integer IT = PT + 192;
@@ -341,12 +410,15 @@ module rt_cast #(
         .in_valid(xf_valid), .shape(xf_tag[PT +: SB]),
         .ox(lo[31:0]), .oy(lo[63:32]), .oz(lo[95:64]),
         .dx(ld[31:0]), .dy(ld[63:32]), .dz(ld[95:64]),
-        .tmin(bias), .tmax(tmax), .tag({ld, lo, xf_tag[PT-1:0]}),
+        .tmin(bias), .tmax(xf_tag[PT + SB +: 32]), .tag({ld, lo, xf_tag[PT-1:0]}),
         .out_valid(isect_valid), .hit(isect_hit), .t(isect_t),
         .unsupported(isect_unsupported), .tag_out(it));
-    wire          i_last = it[PT-1];
-    wire          i_none = it[PT-2];
-    wire [KB-1:0] i_k = it[PT-3 -: KB];
+    wire          i_sh = it[PT-1];
+    wire [LB-1:0] i_l = it[PT-2 -: LB];
+    wire          i_last = it[PT-2-LB];
+    wire          i_none = it[PT-3-LB];
+    wire [KB-1:0] i_k = it[PT-4-LB -: KB];
+    wire          i_prim = isect_valid && !i_sh;
     wire [31:0]   i_pix = it[127:96];
     wire [95:0]   i_d = it[95:0];
     wire [95:0]   i_lo = it[PT +: 96];
@@ -363,8 +435,8 @@ module rt_cast #(
     wire          now_found = take || (!first && found);
     always @(posedge clk) begin
         if (rst) first <= 1'b1;
-        else if (ce && isect_valid) first <= i_last;
-        if (ce && isect_valid) begin
+        else if (ce && i_prim) first <= i_last;
+        if (ce && i_prim) begin
             found <= now_found;
             if (take) begin
                 best_k <= i_k;
@@ -380,13 +452,29 @@ module rt_cast #(
     reg [95:0]    r_d;
     always @(posedge clk) begin
         if (rst) r_valid <= 1'b0;
-        else if (ce) r_valid <= isect_valid && i_last;
+        else if (ce) r_valid <= i_prim && i_last;
         if (ce) begin
             r_pix <= i_pix;
             r_d <= i_d;
         end
     end
     wire [IB-1:0] best_sel = best_k[IB-1:0];
+
+    // ---- occlusion: a shadow pair that hits anything blocks its light ------------------------
+    reg  [LIGHTS-1:0] occ_acc, occ_word;
+    reg               occ_valid;
+    wire [LIGHTS-1:0] occ_now = occ_acc |
+        ({{(LIGHTS - 1){1'b0}}, isect_hit && !isect_unsupported} << i_l);
+    always @(posedge clk) begin
+        if (rst) begin
+            occ_valid <= 1'b0;
+            occ_acc <= {LIGHTS{1'b0}};
+        end else if (ce) begin
+            occ_valid <= isect_valid && i_sh && i_last;
+            if (isect_valid && i_sh) occ_acc <= i_last ? {LIGHTS{1'b0}} : occ_now;
+        end
+        if (ce) occ_word <= occ_now;
+    end
 
     // ---- the normal -------------------------------------------------------------------
     localparam integer NT = KB + 1 + 32 + 32 + 96;
@@ -416,13 +504,32 @@ module rt_cast #(
     wire [ST-1:0] st;
     wire [23:0]   rgb;
     /* verilator lint_off PINCONNECTEMPTY */
-    rt_shade #(.LIGHTS(LIGHTS), .TB(ST)) u_shade (.clk(clk), .rst(rst), .ce(ce),
+    wire          sh_valid, shade_fault;
+    wire [95:0]   sh_o;
+    wire [96*LIGHTS-1:0] sh_d;
+    wire [32*LIGHTS-1:0] sh_tmax;
+    rt_shade #(.LIGHTS(LIGHTS), .TB(ST), .TQA(TQA), .OQA(OQA)) u_shade (.clk(clk), .rst(rst),
+        .ce(ce),
         .in_valid(n_valid), .hit(n_hit), .eye(eye), .d(n_d), .t(n_t), .n(nrm),
         .ka(ka_k[n_sel]), .ca(ca_k[n_sel]), .kd(kd_k[n_sel]), .cd(cd_k[n_sel]),
         .ks(ks_k[n_sel]), .cs(cs_k[n_sel]), .e(e_k[n_sel]), .la(lcol[0]),
         .background(background), .lit(lane_lit), .lights(lane_pos), .colours(lane_col),
-        .tag({nt[NT-1:96], nrm}), .out_valid(pix_valid_w), .colour(), .rgb(rgb),
-        .tag_out(st));
+        .bias(bias), .shadows(sh_on), .tag({nt[NT-1:96], nrm}), .sh_valid(sh_valid),
+        .sh_o(sh_o), .sh_d(sh_d), .sh_tmax(sh_tmax), .occ_valid(occ_valid), .occ(occ_word),
+        .out_valid(pix_valid_w), .colour(), .rgb(rgb), .tag_out(st), .fault(shade_fault));
+
+    // the shadow rays wait for their slot
+    wire          shq_ovf, shq_unf;
+    wire [SQA:0]  shq_count;
+    rt_fifo #(.W(96 + 128 * LIGHTS), .AW(SQA)) u_shq (.clk(clk), .rst(rst),
+        .push(ce && sh_valid), .din({sh_o, sh_d, sh_tmax}), .pop(advance && is_sh && last_sh),
+        .dout({shq_o, shq_d, shq_tmax}), .empty(shq_empty), .count(shq_count),
+        .ovf(shq_ovf), .unf(shq_unf));
+    // a schedule error (a queue overflowed or underflowed): the simulation stops on it
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire fault = shade_fault || shq_ovf || shq_unf;
+    wire [SQA:0] shq_level = shq_count;  // for waveforms
+    /* verilator lint_on UNUSEDSIGNAL */
     /* verilator lint_on PINCONNECTEMPTY */
     assign pix_valid = pix_valid_w;
     assign pix_x = st[111:96];

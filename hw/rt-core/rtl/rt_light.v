@@ -17,9 +17,15 @@
 // the model's f64 value for every e in 0..1023 (sim-target's test
 // `blinn_phong_norm_is_an_integer_formula` enumerates them).
 //
+// The shadow ray towards the light is a by-product: its direction is wi and its extent
+// dist = dist2 * (1/sqrt(dist2)) (the model's `dist2 * inv_dist`, floored), both out at
+// stage 87 for the caller to test against every object (rt_cast); the hit point p is out
+// at stage 3 (its origin is p + n.scale(bias), which every lane shares: rt_shade).
+//
 // Ports: eye, d, t (the primary ray and its hit distance), n (the shading normal), light
 // (position), colour, kdcd (k_d c_d), kscs (k_s c_s), e (exponent); tag (TB bits
-// alongside); in_valid / out_valid; term. ce low holds every stage.
+// alongside); in_valid / out_valid; term; p (stage 3), wi and extent = dist (stage 87). ce low
+// holds every stage.
 // Timing: latency 203 (p 3, to_l 1, dist2 2, rsqrt 79, wi 2, then the highlight's
 // normalise 1 + 83, n.h 2 + 1, power 20, norm 2, kscs 2, sum 1, colour 2, g 2), one hit
 // per clock.
@@ -44,7 +50,10 @@ module rt_light #(
     input  wire [TB-1:0] tag,
     output wire          out_valid,
     output wire [95:0]   term,
-    output wire [TB-1:0] tag_out
+    output wire [TB-1:0] tag_out,
+    output wire [95:0]   p,
+    output wire [95:0]   wi,
+    output wire [31:0]   extent
 );
     generate
         if (TB < 1) begin : bad_parameter
@@ -89,6 +98,8 @@ module rt_light #(
         end
     end
 
+    assign p = p3;
+
     // ---- 4: to_l = light - p; 5-6: dist2 ---------------------------------------------------
     reg [95:0] tl4;
     always @(posedge clk) begin
@@ -114,7 +125,6 @@ module rt_light #(
     wire [127:0] td85;  // to_l and dist2 at stage 85
     dly #(.W(128), .N(79)) u_td85 (.clk(clk), .rst(rst), .ce(ce), .d({dist2, tl6}),
         .q(td85));
-    wire [95:0] wi;
     generate
         for (c = 0; c < 3; c = c + 1) begin : direction
             /* verilator lint_off PINCONNECTEMPTY */
@@ -124,6 +134,11 @@ module rt_light #(
             /* verilator lint_on PINCONNECTEMPTY */
         end
     endgenerate
+    // the shadow ray's extent
+    /* verilator lint_off PINCONNECTEMPTY */
+    q16_dot #(.TERMS(1), .ROUND(0)) u_dist (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
+        .a(td85[127:96]), .b(inv), .out_valid(), .y(extent), .sat());
+    /* verilator lint_on PINCONNECTEMPTY */
     wire [31:0] dist2_87;
     dly #(.W(32), .N(2)) u_d87 (.clk(clk), .rst(rst), .ce(ce), .d(td85[127:96]),
         .q(dist2_87));

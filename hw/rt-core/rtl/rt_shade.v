@@ -1,7 +1,7 @@
 // rt_shade -- a pixel's colour from its nearest hit, as the golden model's `trace` and
 // `row` compute it for Lambert materials with an optional Blinn-Phong highlight, point
-// lights and no shadows, reflections or textures (sim-target/src/rt/kernel.rs; seed 002
-// §3.5), bit for bit:
+// lights, hard shadows and no reflections or textures (sim-target/src/rt/kernel.rs; seed
+// 002 §3.5), bit for bit:
 //
 //   lk = ca.hadamard(La).scale(ka)  +  term(light 1)  +  ...  (rt_light, in light order)
 //   c  = lk for a hit, the background for a miss
@@ -12,18 +12,35 @@
 // beyond the scene's light count adds 0. Sums are saturating, in light order (the
 // model's order: saturation makes them not associative).
 //
-// Ports: hit, eye, d, t, n (the ray, its nearest hit and the normal facing it), the
+// Shadows: with `shadows` high every pixel sends out one shadow ray per lane (sh_*: the
+// origin p + n.scale(bias) shared by the lanes, each lane's direction wi and extent
+// dist), whether it hit or not, so the caller's schedule is fixed; the caller tests them
+// and returns one occlusion word per pixel, in pixel order (occ_valid, occ: bit i, lane
+// i's light is blocked). A blocked light's term is replaced by 0, which is the model's
+// `continue` (the saturating sum with 0 is the identity); whether a light whose term is
+// already 0 is blocked does not matter. The lanes' terms wait for their pixel's word in a
+// queue of 2^TQA pixels and the words for their terms in one of 2^OQA (both in pixel
+// order, so the join pops both); which one fills depends on the caller's schedule, which
+// bounds both (rt_cast). With `shadows` low the terms pass without a word.
+//
+// Ports: hit, eye, d, t (the ray, its nearest hit), n (the normal facing the ray), the
 // hit object's material (ka, ca, kd, cd, ks, cs, e), la (the ambient light's colour),
 // background, lit (bit i: lane i's light exists), lights and colours (lane i in bits
-// [96i +: 96]); tag (TB bits alongside); in_valid / out_valid; colour (the Q16.16 sum
-// before packing) and rgb (R in bits 23:16).
-// Timing: latency 208 (kd c_d 2, the lanes 203, the sum 1, the choice 1, the packing 1),
-// one pixel per clock.
-// Parameters: LIGHTS 1..8 lanes (point lights built), TB >= 1.
+// [96i +: 96]), bias (the scene's), shadows; tag (TB bits alongside); in_valid; sh_valid
+// with sh_o, sh_d (lane i in [96i +: 96]), sh_tmax (lane i in [32i +: 32]); occ_valid,
+// occ; out_valid with colour (the Q16.16 sum before packing), rgb (R in bits 23:16) and
+// tag_out; fault (sticky: a queue overflowed or underflowed, a schedule error).
+// Timing: shadow rays at stage 89 (kd c_d 2, the lanes' wi 87); the terms at 205 (the
+// lanes 203) enter the queue; the join pops at 206 at the earliest (with shadows off,
+// always), then the sum 1, the choice 1, the packing 1: latency 208 + 1 without shadows.
+// ce low holds every stage and the join; one pixel per clock.
+// Parameters: LIGHTS 1..8 lanes (point lights built), TB >= 1, TQA, OQA >= 1.
 `default_nettype none
 module rt_shade #(
     parameter integer LIGHTS = 1,
-    parameter integer TB = 1
+    parameter integer TB = 1,
+    parameter integer TQA = 3,
+    parameter integer OQA = 5
 ) (
     input  wire                 clk,
     input  wire                 rst,
@@ -46,22 +63,31 @@ module rt_shade #(
     input  wire [LIGHTS-1:0]    lit,
     input  wire [96*LIGHTS-1:0] lights,
     input  wire [96*LIGHTS-1:0] colours,
+    input  wire [31:0]          bias,
+    input  wire                 shadows,
     input  wire [TB-1:0]        tag,
+    output wire                 sh_valid,
+    output reg  [95:0]          sh_o,
+    output wire [96*LIGHTS-1:0] sh_d,
+    output wire [32*LIGHTS-1:0] sh_tmax,
+    input  wire                 occ_valid,
+    input  wire [LIGHTS-1:0]    occ,
     output wire                 out_valid,
     output reg  [95:0]          colour,
     output reg  [23:0]          rgb,
-    output wire [TB-1:0]        tag_out
+    output wire [TB-1:0]        tag_out,
+    output wire                 fault
 );
     generate
-        if (LIGHTS < 1 || LIGHTS > 8 || TB < 1) begin : bad_parameter
+        if (LIGHTS < 1 || LIGHTS > 8 || TB < 1 || TQA < 1 || OQA < 1) begin : bad_parameter
             rt_shade_parameter_out_of_range unsupported();
         end
     endgenerate
 
     `include "q16_ops.vh"
 
-    localparam integer LATENCY = 208;
     localparam integer LANE = 203;
+    localparam integer WI = 87;  // the lanes' wi and dist
 
     // ---- 1-2: kd c_d, k_s c_s; 1-4: the ambient term ----------------------------------------
     wire [95:0] kdcd, kscs, cala, amb;
@@ -105,7 +131,7 @@ module rt_shade #(
     wire [LIGHTS-1:0]    lit2 = lane_in[LIGHTS-1:0];
 
     // ---- 3-205: each light's term -----------------------------------------------------------
-    wire [96*LIGHTS-1:0] terms;
+    wire [96*LIGHTS-1:0] terms, ps;
     genvar l;
     generate
         for (l = 0; l < LIGHTS; l = l + 1) begin : lane
@@ -115,49 +141,128 @@ module rt_shade #(
             rt_light #(.TB(1)) u_light (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
                 .eye(eye2), .d(d2), .t(t2), .n(n2), .light(lights2[96*l +: 96]),
                 .colour(colours2[96*l +: 96]), .kdcd(kdcd), .kscs(kscs), .e(e2),
-                .tag(lit2[l]), .out_valid(), .term(term), .tag_out(on));
+                .tag(lit2[l]), .out_valid(), .term(term), .tag_out(on),
+                .p(ps[96*l +: 96]), .wi(sh_d[96*l +: 96]), .extent(sh_tmax[32*l +: 32]));
             /* verilator lint_on PINCONNECTEMPTY */
             assign terms[96*l +: 96] = on ? term : 96'd0;
         end
     endgenerate
 
-    // ---- 206: lk = ambient + terms in light order ----------------------------------------------
+    // ---- 2: n.scale(bias); 6: the shadow rays' origin p + n.scale(bias); 89: out -------------
+    // (every lane computes the same p; lane 0's is taken)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [96*LIGHTS-1:0] ps_all = ps;
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [95:0] nb, nb5;
+    generate
+        for (c = 0; c < 3; c = c + 1) begin : offset
+            /* verilator lint_off PINCONNECTEMPTY */
+            q16_dot #(.TERMS(1), .ROUND(1)) u_nb (.clk(clk), .rst(rst), .ce(ce),
+                .in_valid(1'b1), .a(n[32*c +: 32]), .b(bias), .out_valid(),
+                .y(nb[32*c +: 32]), .sat());
+            /* verilator lint_on PINCONNECTEMPTY */
+        end
+    endgenerate
+    dly #(.W(96), .N(3)) u_nb5 (.clk(clk), .rst(rst), .ce(ce), .d(nb), .q(nb5));
+    reg [95:0] po6;
+    always @(posedge clk) begin
+        if (ce) begin
+            po6 <= {q_add(ps_all[95:64], nb5[95:64]), q_add(ps_all[63:32], nb5[63:32]),
+                    q_add(ps_all[31:0], nb5[31:0])};
+        end
+    end
+    wire [95:0] po88;
+    dly #(.W(96), .N(2 + WI - 1 - 6)) u_po (.clk(clk), .rst(rst), .ce(ce), .d(po6), .q(po88));
+    always @(posedge clk) if (ce) sh_o <= po88;
+    dly #(.W(1), .N(2 + WI), .RESET(1)) u_sh_valid (.clk(clk), .rst(rst), .ce(ce),
+        .d(in_valid && shadows), .q(sh_valid));
+
+    // ---- 205: the pixel waits for its occlusion word; both queues in pixel order ---------------
+    wire         v205;
+    dly #(.W(1), .N(2 + LANE), .RESET(1)) u_v205 (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
+        .q(v205));
+    wire [97+TB-1:0] hbt205;  // hit, background and tag at 205
+    dly #(.W(97 + TB), .N(2 + LANE)) u_hbt (.clk(clk), .rst(rst), .ce(ce),
+        .d({hit, background, tag}), .q(hbt205));
+    localparam integer QW = 97 + TB + 96 + 96 * LIGHTS;
+    wire [QW-1:0] tq_head;
+    wire [OQA:0]  oq_count;
+    wire [TQA:0]  tq_count;
+    wire          tq_empty, oq_empty, tq_ovf, tq_unf, oq_ovf, oq_unf;
+    wire [LIGHTS-1:0] oq_head;
+    wire          join_ = ce && !tq_empty && (!shadows || !oq_empty);
+    /* verilator lint_off PINCONNECTEMPTY */
+    rt_fifo #(.W(QW), .AW(TQA)) u_tq (.clk(clk), .rst(rst), .push(ce && v205),
+        .din({hbt205, amb205, terms}), .pop(join_), .dout(tq_head), .empty(tq_empty),
+        .count(tq_count), .ovf(tq_ovf), .unf(tq_unf));
+    rt_fifo #(.W(LIGHTS), .AW(OQA)) u_oq (.clk(clk), .rst(rst), .push(ce && occ_valid),
+        .din(occ), .pop(join_ && shadows), .dout(oq_head), .empty(oq_empty),
+        .count(oq_count), .ovf(oq_ovf), .unf(oq_unf));
+    /* verilator lint_on PINCONNECTEMPTY */
+    assign fault = tq_ovf || tq_unf || oq_ovf || oq_unf;
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [TQA+OQA+1:0] counts = {tq_count, oq_count};  // for waveforms
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [96*LIGHTS-1:0] j_terms = tq_head[96*LIGHTS-1:0];
+    wire [95:0]          j_amb = tq_head[96*LIGHTS +: 96];
+    wire [TB-1:0]        j_tag = tq_head[96*LIGHTS + 96 +: TB];
+    wire [96:0]          j_hb = tq_head[QW-1 -: 97];
+    wire [LIGHTS-1:0]    j_occ = shadows ? oq_head : {LIGHTS{1'b0}};
+
+    // ---- join + 1: lk = ambient + the unblocked terms in light order --------------------------
     reg [95:0] lk;
+    reg [95:0] tm;
     integer i;
     always @(*) begin
-        lk = amb205;
-        for (i = 0; i < LIGHTS; i = i + 1)
-            lk = {q_add(lk[95:64], terms[96*i + 64 +: 32]),
-                  q_add(lk[63:32], terms[96*i + 32 +: 32]),
-                  q_add(lk[31:0], terms[96*i +: 32])};
+        lk = j_amb;
+        for (i = 0; i < LIGHTS; i = i + 1) begin
+            tm = j_occ[i] ? 96'd0 : j_terms[96*i +: 96];
+            lk = {q_add(lk[95:64], tm[95:64]), q_add(lk[63:32], tm[63:32]),
+                  q_add(lk[31:0], tm[31:0])};
+        end
     end
-    reg [95:0] lk206;
-    always @(posedge clk) if (ce) lk206 <= lk;
+    reg [95:0]   lk1;
+    reg [96:0]   hb1;
+    reg [TB-1:0] tag1, tag2, tag3;
+    reg          v1, v2, v3;
+    always @(posedge clk) begin
+        if (rst) begin
+            v1 <= 1'b0;
+            v2 <= 1'b0;
+            v3 <= 1'b0;
+        end else if (ce) begin
+            v1 <= join_;
+            v2 <= v1;
+            v3 <= v2;
+        end
+        if (ce) begin
+            lk1 <= lk;
+            hb1 <= j_hb;
+            tag1 <= j_tag;
+            tag2 <= tag1;
+            tag3 <= tag2;
+        end
+    end
 
-    // ---- 207: hit or background; 208: packing -----------------------------------------------
-    wire [96:0] hb206;  // hit and background at 206
-    dly #(.W(97), .N(206)) u_hb (.clk(clk), .rst(rst), .ce(ce), .d({hit, background}),
-        .q(hb206));
-    always @(posedge clk) if (ce) colour <= hb206[96] ? lk206 : hb206[95:0];
+    // ---- join + 2: hit or background; join + 3: packing ---------------------------------------
+    always @(posedge clk) if (ce) colour <= hb1[96] ? lk1 : hb1[95:0];
 
     // floor(clamp(v, 0, 1) * 255): the product is exact, so the byte is (v * 255) >> 16
     // (bits 23:16 of the product; the others are the fraction and zeros)
     /* verilator lint_off UNUSEDSIGNAL */
     function [7:0] pack(input [31:0] v);
         reg [31:0] cl;
-        reg [39:0] p;
+        reg [39:0] pr;
         begin
             cl = v[31] ? 32'd0 : (q_lt(Q_ONE, v) ? Q_ONE : v);
-            p = {8'd0, cl} * 40'd255;
-            pack = p[23:16];
+            pr = {8'd0, cl} * 40'd255;
+            pack = pr[23:16];
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
     always @(posedge clk)
         if (ce) rgb <= {pack(colour[31:0]), pack(colour[63:32]), pack(colour[95:64])};
-
-    dly #(.W(1), .N(LATENCY), .RESET(1)) u_valid (.clk(clk), .rst(rst), .ce(ce),
-        .d(in_valid), .q(out_valid));
-    dly #(.W(TB), .N(LATENCY)) u_tag (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag_out));
+    assign out_valid = v3;
+    assign tag_out = tag3;
 endmodule
 `default_nettype wire

@@ -133,7 +133,7 @@ module tb_rt_vectors;
         start <= 1'b0;
         cycles = 1;
         n = 0;
-        bound = w * h * (`RT_OBJ_CAPACITY + 1) + 10000;
+        bound = w * h * `RT_OBJ_CAPACITY * `RT_LIGHT_CAPACITY + 10000;  // a slot is N (1 + L)
         while (!done && cycles < bound) begin
             @(posedge clk);
             cycles = cycles + 1;

@@ -19,6 +19,7 @@
 //! packers and the feature subsets are private modules re-exported here too; the
 //! secondary rays' pretest is internal.
 //!
+//! [`core`] is the clock count of a frame on the RTL ray-casting core (hw/rt-core).
 //! The frame constants a scene implies ([`derive`]: camera basis, pixel pitch, inverse
 //! transforms) are public for the host, which writes them into the register image.
 //! The kernel's stages ([`cull`], [`shade`], [`shapes`], [`texture`]) are public as
@@ -27,6 +28,7 @@
 //! (`shapes::sphere`, `shade::fresnel`, `texture::texel`, `cull::bounds`). So is [`f`],
 //! the scene's f64 vector arithmetic (`f::normalize`, `f::rotation`).
 
+pub mod core;
 pub mod cull;
 pub mod derive;
 pub mod shade;

@@ -73,15 +73,6 @@ pub struct Cast {
 unsafe impl Send for Cast {}
 
 impl Cast {
-    /// Clock edges after `start` before the first ray enters the generator.
-    pub const SETUP: u64 = 17;
-    /// Clock edges from a ray entering the generator to its last pair: the generator's
-    /// latency.
-    pub const RAYGEN: u64 = 87;
-    /// Clock edges from a ray's last pair to its pixel's result: transform 3,
-    /// intersection 73, reduction 1, normal 92, colour 208.
-    pub const TAIL: u64 = 377;
-
     /// A fresh model, reset for four cycles.
     pub fn new() -> Result<Self, RtlError> {
         Ok(Self {

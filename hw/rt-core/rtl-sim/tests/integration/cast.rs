@@ -1,20 +1,23 @@
 //! The frame core `rt_cast` against the golden model rendering the same register image in
 //! Q16.16 with its AOV planes: for every pixel the same colour, the same hit or miss, the
 //! same object, the same depth and the same normal, bit for bit, and the frame's cycle
-//! count by formula. Materials: Lambert with or without an ambient term and a Blinn-Phong
-//! highlight (exponents 0 to 1023), one point light or none, lights bright enough to
-//! clip, backgrounds beyond [0, 1].
+//! count by the model's formula for the core (`sim_target::rt::core`). Materials: Lambert
+//! with or without an ambient term and a Blinn-Phong highlight (exponents 0 to 1023), one
+//! point light or none, lights bright enough to clip, backgrounds beyond [0, 1], hard
+//! shadows on in most scenes.
 //!
 //! Scenes: random cameras (position, aim, up, field of view) and one to eight objects of
 //! every shape, rotated or not, scaled per axis, in front of, around and behind the
 //! camera; mixed in: duplicated objects (coincident surfaces: the later one must win the
 //! tie, as the model's t <= best does), touching spheres, a max_distance that cuts
 //! through the scene, a zero bias, far scenes whose values come near the edge of
-//! Q16.16's range, and scenes without objects.
+//! Q16.16's range, scenes without objects, and a light in a plane (its shadow rays end
+//! on the plane).
 
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use rt_core_rtl_sim::{Cast, CastFrame};
+use sim_target::rt::core::CoreFrame;
 use sim_target::rt::{
     self, Camera, DiffuseModel, Light, Material, Numeric, Object, Reflection, RenderOptions, Scene,
     Shape, Specular, SpecularModel, Term, NO_OBJECT,
@@ -146,15 +149,45 @@ fn scene(rng: &mut SmallRng, class: u32) -> Scene {
     }
     // none or one point light (the core's default build has one lane), sometimes bright
     // enough to clip
-    let lights = if rng.gen_bool(0.85) {
+    let mut lights = if rng.gen_bool(0.85) {
+        // half the time above an object, which then casts its shadow on what lies below
+        let position = match objects.len() {
+            n if n > 0 && rng.gen_bool(0.5) => {
+                let o = objects[rng.gen_range(0..n)].translate;
+                let j = v3(rng, 1.5 * unit);
+                [
+                    o[0] + j[0],
+                    o[1] + rng.gen_range(3.0..9.0) * unit,
+                    o[2] + j[2],
+                ]
+            }
+            _ => v3(rng, 10.0 * unit),
+        };
         vec![Light {
-            position: v3(rng, 10.0 * unit),
+            position,
             color: [0, 1, 2].map(|_| rng.gen_range(0.0..60.0) * unit.min(400.0)),
             spot: None,
         }]
     } else {
         Vec::new()
     };
+    // a light in a plane: every shadow ray towards it ends on the plane (its origin stays
+    // on the surface: bias 0), where the range test's last bits decide
+    if class == 7 {
+        if let Some(l) = lights.first_mut() {
+            objects.truncate(7);
+            let mut plane = Object {
+                shape: Shape::Plane,
+                translate: v3(rng, 3.0),
+                scale: [1.0; 3],
+                rotate: [0.0; 3],
+                material: objects.len(),
+            };
+            plane.translate[1] = l.position[1];
+            objects.push(plane);
+            materials.push(material(rng));
+        }
+    }
     let dist = (0..3)
         .map(|a| (position[a] - look_at[a]).powi(2))
         .sum::<f64>()
@@ -163,7 +196,7 @@ fn scene(rng: &mut SmallRng, class: u32) -> Scene {
         width,
         height,
         depth: 1,
-        bias: match rng.gen_range(0..4) {
+        bias: match if class == 7 { 0 } else { rng.gen_range(0..4) } {
             0 => 0.0,
             1 => 1.0 / 65536.0,
             _ => rng.gen_range(0.0005..0.01),
@@ -175,7 +208,7 @@ fn scene(rng: &mut SmallRng, class: u32) -> Scene {
         },
         background: [0, 1, 2].map(|_| rng.gen_range(-0.2..1.2)),
         spp: 1,
-        shadows: false,
+        shadows: rng.gen_bool(0.7),
         camera: Camera {
             position,
             look_at,
@@ -189,10 +222,9 @@ fn scene(rng: &mut SmallRng, class: u32) -> Scene {
     }
 }
 
-/// Clock edges of a frame by the core's schedule: the start edge, the setup, the first
-/// ray through the generator, one ray per max(N, 1) edges, the last ray's tail.
-fn expected_cycles(w: u32, h: u32, n: usize) -> u64 {
-    1 + Cast::SETUP + Cast::RAYGEN + u64::from(w * h) * n.max(1) as u64 + Cast::TAIL
+/// Clock edges of a frame by the model's formula for the core.
+fn expected_cycles(s: &Scene) -> u64 {
+    CoreFrame::of(s).cycles()
 }
 
 /// The model's frame of `scene`, through the register image the core reads.
@@ -262,22 +294,33 @@ fn compare(rtl: &CastFrame, m: &rt::Frame) -> Result<(), String> {
 fn generated_scenes_give_the_models_aov_planes() {
     let mut rng = SmallRng::seed_from_u64(0x7274_6361);
     let mut core = Cast::new().expect("Verilated rt_cast");
-    let (mut pixels, mut hits, mut mid) = (0usize, 0usize, 0usize);
+    let (mut pixels, mut hits, mut mid, mut shadowed) = (0usize, 0usize, 0usize, 0usize);
     let mut shapes_hit = [0usize; 7];
+    let mut slots = std::collections::BTreeSet::new();
     for k in 0..300u32 {
         let s = scene(&mut rng, k % 8);
         let (words, m) = model(&s);
+        if s.shadows {
+            // pixels a shadow changed: the model's frame without shadows differs there
+            let (_, lit) = model(&Scene {
+                shadows: false,
+                ..s.clone()
+            });
+            shadowed += m
+                .rgb8
+                .chunks(3)
+                .zip(lit.rgb8.chunks(3))
+                .filter(|(a, b)| a != b)
+                .count();
+            slots.insert(CoreFrame::of(&s).slot());
+        }
         core.load(&words).expect("image fits");
         let frame = core.render(1 << 22, |_| false).expect("frame completes");
         assert_eq!(frame.err, 0, "scene {k}: the core refused it");
         if let Err(e) = compare(&frame, &m) {
             panic!("scene {k} (class {}): {e}\n{s:#?}", k % 8);
         }
-        assert_eq!(
-            frame.cycles,
-            expected_cycles(s.width, s.height, s.objects.len()),
-            "scene {k}: cycles"
-        );
+        assert_eq!(frame.cycles, expected_cycles(&s), "scene {k}: cycles");
         pixels += frame.pixels.len();
         for p in frame.pixels.iter().filter(|p| p.hit) {
             hits += 1;
@@ -287,8 +330,19 @@ fn generated_scenes_give_the_models_aov_planes() {
             shapes_hit[s.objects[usize::from(p.obj)].shape.code() as usize] += 1;
         }
     }
-    eprintln!("{pixels} pixels, {hits} hits ({mid} in mid-tones), per shape {shapes_hit:?}");
+    eprintln!(
+        "{pixels} pixels, {hits} hits ({mid} in mid-tones, {shadowed} in shadow), per shape \
+         {shapes_hit:?}, shadow slots of {slots:?} clocks"
+    );
     assert!(hits * 5 > pixels, "too few hits: {hits} of {pixels}");
+    assert!(
+        shadowed * 10 > hits,
+        "too few shadowed pixels: {shadowed} of {hits}"
+    );
+    assert!(
+        slots.contains(&2),
+        "no scene with the shortest slot (one object, one light)"
+    );
     assert!(mid * 2 > hits, "too few mid-tone hits: {mid} of {hits}");
     assert!(
         shapes_hit.iter().all(|&n| n > 200),
@@ -318,7 +372,7 @@ fn holding_the_core_changes_nothing_but_time() {
         }
         assert_eq!(
             frame.cycles,
-            expected_cycles(s.width, s.height, s.objects.len()) + held,
+            expected_cycles(&s) + held,
             "scene {k}: every held edge adds one cycle"
         );
     }
@@ -341,7 +395,7 @@ fn what_the_core_does_not_build_is_refused() {
     let cases: Vec<(&str, u8, Edit)> = vec![
         ("nothing", 0, Box::new(|_| {})),
         ("2 samples per pixel", 1 << 1, Box::new(|s| s.spp = 2)),
-        ("shadows", 1 << 5, Box::new(|s| s.shadows = true)),
+        ("shadows (built)", 0, Box::new(|s| s.shadows = true)),
         (
             "a spot light",
             1 << 6,
@@ -386,9 +440,9 @@ fn what_the_core_does_not_build_is_refused() {
     assert_eq!(frame.err, 1 << 6, "three lights: err {:#010b}", frame.err);
 }
 
-/// The reference scene reduced to what the core builds: textures, reflections and
-/// shadows off, the spot light a point light, Oren–Nayar as Lambert, Torrance–Sparrow as
-/// Blinn–Phong with its exponent.
+/// The reference scene reduced to what the core builds: textures and reflections off,
+/// the spot light a point light, Oren–Nayar as Lambert, Torrance–Sparrow as Blinn–Phong
+/// with its exponent; its shadows stay on.
 fn reduced_reference(width: u32, height: u32) -> Scene {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -399,7 +453,6 @@ fn reduced_reference(width: u32, height: u32) -> Scene {
     s.width = width;
     s.height = height;
     s.depth = 1;
-    s.shadows = false;
     for l in &mut s.lights {
         l.spot = None;
     }
@@ -429,11 +482,10 @@ fn the_reduced_reference_scene_matches_the_model() {
     if let Err(e) = compare(&frame, &m) {
         panic!("reduced reference: {e}");
     }
-    assert_eq!(
-        frame.cycles,
-        expected_cycles(s.width, s.height, s.objects.len())
-    );
-    let pairs = u64::from(s.width * s.height) * s.objects.len() as u64;
+    assert!(s.shadows, "the reference scene has shadows");
+    assert_eq!(frame.cycles, expected_cycles(&s));
+    // pairs the unit tested: every slot's clocks, primary and shadow
+    let pairs = u64::from(s.width * s.height) * CoreFrame::of(&s).slot();
     eprintln!(
         "reduced reference 160x90: {} cycles, {:.2} s Verilated, {:.0} pairs/s, {:.0} rays/s",
         frame.cycles,
