@@ -144,11 +144,12 @@ mod tests {
     fn the_rt_core_build_takes_its_example() {
         let text = include_str!("../../../hw/rt-core/scenes/core.toml");
         let s = crate::scene::parse(text, "core.toml").expect("core.toml parses");
+        // the default rt_cast: every shape, one point-light lane, one sample, shadows
         let core = RtBuild {
             shapes: 0x7f,
             lights: 1,
             max_spp: 1,
-            features: 0,
+            features: RtBuild::SHADOWS,
         };
         check_build(&s, &core).expect("the RTL core builds hw/rt-core/scenes/core.toml");
     }
