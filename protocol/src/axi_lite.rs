@@ -688,6 +688,133 @@ pub fn read_request_writes(req: &ReadRequest) -> impl Iterator<Item = (u32, u32)
     .into_iter()
 }
 
+/// Writes `hw/rt-core/rtl/rt_axi_map.vh`, the ray-casting core's AXI4-Lite slave's view
+/// of this map: every address, bit and code the slave decodes, so the Verilog never
+/// types one the Rust defines. The test `rt_axi_map_header_matches_the_rust_map` fails
+/// while the committed header differs (`FPGFX_BLESS=1` rewrites it).
+pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Result {
+    writeln!(
+        out,
+        "// rt_axi_map.vh -- the AXI4-Lite map of the ray-casting core's device."
+    )?;
+    writeln!(out, "//")?;
+    writeln!(
+        out,
+        "// GENERATED from protocol::axi_lite (protocol/src/axi_lite.rs); do not edit."
+    )?;
+    writeln!(
+        out,
+        "// `FPGFX_BLESS=1 cargo test -p protocol --test integration rt_axi_map` rewrites it."
+    )?;
+    writeln!(out, "`ifndef RT_AXI_MAP_VH")?;
+    writeln!(out, "`define RT_AXI_MAP_VH")?;
+    let bit = |v: u32| v.trailing_zeros();
+    let numbers: [(&str, u32, &str); 40] = [
+        (
+            "ADDR_BITS",
+            DEVICE_ADDR_BITS,
+            "address bits the device decodes",
+        ),
+        ("AP_CTRL", AP_CTRL, "block-level control"),
+        ("GIE", GIE, "global interrupt enable"),
+        ("IER", IER, "interrupt enable"),
+        ("ISR", ISR, "interrupt status (toggle on write)"),
+        ("NUMERIC", NUMERIC, "scalar: number format code"),
+        ("AOVS", AOVS, "scalar: bit 0 writes the AOV planes"),
+        ("AP_START", bit(ctrl::AP_START), "AP_CTRL bit: ap_start"),
+        (
+            "AP_DONE",
+            bit(ctrl::AP_DONE),
+            "AP_CTRL bit: ap_done (clear on read)",
+        ),
+        ("AP_IDLE", bit(ctrl::AP_IDLE), "AP_CTRL bit: ap_idle"),
+        (
+            "AP_READY",
+            bit(ctrl::AP_READY),
+            "AP_CTRL bit: ap_ready (clear on read)",
+        ),
+        (
+            "AUTO_RESTART",
+            bit(ctrl::AUTO_RESTART),
+            "AP_CTRL bit: auto_restart",
+        ),
+        ("IRQ_DONE", bit(irq::DONE), "IER / ISR bit: ap_done"),
+        ("IRQ_READY", bit(irq::READY), "IER / ISR bit: ap_ready"),
+        ("SCENE_BASE", SCENE_BASE, "scene word 0"),
+        ("SCENE_WINDOW", SCENE_WINDOW, "bytes of the scene window"),
+        (
+            "SCENE_WORDS",
+            SCENE_WORDS as u32,
+            "words of the scene image",
+        ),
+        ("SYS_ID", sys::ID, "reads DEVICE_ID"),
+        ("SYS_VERSION", sys::VERSION, "reads MAP_VERSION"),
+        ("SYS_RESET", sys::RESET, "any write: power-on state"),
+        (
+            "SYS_RT_CYCLES",
+            sys::RT_CYCLES,
+            "last frame's cycles, low word (high at +4)",
+        ),
+        (
+            "SYS_RT_WORK",
+            sys::RT_WORK,
+            "last frame's rays, low word (high at +4)",
+        ),
+        (
+            "SYS_COUNTERS",
+            sys::COUNTERS,
+            "counter 0's low word; counter i at +8 i",
+        ),
+        ("COUNTER_COUNT", COUNTERS.len() as u32, "device counters"),
+        ("DEVICE_ID", DEVICE_ID, "\"FPGX\""),
+        ("MAP_VERSION", MAP_VERSION, "this map's version"),
+        (
+            "NUMERIC_Q16_16",
+            numeric_code(Numeric::Q16_16),
+            "NUMERIC code of Q16.16",
+        ),
+        (
+            "NUMERIC_CODES",
+            Numeric::ALL.len() as u32,
+            "NUMERIC codes that name a format",
+        ),
+        ("READ_PLANE", readback::PLANE, "read-back: plane code"),
+        ("READ_FORMAT", readback::FORMAT, "read-back: format code"),
+        ("READ_RECT_XY", readback::RECT_XY, "read-back: x | y << 16"),
+        ("READ_RECT_WH", readback::RECT_WH, "read-back: w | h << 16"),
+        ("READ_LEN", readback::LEN, "read-back: bytes, or READ_NONE"),
+        ("READ_PAGE", readback::PAGE, "read-back: the window's page"),
+        ("READ_NONE", readback::NONE, "READ_LEN without a read-back"),
+        ("READ_BASE", READ_BASE, "read-back window"),
+        ("READ_WINDOW", READ_WINDOW, "bytes of the read-back window"),
+        (
+            "RASTER_BASE",
+            raster::BASE,
+            "the raster slave (not on this device)",
+        ),
+        ("TEXTURE_BASE", TEXTURE_BASE, "texture window"),
+        ("SLAVE_SPAN", SLAVE_SPAN, "bytes of each register slave"),
+    ];
+    for (name, value, what) in numbers {
+        writeln!(out, "// {what}")?;
+        // bit numbers and counts in decimal, addresses and words in hex
+        if value < 0x100 {
+            writeln!(out, "`define RT_AXI_{name} {value}")?;
+        } else {
+            writeln!(out, "`define RT_AXI_{name} 32'h{value:08x}")?;
+        }
+    }
+    for (i, c) in COUNTERS.iter().enumerate() {
+        writeln!(out, "// device counter index: {}", c.name)?;
+        write!(out, "`define RT_AXI_COUNTER_")?;
+        for ch in c.name.chars() {
+            out.write_char(ch.to_ascii_uppercase())?;
+        }
+        writeln!(out, " {i}")?;
+    }
+    writeln!(out, "`endif")
+}
+
 // The map must stay inside what the slave decodes and the scalars below the memory.
 const _: () = assert!(LAST_SCALAR < SCENE_BASE && SCENE_BASE.is_multiple_of(SCENE_WINDOW));
 const _: () = assert!(SCENE_WORDS * 4 <= SCENE_WINDOW as usize);

@@ -153,12 +153,6 @@ const PACKAGES: &[Package] = &[
         needs: None,
     },
     Package {
-        program: "z3",
-        package: "z3",
-        why: "the SMT solver yosys-smtbmc proves hw/rt-core/'s formal properties with (Debian's boolector is too old for it)",
-        needs: None,
-    },
-    Package {
         program: "nextpnr-ice40",
         package: "nextpnr-ice40",
         why: "places and routes hw/fitkit-raster/rtl/ on an iCE40 HX8K for the Fmax that `cargo xtask synth` reports",

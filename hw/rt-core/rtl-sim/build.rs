@@ -1,5 +1,6 @@
 //! Verilates the core's `rtl/` with the arithmetic units' sim top (`hw/rt-core/sim/`, top
-//! `rt_math_top`), the intersection unit and the frame (`rt_isect`, `rt_cast`) and its C shim (the shared recipe: the `verilate` crate).
+//! `rt_math_top`), the intersection unit, the frame and the device on its bus (`rt_isect`,
+//! `rt_cast`, `rt_device`) and its C shim (the shared recipe: the `verilate` crate).
 //! `FPGFX_RT_RTL_DIR` points it at another copy of `rtl/`.
 
 use std::path::PathBuf;
@@ -7,7 +8,7 @@ use std::path::PathBuf;
 fn main() {
     let manifest = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("set by cargo"));
     verilate::Model {
-        tops: &["rt_math_top", "rt_isect", "rt_cast"],
+        tops: &["rt_math_top", "rt_isect", "rt_cast", "rt_device"],
         rtl: manifest.join("../rtl"),
         rtl_override: "FPGFX_RT_RTL_DIR",
         sim: vec![manifest.join("../sim")],

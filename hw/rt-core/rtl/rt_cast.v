@@ -46,6 +46,10 @@
 //   index), t (its distance, Q16.16), n (world-space unit normal facing the ray; 0 for a
 //   miss), rgb (R in bits 23:16), kcu116 (G << 8 | B at even x, G << 8 | R at odd x),
 //   pix_valid.
+//   refuse: the err bits a start would raise now, from the words written (bit 3: an
+//   object's shape is not built), so a bus can refuse the start before it happens.
+//   rays: the rays the frame tested so far (a pixel's primary ray, L shadow rays per
+//   pixel with shadows), cleared by start.
 // Timing: after start, SETUP = 17 clocks, then the generator's latency 87, then one
 // slot per pixel. Without shadows a pixel's result leaves 378 clocks after its ray's
 // last pair (xform 3, isect 73, the reduction 1, the normal 92, the colour 209); with
@@ -84,7 +88,9 @@ module rt_cast #(
     output wire [31:0] pix_t,
     output wire [95:0] pix_n,
     output wire [23:0] pix_rgb,
-    output wire [15:0] pix_kcu116
+    output wire [15:0] pix_kcu116,
+    output wire [7:0]  refuse,
+    output reg  [31:0] rays
 );
     generate
         if (OBJ < 1 || OBJ > `RT_OBJ_CAPACITY || OBJ > 255 || LIGHTS < 1 ||
@@ -241,6 +247,20 @@ module rt_cast #(
         end
     end
 
+    reg bad_shape;
+    wire [7:0] built = {1'b0, SHAPES};
+    always @(*) begin
+        bad_shape = 1'b0;
+        for (j = 0; j < OBJ; j = j + 1) begin
+            if (j < obj_count && !built[shape_k[j]]) bad_shape = 1'b1;
+        end
+    end
+    wire [7:0] start_err = {bad_material, bad_lights,
+                            SHADOWS == 0 && (flags & `RT_FLAG_SHADOWS) != 0,
+                            width == 0 || height == 0 || pitch[63:PB-2] != 0, 1'b0,
+                            obj_count > OBJ, spp != 1, value_format != `RT_FORMAT_Q16_16};
+    assign refuse = start_err | {4'd0, bad_shape, 3'd0};
+
     // ---- frame sequencer ------------------------------------------------------------
     reg [31:0]          tmax;
     reg [KB-1:0]        n_obj;    // objects tested per ray (0: every ray misses)
@@ -283,10 +303,7 @@ module rt_cast #(
             done <= 1'b0;
             if (start && !busy) begin
                 busy <= 1'b1;
-                err <= {bad_material, bad_lights,
-                        SHADOWS == 0 && (flags & `RT_FLAG_SHADOWS) != 0,
-                        width == 0 || height == 0 || pitch[63:PB-2] != 0, 1'b0,
-                        obj_count > OBJ, spp != 1, value_format != `RT_FORMAT_Q16_16};
+                err <= start_err;
                 n_obj <= obj_count > OBJ ? OBJ[KB-1:0] : obj_count[KB-1:0];
                 n_l <= light_count == 0 ? 4'd0 :
                        light_count - 1 > LIGHTS ? LIGHTS[3:0] : light_count[3:0] - 4'd1;
@@ -382,6 +399,12 @@ module rt_cast #(
             if (in_primary) sh_l <= {LB{1'b0}};
             else if (sh_k == n_obj - 1'b1) sh_l <= sh_l + 1'b1;
         end
+    end
+    always @(posedge clk) begin
+        if (rst || (start && !busy)) rays <= 32'd0;
+        else if (advance)
+            rays <= rays + {31'd0, in_primary && last_pair && rg_out_valid} +
+                    (is_sh && last_sh ? {28'd0, n_l} : 32'd0);
     end
     wire [KB-1:0] obj_k = is_sh ? sh_k : pair_k;
     wire [IB-1:0] obj_sel = obj_k[IB-1:0];  // < n_obj <= OBJ

@@ -617,3 +617,26 @@ fn rt_map_header_matches_the_rust_map() {
         assert!(text.contains(&want), "{want}");
     }
 }
+
+/// The committed `hw/rt-core/rtl/rt_axi_map.vh` is what `protocol::axi_lite` writes today.
+#[test]
+fn rt_axi_map_header_matches_the_rust_map() {
+    let mut text = String::new();
+    protocol::axi_lite::write_verilog_header(&mut text).expect("writes to a String");
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hw/rt-core/rtl/rt_axi_map.vh");
+    if std::env::var_os("FPGFX_BLESS").is_some() {
+        std::fs::write(&path, &text).expect("writes the header");
+    }
+    let committed = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e} (FPGFX_BLESS=1 writes it)", path.display()));
+    assert_eq!(
+        committed,
+        text,
+        "{} differs from protocol::axi_lite; run with FPGFX_BLESS=1 to regenerate",
+        path.display()
+    );
+    assert!(text.contains("`define RT_AXI_SCENE_BASE 32'h00000800\n"));
+    assert!(text.contains("`define RT_AXI_AUTO_RESTART 7\n"));
+    assert!(text.contains("`define RT_AXI_COUNTER_SATURATIONS 3\n"));
+}

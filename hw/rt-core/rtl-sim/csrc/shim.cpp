@@ -1,11 +1,13 @@
-// The C ABI over the Verilated core: `rt_math_top` (every arithmetic unit side by side)
-// and `rt_isect` (the intersection unit), each one call per clock cycle (operands in,
-// outputs out), so the Rust side pays one FFI crossing per cycle.
+// The C ABI over the Verilated core: `rt_math_top` (every arithmetic unit side by side),
+// `rt_isect` (the intersection unit), `rt_cast` (the frame core) and `rt_device` (the
+// core behind its AXI4-Lite slave), each one call per clock cycle (inputs in, outputs
+// out), so the Rust side pays one FFI crossing per cycle.
 
 #include <cstdint>
 #include <memory>
 
 #include "Vrt_cast.h"
+#include "Vrt_device.h"
 #include "Vrt_isect.h"
 #include "Vrt_math_top.h"
 #include "verilated.h"
@@ -20,6 +22,7 @@ struct Model {
 struct RtMath : Model<Vrt_math_top> {};
 struct RtIsect : Model<Vrt_isect> {};
 struct RtCast : Model<Vrt_cast> {};
+struct RtDevice : Model<Vrt_device> {};
 
 template <typename M>
 static void edge(M* m) {
@@ -29,25 +32,31 @@ static void edge(M* m) {
     m->top->eval();
 }
 
-// A model after 4 cycles of reset (clock enable high, no valid input), or null when
-// construction failed. Both tops share these ports.
-template <typename M, typename V>
-static M* make() {
+// A model after 4 cycles of reset with its other inputs idle (`idle` sets them), or null
+// when construction failed.
+template <typename M, typename V, typename Idle>
+static M* make(Idle idle) {
     auto* m = new (std::nothrow) M;
     if (!m) return nullptr;
     m->ctx = std::make_unique<VerilatedContext>();
     m->top = std::make_unique<V>(m->ctx.get());
     m->top->rst = 1;
-    m->top->ce = 1;
-    m->top->in_valid = 0;
+    idle(*m->top);
     for (int i = 0; i < 4; i++) edge(m);
     m->top->rst = 0;
     return m;
 }
 
+// The arithmetic and intersection tops: clock enable high, no valid input.
+template <typename V>
+static void no_input(V& t) {
+    t.ce = 1;
+    t.in_valid = 0;
+}
+
 extern "C" {
 
-RtMath* rt_math_new() { return make<RtMath, Vrt_math_top>(); }
+RtMath* rt_math_new() { return make<RtMath, Vrt_math_top>(no_input<Vrt_math_top>); }
 
 void rt_math_free(RtMath* m) { delete m; }
 
@@ -73,7 +82,7 @@ void rt_math_cycle(RtMath* m, const uint32_t* in, uint32_t* out) {
     for (int i = 0; i < 21; i++) out[i] = o[i];
 }
 
-RtIsect* rt_isect_new() { return make<RtIsect, Vrt_isect>(); }
+RtIsect* rt_isect_new() { return make<RtIsect, Vrt_isect>(no_input<Vrt_isect>); }
 
 void rt_isect_free(RtIsect* m) { delete m; }
 
@@ -102,18 +111,11 @@ void rt_isect_cycle(RtIsect* m, const uint32_t* in, uint32_t* out) {
 }
 
 RtCast* rt_cast_new() {
-    auto* m = new (std::nothrow) RtCast;
-    if (!m) return nullptr;
-    m->ctx = std::make_unique<VerilatedContext>();
-    m->top = std::make_unique<Vrt_cast>(m->ctx.get());
-    Vrt_cast& t = *m->top;
-    t.rst = 1;
-    t.hold = 0;
-    t.start = 0;
-    t.cfg_we = 0;
-    for (int i = 0; i < 4; i++) edge(m);
-    t.rst = 0;
-    return m;
+    return make<RtCast, Vrt_cast>([](Vrt_cast& t) {
+        t.hold = 0;
+        t.start = 0;
+        t.cfg_we = 0;
+    });
 }
 
 void rt_cast_free(RtCast* m) { delete m; }
@@ -143,6 +145,50 @@ void rt_cast_cycle(RtCast* m, const uint32_t* in, uint32_t* out) {
     out[11] = t.pix_n[2];
     out[12] = t.pix_rgb;
     out[13] = t.pix_kcu116;
+}
+
+RtDevice* rt_device_new() {
+    return make<RtDevice, Vrt_device>([](Vrt_device& t) {
+        t.s_axi_awvalid = 0;
+        t.s_axi_wvalid = 0;
+        t.s_axi_bready = 0;
+        t.s_axi_arvalid = 0;
+        t.s_axi_rready = 0;
+        t.s_axi_awprot = 0;
+        t.s_axi_arprot = 0;
+        t.mem_ready = 1;
+    });
+}
+
+void rt_device_free(RtDevice* m) { delete m; }
+
+// One clock. in: awvalid, awaddr, wvalid, wdata, wstrb, bready, arvalid, araddr, rready,
+// mem_ready. out, sampled before the rising edge (what the master and the memory see
+// when they decide): awready, wready, bvalid, bresp, arready, rvalid, rdata, rresp, irq,
+// mem_valid, mem_index, mem_rgb, mem_kcu116, mem_obj, mem_t, mem_n x, y, z, mem_aovs.
+void rt_device_cycle(RtDevice* m, const uint32_t* in, uint32_t* out) {
+    Vrt_device& t = *m->top;
+    t.s_axi_awvalid = in[0] != 0;
+    t.s_axi_awaddr = in[1];
+    t.s_axi_wvalid = in[2] != 0;
+    t.s_axi_wdata = in[3];
+    t.s_axi_wstrb = in[4];
+    t.s_axi_bready = in[5] != 0;
+    t.s_axi_arvalid = in[6] != 0;
+    t.s_axi_araddr = in[7];
+    t.s_axi_rready = in[8] != 0;
+    t.mem_ready = in[9] != 0;
+    t.clk = 0;
+    t.eval();
+    const uint32_t o[19] = {
+        t.s_axi_awready, t.s_axi_wready, t.s_axi_bvalid, t.s_axi_bresp, t.s_axi_arready,
+        t.s_axi_rvalid,  t.s_axi_rdata,  t.s_axi_rresp,  t.irq,         t.mem_valid,
+        t.mem_index,     t.mem_rgb,      t.mem_kcu116,   t.mem_obj,     t.mem_t,
+        t.mem_n[0],      t.mem_n[1],     t.mem_n[2],     t.mem_aovs,
+    };
+    for (int i = 0; i < 19; i++) out[i] = o[i];
+    t.clk = 1;
+    t.eval();
 }
 
 }  // extern "C"

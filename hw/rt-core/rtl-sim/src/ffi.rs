@@ -23,9 +23,15 @@ pub(crate) struct RtCast {
     _private: [u8; 0],
 }
 
+/// The shim's device (the core behind its AXI4-Lite slave): opaque to Rust.
+#[repr(C)]
+pub(crate) struct RtDevice {
+    _private: [u8; 0],
+}
+
 #[cfg(verilated)]
 mod sys {
-    use super::{RtCast, RtIsect, RtMath};
+    use super::{RtCast, RtDevice, RtIsect, RtMath};
 
     extern "C" {
         pub fn rt_math_new() -> *mut RtMath;
@@ -37,7 +43,43 @@ mod sys {
         pub fn rt_cast_new() -> *mut RtCast;
         pub fn rt_cast_free(m: *mut RtCast);
         pub fn rt_cast_cycle(m: *mut RtCast, inputs: *const u32, outputs: *mut u32);
+        pub fn rt_device_new() -> *mut RtDevice;
+        pub fn rt_device_free(m: *mut RtDevice);
+        pub fn rt_device_cycle(m: *mut RtDevice, inputs: *const u32, outputs: *mut u32);
     }
+}
+
+#[cfg(verilated)]
+pub(crate) fn device_new() -> Result<NonNull<RtDevice>, RtlError> {
+    // SAFETY: the shim returns a fresh model or null.
+    NonNull::new(unsafe { sys::rt_device_new() }).ok_or(RtlError::Construct)
+}
+
+#[cfg(verilated)]
+pub(crate) fn device_free(m: NonNull<RtDevice>) {
+    // SAFETY: `m` came from `rt_device_new` and is freed once (by its owner's Drop).
+    unsafe { sys::rt_device_free(m.as_ptr()) }
+}
+
+#[cfg(verilated)]
+pub(crate) fn device_cycle(m: NonNull<RtDevice>, inputs: &[u32; 10]) -> [u32; 19] {
+    let mut out = [0u32; 19];
+    // SAFETY: the shim reads 10 words and writes 19, the arrays' sizes.
+    unsafe { sys::rt_device_cycle(m.as_ptr(), inputs.as_ptr(), out.as_mut_ptr()) };
+    out
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn device_new() -> Result<NonNull<RtDevice>, RtlError> {
+    new().map(|_| NonNull::dangling())
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn device_free(_: NonNull<RtDevice>) {}
+
+#[cfg(not(verilated))]
+pub(crate) fn device_cycle(_: NonNull<RtDevice>, _: &[u32; 10]) -> [u32; 19] {
+    [0; 19]
 }
 
 #[cfg(verilated)]

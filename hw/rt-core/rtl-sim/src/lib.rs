@@ -1,8 +1,9 @@
 //! The ray-casting core's RTL (`hw/rt-core/rtl/`), Verilated, as a Rust library, so that
 //! its differential tests can hold it to the golden model (`sim-target`) from Rust: its
 //! Q16.16 arithmetic units ([`MathUnits`]) and its intersection unit ([`Intersect`]), one
-//! operand set per clock, and the frame core ([`Cast`]): a scene image in, a result per
-//! pixel out.
+//! operand set per clock, the frame core ([`Cast`]): a scene image in, a result per
+//! pixel out, and the core on its bus ([`Device`]): AXI4-Lite accesses in, the memory
+//! port's records out.
 //!
 //! The build script Verilates the RTL when verilator is installed (`cargo xtask setup`
 //! installs it); without it the crate still builds and [`MathUnits::new`] says what was
@@ -12,9 +13,11 @@
 //! Every value crosses as its Q16.16 bits in an `i32`.
 
 mod cast;
+mod device;
 mod ffi;
 
 pub use cast::{Cast, CastError, CastFrame, CastPixel};
+pub use device::{AxiError, Device, Jitter, MemRecord, HANDSHAKE_BOUND};
 
 use std::ptr::NonNull;
 
