@@ -63,7 +63,8 @@ prove rt_axil -set AW 4
 # intersection unit's and the frame's differential tests run under Verilator, in rtl-sim/)
 if [ "$SIM" = iverilog ]; then
     iverilog -g2012 -Irtl -s rt_cast -o "$BUILD/rt_cast.vvp" rtl/*.v
-    echo "icarus: rt_cast elaborates"
+    iverilog -g2012 -Irtl -s rt_device -o "$BUILD/rt_device.vvp" rtl/*.v
+    echo "icarus: rt_cast and rt_device elaborate"
 fi
 
 # testbench, then the files it needs besides rtl/

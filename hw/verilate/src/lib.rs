@@ -77,7 +77,18 @@ impl Model<'_> {
             // Verilator makes its own folder but not the one above it
             fs::create_dir_all(mdir).unwrap_or_else(|e| panic!("{}: {e}", mdir.display()));
             let run = Command::new(&verilator)
-                .args(["--cc", "-O3", "--top-module", top, "-Wno-fatal", "--Mdir"])
+                // Uninitialised state and X assignments become values the shim can draw
+                // at random (`randReset(2)` and a seed on the context; the default, 0,
+                // keeps zeros), so a test can show that no X reaches an output.
+                .args([
+                    "--cc",
+                    "-O3",
+                    "--x-assign",
+                    "unique",
+                    "--x-initial",
+                    "unique",
+                ])
+                .args(["--top-module", top, "-Wno-fatal", "--Mdir"])
                 .arg(mdir)
                 // The modules include headers that sit beside them (a generated map), so a
                 // scratch copy of the folder brings its own.

@@ -33,12 +33,18 @@ static void edge(M* m) {
 }
 
 // A model after 4 cycles of reset with its other inputs idle (`idle` sets them), or null
-// when construction failed.
+// when construction failed. `seed` 0 starts every register and memory at 0; any other
+// seed starts them at random values drawn from it (Verilated with --x-initial unique),
+// which the reset then has to bring to a known state wherever it matters.
 template <typename M, typename V, typename Idle>
-static M* make(Idle idle) {
+static M* make(Idle idle, uint64_t seed = 0) {
     auto* m = new (std::nothrow) M;
     if (!m) return nullptr;
     m->ctx = std::make_unique<VerilatedContext>();
+    if (seed != 0) {
+        m->ctx->randReset(2);
+        m->ctx->randSeed(static_cast<int>(seed & 0x7fffffff));
+    }
     m->top = std::make_unique<V>(m->ctx.get());
     m->top->rst = 1;
     idle(*m->top);
@@ -110,12 +116,14 @@ void rt_isect_cycle(RtIsect* m, const uint32_t* in, uint32_t* out) {
     out[4] = t.tag_out;
 }
 
-RtCast* rt_cast_new() {
-    return make<RtCast, Vrt_cast>([](Vrt_cast& t) {
-        t.hold = 0;
-        t.start = 0;
-        t.cfg_we = 0;
-    });
+RtCast* rt_cast_new(uint64_t seed) {
+    return make<RtCast, Vrt_cast>(
+        [](Vrt_cast& t) {
+            t.hold = 0;
+            t.start = 0;
+            t.cfg_we = 0;
+        },
+        seed);
 }
 
 void rt_cast_free(RtCast* m) { delete m; }

@@ -73,10 +73,16 @@ pub struct Cast {
 unsafe impl Send for Cast {}
 
 impl Cast {
-    /// A fresh model, reset for four cycles.
+    /// A fresh model, every register and memory at 0, reset for four cycles.
     pub fn new() -> Result<Self, RtlError> {
+        Self::with_x_seed(0)
+    }
+
+    /// A fresh model whose registers and memories start at random values drawn from
+    /// `seed` (0: at 0), as uninitialised hardware does, then reset for four cycles.
+    pub fn with_x_seed(seed: u64) -> Result<Self, RtlError> {
         Ok(Self {
-            model: ffi::cast_new()?,
+            model: ffi::cast_new(seed)?,
             cycle: 0,
         })
     }

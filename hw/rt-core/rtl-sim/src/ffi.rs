@@ -40,7 +40,7 @@ mod sys {
         pub fn rt_isect_new() -> *mut RtIsect;
         pub fn rt_isect_free(m: *mut RtIsect);
         pub fn rt_isect_cycle(m: *mut RtIsect, inputs: *const u32, outputs: *mut u32);
-        pub fn rt_cast_new() -> *mut RtCast;
+        pub fn rt_cast_new(seed: u64) -> *mut RtCast;
         pub fn rt_cast_free(m: *mut RtCast);
         pub fn rt_cast_cycle(m: *mut RtCast, inputs: *const u32, outputs: *mut u32);
         pub fn rt_device_new() -> *mut RtDevice;
@@ -83,9 +83,9 @@ pub(crate) fn device_cycle(_: NonNull<RtDevice>, _: &[u32; 10]) -> [u32; 19] {
 }
 
 #[cfg(verilated)]
-pub(crate) fn cast_new() -> Result<NonNull<RtCast>, RtlError> {
+pub(crate) fn cast_new(seed: u64) -> Result<NonNull<RtCast>, RtlError> {
     // SAFETY: the shim returns a fresh model or null.
-    NonNull::new(unsafe { sys::rt_cast_new() }).ok_or(RtlError::Construct)
+    NonNull::new(unsafe { sys::rt_cast_new(seed) }).ok_or(RtlError::Construct)
 }
 
 #[cfg(verilated)]
@@ -103,7 +103,7 @@ pub(crate) fn cast_cycle(m: NonNull<RtCast>, inputs: &[u32; 5]) -> [u32; 14] {
 }
 
 #[cfg(not(verilated))]
-pub(crate) fn cast_new() -> Result<NonNull<RtCast>, RtlError> {
+pub(crate) fn cast_new(_: u64) -> Result<NonNull<RtCast>, RtlError> {
     new().map(|_| NonNull::dangling())
 }
 
