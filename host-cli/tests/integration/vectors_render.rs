@@ -170,9 +170,10 @@ fn bad_input_names_the_file() {
 }
 
 /// The ray-casting core's RTL checked by the tools: `fpgfx vectors render` of a scene the
-/// core builds drives `hw/rt-core/tb/tb_rt_vectors.v` under Icarus (every pixel's colour,
-/// depth and normal against the vectors), and `fpgfx compare` finds the frame the bench
-/// wrote identical to the expected one. A missing Icarus fails with "run cargo xtask
+/// core builds drives `hw/rt-core/tb/tb_rt_vectors.v` under Icarus (`axi_writes.hex`
+/// replayed as AXI4-Lite writes into the core's device, `AP_CTRL` polled, every pixel of
+/// its memory port checked for colour, depth and normal against the vectors), and
+/// `fpgfx compare` finds the frame the bench wrote identical to the expected one. A missing Icarus fails with "run cargo xtask
 /// setup".
 #[test]
 fn render_vectors_drive_the_rt_core_under_icarus_and_compare_finds_an_exact_match() {
@@ -219,6 +220,24 @@ fn render_vectors_drive_the_rt_core_under_icarus_and_compare_finds_an_exact_matc
         .unwrap_or_else(|e| panic!("vvp: {e} (run cargo xtask setup)"));
     let out = String::from_utf8_lossy(&sim.stdout);
     assert!(out.contains("TB_RT_CORE PASS: 2016 checks"), "{out}");
+    // RT_CYCLES is the model's count for the core plus the clocks the memory held it
+    let numbers: Vec<u64> = out
+        .lines()
+        .find(|l| l.starts_with("TB_RT_CORE PASS"))
+        .map(|l| {
+            l.split(|c: char| !c.is_ascii_digit())
+                .filter_map(|w| w.parse().ok())
+                .collect()
+        })
+        .unwrap_or_default();
+    let text = std::fs::read_to_string(&scene).expect("core.toml");
+    let mut s = jobs::scene::parse(&text, &scene).expect("core.toml parses");
+    (s.width, s.height) = (24, 14);
+    let want = sim_target::rt::core::CoreFrame::of(&s).cycles();
+    assert!(
+        matches!(numbers[..], [2016, cycles, held] if cycles == want + held),
+        "RT_CYCLES against the model's {want}: {out}"
+    );
     let cmp = ok(&[
         "compare",
         &format!("{dir}/expected_rgb888.hex"),

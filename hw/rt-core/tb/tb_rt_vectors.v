@@ -1,43 +1,137 @@
-// tb_rt_vectors -- the ray-casting core driven by `fpgfx vectors render` output: the
-// scene image (scene_regs.hex) through the configuration port, one frame, and every
-// pixel's colour (RGB888 and the KCU116 word), depth and normal against the golden
-// model's (expected_rgb888.hex, expected_kcu116.hex, expected_depth.hex,
-// expected_normal.hex; docs/vectors.md). Writes the core's frame as
+// tb_rt_vectors -- the ray-casting core's device driven by `fpgfx vectors render` output
+// over its AXI4-Lite bus, as a MicroBlaze drives ViRAY (seed 002): every write of
+// axi_writes.hex (the scene image through the scene window, NUMERIC, AOVS, then AP_CTRL's
+// ap_start) as an AXI4-Lite write, AP_CTRL polled until ap_done, and every pixel the
+// memory port gives (its READY low on a pseudo-random third of the clocks) checked: its
+// colour (RGB888 and the KCU116 word), depth and normal against the golden model's
+// (expected_rgb888.hex, expected_kcu116.hex, expected_depth.hex, expected_normal.hex;
+// docs/vectors.md). scene_regs.hex gives the frame's size. Writes the frame as
 // actual_rgb888.hex beside them, for `fpgfx compare`.
 //
 // Usage (Icarus): iverilog -g2012 -I hw/rt-core/rtl -I hw/shared-tb -s tb_rt_vectors
 //   -o tb.vvp hw/rt-core/tb/tb_rt_vectors.v hw/rt-core/rtl/*.v; vvp -n tb.vvp +vec=DIR
-// Prints "TB_RT_CORE PASS: <checks> checks, <cycles> cycles" or "TB_RT_CORE FAIL ...";
-// a frame that does not finish within its cycle bound fails naming the pixels received.
+// Prints "TB_RT_CORE PASS: <checks> checks, <cycles> cycles, <held> held" (RT_CYCLES,
+// the frame's clocks as the device counted them, and the clocks the memory held the
+// core) or "TB_RT_CORE FAIL ..."; a write answered SLVERR,
+// a handshake that never comes and a frame that does not finish within its bound fail,
+// naming the address or the pixels received.
 // Depth and normal are compared as the model's f32 planes: each Q16.16 word converted to
 // binary32, rounded to nearest even (the model's `to_f64() as f32`).
 `timescale 1ns / 1ps
 `default_nettype none
 `include "rt_map.vh"
+`include "rt_axi_map.vh"
 module tb_rt_vectors;
     localparam integer MAXPIX = 1 << 16;
+    localparam integer AW = `RT_AXI_ADDR_BITS;
 
     reg clk = 1'b0;
     always #5 clk = !clk;
-    reg        rst = 1'b1;
-    reg        cfg_we = 1'b0;
-    reg [8:0]  cfg_addr = 9'd0;
-    reg [31:0] cfg_data = 32'd0;
-    reg        start = 1'b0;
-    wire       busy, done, pix_valid, pix_hit;
-    wire [7:0] err, pix_obj;
-    wire [15:0] pix_x, pix_y;
-    wire [31:0] pix_t;
-    wire [95:0] pix_n;
-    wire [23:0] pix_rgb;
-    wire [15:0] pix_kcu116;
-    rt_cast dut (.clk(clk), .rst(rst), .cfg_we(cfg_we), .cfg_addr(cfg_addr),
-        .cfg_data(cfg_data), .start(start), .hold(1'b0), .busy(busy), .done(done), .err(err),
-        .pix_valid(pix_valid), .pix_x(pix_x), .pix_y(pix_y), .pix_hit(pix_hit),
-        .pix_obj(pix_obj), .pix_t(pix_t), .pix_n(pix_n), .pix_rgb(pix_rgb),
-        .pix_kcu116(pix_kcu116));
+    reg           rst = 1'b1;
+    reg           awvalid = 1'b0, wvalid = 1'b0, bready = 1'b0, arvalid = 1'b0;
+    reg           rready = 1'b0;
+    reg  [AW-1:0] awaddr = 0, araddr = 0;
+    reg  [31:0]   wdata = 32'd0;
+    wire          awready, wready, bvalid, arready, rvalid, irq;
+    wire [1:0]    bresp, rresp;
+    wire [31:0]   rdata;
+    reg           mem_ready = 1'b1;
+    wire          mem_valid, mem_aovs;
+    wire [31:0]   mem_index, mem_t;
+    wire [23:0]   mem_rgb;
+    wire [15:0]   mem_kcu116;
+    wire [7:0]    mem_obj;
+    wire [95:0]   mem_n;
+    rt_device dut (.clk(clk), .rst(rst), .s_axi_awvalid(awvalid), .s_axi_awready(awready),
+        .s_axi_awaddr(awaddr), .s_axi_awprot(3'd0), .s_axi_wvalid(wvalid),
+        .s_axi_wready(wready), .s_axi_wdata(wdata), .s_axi_wstrb(4'hf),
+        .s_axi_bvalid(bvalid), .s_axi_bready(bready), .s_axi_bresp(bresp),
+        .s_axi_arvalid(arvalid), .s_axi_arready(arready), .s_axi_araddr(araddr),
+        .s_axi_arprot(3'd0), .s_axi_rvalid(rvalid), .s_axi_rready(rready),
+        .s_axi_rdata(rdata), .s_axi_rresp(rresp), .irq(irq), .mem_valid(mem_valid),
+        .mem_ready(mem_ready), .mem_index(mem_index), .mem_rgb(mem_rgb),
+        .mem_kcu116(mem_kcu116), .mem_obj(mem_obj), .mem_t(mem_t), .mem_n(mem_n),
+        .mem_aovs(mem_aovs));
+
+    // ---- an AXI4-Lite master: one access at a time, each a whole handshake ------------------
+    localparam integer HANDSHAKE = 10000;  // clocks before a handshake counts as stuck
+    integer waited;
+    task axi_write(input [31:0] addr, input [31:0] data);
+        begin
+            @(negedge clk);
+            awvalid = 1'b1;
+            awaddr = addr[AW-1:0];
+            wvalid = 1'b1;
+            wdata = data;
+            waited = 0;
+            while (awvalid || wvalid) begin
+                @(posedge clk);
+                if (awready) awvalid <= 1'b0;
+                if (wready) wvalid <= 1'b0;
+                @(negedge clk);
+                waited = waited + 1;
+                if (waited > HANDSHAKE) begin
+                    $display("TB_RT_CORE FAIL: write to %h: no AW/W handshake", addr);
+                    $finish;
+                end
+            end
+            bready = 1'b1;
+            while (!bvalid) begin
+                @(negedge clk);
+                waited = waited + 1;
+                if (waited > HANDSHAKE) begin
+                    $display("TB_RT_CORE FAIL: write to %h: no response", addr);
+                    $finish;
+                end
+            end
+            if (bresp != 2'b00) begin
+                $display("TB_RT_CORE FAIL: write of %h to %h answered SLVERR", data, addr);
+                $finish;
+            end
+            @(posedge clk);
+            bready <= 1'b0;
+        end
+    endtask
+    task axi_read(input [31:0] addr, output [31:0] data);
+        begin
+            @(negedge clk);
+            arvalid = 1'b1;
+            araddr = addr[AW-1:0];
+            waited = 0;
+            while (arvalid) begin
+                @(posedge clk);
+                if (arready) arvalid <= 1'b0;
+                @(negedge clk);
+                waited = waited + 1;
+            end
+            rready = 1'b1;
+            while (!rvalid) begin
+                @(negedge clk);
+                waited = waited + 1;
+                if (waited > HANDSHAKE) begin
+                    $display("TB_RT_CORE FAIL: read of %h: no response", addr);
+                    $finish;
+                end
+            end
+            if (rresp != 2'b00) begin
+                $display("TB_RT_CORE FAIL: read of %h answered SLVERR", addr);
+                $finish;
+            end
+            data = rdata;
+            @(posedge clk);
+            rready <= 1'b0;
+        end
+    endtask
+
+    // the memory is busy on a pseudo-random third of the clocks
+    reg [15:0] lfsr = 16'hace1;
+    always @(posedge clk) begin
+        lfsr <= {lfsr[14:0], lfsr[15] ^ lfsr[13] ^ lfsr[12] ^ lfsr[10]};
+        mem_ready <= lfsr[1:0] != 2'b00 || lfsr[3];
+    end
 
     reg [31:0] regs [0:`RT_SCENE_WORDS-1];
+    reg [63:0] writes [0:`RT_AXI_SCENE_WORDS + 2];
     reg [23:0] exp_rgb [0:MAXPIX-1];
     reg [15:0] exp_kcu [0:MAXPIX-1];
     reg [31:0] exp_depth [0:MAXPIX-1];
@@ -79,8 +173,8 @@ module tb_rt_vectors;
     endfunction
 
     reg [8*512-1:0] dir, path;
-    integer w, h, n, i, k, fails, checks, cycles, bound, fd;
-    reg [31:0] depth, nx, ny, nz;
+    integer w, h, n, i, fails, checks, cycles, bound, fd, nwrites, polls;
+    reg [31:0] depth, nx, ny, nz, ctrl, hi;
 
     task check(input [8*16-1:0] what, input integer pix, input [31:0] got, input [31:0] want);
         begin
@@ -93,6 +187,35 @@ module tb_rt_vectors;
             end
         end
     endtask
+
+    // every record the memory port gives, checked against the model as it arrives; the
+    // clocks a record waited (each holds the core one clock)
+    integer held = 0;
+    always @(posedge clk) begin
+        if (!rst && mem_valid && !mem_ready) held = held + 1;
+        if (!rst && mem_valid && mem_ready) begin
+            if (mem_index != n) begin
+                fails = fails + 1;
+                $display("pixel %0d came as record %0d", n, mem_index);
+            end
+            if (!mem_aovs) begin
+                fails = fails + 1;
+                $display("pixel %0d: the frame did not take AOVS", n);
+            end
+            got_rgb[n] = mem_rgb;
+            check("colour", n, {8'd0, mem_rgb}, {8'd0, exp_rgb[n]});
+            check("kcu116", n, {16'd0, mem_kcu116}, {16'd0, exp_kcu[n]});
+            depth = mem_obj != 8'hff ? q16_to_f32(mem_t) : 32'h7f80_0000;
+            check("depth", n, depth, exp_depth[n]);
+            nx = mem_obj != 8'hff ? q16_to_f32(mem_n[31:0]) : 32'd0;
+            ny = mem_obj != 8'hff ? q16_to_f32(mem_n[63:32]) : 32'd0;
+            nz = mem_obj != 8'hff ? q16_to_f32(mem_n[95:64]) : 32'd0;
+            check("normal x", n, nx, exp_normal[3 * n]);
+            check("normal y", n, ny, exp_normal[3 * n + 1]);
+            check("normal z", n, nz, exp_normal[3 * n + 2]);
+            n = n + 1;
+        end
+    end
 
     initial begin
         if (!$value$plusargs("vec=%s", dir)) begin
@@ -116,56 +239,30 @@ module tb_rt_vectors;
         $readmemh(path, exp_depth, 0, w * h - 1);
         $sformat(path, "%0s/expected_normal.hex", dir);
         $readmemh(path, exp_normal, 0, 3 * w * h - 1);
+        // the scene image, then NUMERIC, AOVS and AP_CTRL (docs/vectors.md)
+        nwrites = `RT_AXI_SCENE_WORDS + 3;
+        $sformat(path, "%0s/axi_writes.hex", dir);
+        $readmemh(path, writes, 0, nwrites - 1);
         fails = 0;
         checks = 0;
+        n = 0;
         repeat (4) @(posedge clk);
         rst <= 1'b0;
-        for (i = 0; i < `RT_SCENE_WORDS; i = i + 1) begin
-            @(posedge clk);
-            cfg_we <= 1'b1;
-            cfg_addr <= i;
-            cfg_data <= regs[i];
-        end
-        @(posedge clk);
-        cfg_we <= 1'b0;
-        start <= 1'b1;
-        @(posedge clk);
-        start <= 1'b0;
-        cycles = 1;
-        n = 0;
+        for (i = 0; i < nwrites; i = i + 1) axi_write(writes[i][63:32], writes[i][31:0]);
         bound = w * h * `RT_OBJ_CAPACITY * `RT_LIGHT_CAPACITY + 10000;  // a slot is N (1 + L)
-        while (!done && cycles < bound) begin
-            @(posedge clk);
-            cycles = cycles + 1;
-            if (pix_valid) begin
-                k = pix_y * w + pix_x;
-                if (k != n) begin
-                    fails = fails + 1;
-                    $display("pixel %0d came as (%0d, %0d)", n, pix_x, pix_y);
-                end
-                got_rgb[n] = pix_rgb;
-                check("colour", n, {8'd0, pix_rgb}, {8'd0, exp_rgb[n]});
-                check("kcu116", n, {16'd0, pix_kcu116}, {16'd0, exp_kcu[n]});
-                depth = pix_hit ? q16_to_f32(pix_t) : 32'h7f80_0000;
-                check("depth", n, depth, exp_depth[n]);
-                nx = q16_to_f32(pix_n[31:0]);
-                ny = q16_to_f32(pix_n[63:32]);
-                nz = q16_to_f32(pix_n[95:64]);
-                check("normal x", n, nx, exp_normal[3 * n]);
-                check("normal y", n, ny, exp_normal[3 * n + 1]);
-                check("normal z", n, nz, exp_normal[3 * n + 2]);
-                n = n + 1;
-            end
+        ctrl = 32'd0;
+        polls = 0;
+        while (!ctrl[`RT_AXI_AP_DONE] && polls < bound) begin
+            axi_read(`RT_AXI_AP_CTRL, ctrl);
+            polls = polls + 1;
         end
-        if (!done) begin
-            $display("TB_RT_CORE FAIL: no done within %0d cycles, %0d of %0d pixels", bound, n,
-                w * h);
+        if (!ctrl[`RT_AXI_AP_DONE]) begin
+            $display("TB_RT_CORE FAIL: AP_CTRL: no ap_done after %0d polls, %0d of %0d pixels",
+                polls, n, w * h);
             $finish;
         end
-        if (err != 0) begin
-            fails = fails + 1;
-            $display("the core refused the scene: err %b (rtl/rt_cast.v)", err);
-        end
+        axi_read(`RT_AXI_SYS_RT_CYCLES, cycles);
+        axi_read(`RT_AXI_SYS_RT_CYCLES + 4, hi);
         if (n != w * h) begin
             fails = fails + 1;
             $display("%0d pixels, expected %0d", n, w * h);
@@ -176,7 +273,8 @@ module tb_rt_vectors;
         for (i = 0; i < n; i = i + 1) $fdisplay(fd, "%h", got_rgb[i]);
         $fclose(fd);
         if (fails == 0)
-            $display("TB_RT_CORE PASS: %0d checks, %0d cycles", checks, cycles);
+            $display("TB_RT_CORE PASS: %0d checks, %0d cycles, %0d held", checks, cycles,
+                held);
         else
             $display("TB_RT_CORE FAIL: %0d of %0d checks failed, %0d cycles", fails, checks,
                 cycles);
