@@ -22,7 +22,7 @@ fi
 
 for top in q16_dot q16_div q16_sqrt q16_rsqrt q16_norm3 q16_powi udiv_pipe usqrt_pipe dly \
     isect_quadric isect_flat isect_cube rt_isect rt_raygen rt_xform rt_normal rt_light \
-    rt_shade rt_fifo rt_axil rt_regs rt_cast rt_device; do
+    rt_shade rt_fifo rt_axil rt_regs rt_cast rt_device q16_to_f32; do
     verilator --lint-only -Wall -Irtl rtl/*.v --top-module "$top"
 done
 # the intersection unit with one shape family, one shape, and none of the quadrics

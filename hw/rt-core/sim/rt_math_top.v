@@ -7,7 +7,8 @@
 // a2 * b2; the divider a0 / b0; the roots a0); each unit has its own valid and, where it
 // can clip, saturation flag. ce low holds every unit (operands offered then are not
 // taken).
-// Timing: the units' own (q16_dot 2, q16_div 34, q16_sqrt 27, q16_rsqrt 79).
+// Timing: the units' own (q16_dot 2, q16_div 34, q16_sqrt 27, q16_rsqrt 79,
+// q16_to_f32 2); q16_to_f32 converts a0 and has no saturation flag (every word fits).
 `default_nettype none
 module rt_math_top (
     input  wire        clk,
@@ -39,7 +40,9 @@ module rt_math_top (
     output wire [31:0] sqrt_y,
     output wire        rsqrt_v,
     output wire [31:0] rsqrt_y,
-    output wire        rsqrt_sat
+    output wire        rsqrt_sat,
+    output wire        tof32_v,
+    output wire [31:0] tof32_y
 );
     q16_dot #(.TERMS(1), .ROUND(0)) mul (
         .clk(clk), .rst(rst), .ce(ce), .in_valid(in_valid), .a(a0), .b(b0),
@@ -68,6 +71,10 @@ module rt_math_top (
     q16_rsqrt rsqrt (
         .clk(clk), .rst(rst), .ce(ce), .in_valid(in_valid), .x(a0),
         .out_valid(rsqrt_v), .y(rsqrt_y), .sat(rsqrt_sat)
+    );
+    q16_to_f32 tof32 (
+        .clk(clk), .rst(rst), .ce(ce), .in_valid(in_valid), .q(a0),
+        .out_valid(tof32_v), .y(tof32_y)
     );
 endmodule
 `default_nettype wire

@@ -66,8 +66,9 @@ RtMath* rt_math_new() { return make<RtMath, Vrt_math_top>(no_input<Vrt_math_top>
 
 void rt_math_free(RtMath* m) { delete m; }
 
-// in: valid, a0, a1, a2, b0, b1, b2, ce. out: for mul, mul_rn, dot2, dot3, div, sqrt, rsqrt
-// in that order, (valid, y, sat) after the rising edge (sqrt's sat is 0).
+// in: valid, a0, a1, a2, b0, b1, b2, ce. out: for mul, mul_rn, dot2, dot3, div, sqrt,
+// rsqrt, to_f32 in that order, (valid, y, sat) after the rising edge (sqrt's and to_f32's
+// sat are 0).
 void rt_math_cycle(RtMath* m, const uint32_t* in, uint32_t* out) {
     Vrt_math_top& t = *m->top;
     t.in_valid = in[0] != 0;
@@ -79,13 +80,13 @@ void rt_math_cycle(RtMath* m, const uint32_t* in, uint32_t* out) {
     t.b2 = in[6];
     t.ce = in[7] != 0;
     edge(m);
-    const uint32_t o[21] = {
+    const uint32_t o[24] = {
         t.mul_v,    t.mul_y,    t.mul_sat,    t.mul_rn_v, t.mul_rn_y, t.mul_rn_sat,
         t.dot2_v,   t.dot2_y,   t.dot2_sat,   t.dot3_v,   t.dot3_y,   t.dot3_sat,
         t.div_v,    t.div_y,    t.div_sat,    t.sqrt_v,   t.sqrt_y,   0,
-        t.rsqrt_v,  t.rsqrt_y,  t.rsqrt_sat,
+        t.rsqrt_v,  t.rsqrt_y,  t.rsqrt_sat,  t.tof32_v,  t.tof32_y,  0,
     };
-    for (int i = 0; i < 21; i++) out[i] = o[i];
+    for (int i = 0; i < 24; i++) out[i] = o[i];
 }
 
 RtIsect* rt_isect_new() { return make<RtIsect, Vrt_isect>(no_input<Vrt_isect>); }

@@ -161,9 +161,9 @@ pub(crate) fn free(m: NonNull<RtMath>) {
 }
 
 #[cfg(verilated)]
-pub(crate) fn cycle(m: NonNull<RtMath>, inputs: &[u32; 8]) -> [u32; 21] {
-    let mut out = [0u32; 21];
-    // SAFETY: the shim reads 8 words and writes 21, the arrays' sizes.
+pub(crate) fn cycle(m: NonNull<RtMath>, inputs: &[u32; 8]) -> [u32; 24] {
+    let mut out = [0u32; 24];
+    // SAFETY: the shim reads 8 words and writes 24, the arrays' sizes.
     unsafe { sys::rt_math_cycle(m.as_ptr(), inputs.as_ptr(), out.as_mut_ptr()) };
     out
 }
@@ -181,6 +181,6 @@ pub(crate) fn new() -> Result<NonNull<RtMath>, RtlError> {
 pub(crate) fn free(_: NonNull<RtMath>) {}
 
 #[cfg(not(verilated))]
-pub(crate) fn cycle(_: NonNull<RtMath>, _: &[u32; 8]) -> [u32; 21] {
-    [0; 21]
+pub(crate) fn cycle(_: NonNull<RtMath>, _: &[u32; 8]) -> [u32; 24] {
+    [0; 24]
 }

@@ -52,11 +52,13 @@ pub enum Unit {
     Sqrt,
     /// `q16_rsqrt`: `rsqrt`.
     Rsqrt,
+    /// `q16_to_f32`: `to_f64() as f32`, the planes' binary32 (the result is its bits).
+    ToF32,
 }
 
 impl Unit {
     /// Every unit, in the order of [`Outputs::of`]'s slots.
-    pub const ALL: [Unit; 7] = [
+    pub const ALL: [Unit; 8] = [
         Unit::Mul,
         Unit::MulRn,
         Unit::Dot2,
@@ -64,13 +66,14 @@ impl Unit {
         Unit::Div,
         Unit::Sqrt,
         Unit::Rsqrt,
+        Unit::ToF32,
     ];
 
     /// Cycles from an operand set's clock edge to the edge after which its result is out,
     /// as each module's header states (a test holds the RTL to these).
     pub const fn latency(self) -> u64 {
         match self {
-            Unit::Mul | Unit::MulRn | Unit::Dot2 | Unit::Dot3 => 2,
+            Unit::Mul | Unit::MulRn | Unit::Dot2 | Unit::Dot3 | Unit::ToF32 => 2,
             Unit::Div => 34,
             Unit::Sqrt => 27,
             Unit::Rsqrt => 79,
@@ -101,7 +104,7 @@ pub struct Output {
 
 /// Every unit's output after a clock edge.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Outputs([Output; 7]);
+pub struct Outputs([Output; 8]);
 
 impl Outputs {
     /// The output of `unit`.
@@ -159,7 +162,7 @@ impl MathUnits {
         if ce {
             self.cycle += 1;
         }
-        let mut out = [Output::default(); 7];
+        let mut out = [Output::default(); 8];
         for (k, o) in out.iter_mut().enumerate() {
             *o = Output {
                 valid: raw[3 * k] != 0,
