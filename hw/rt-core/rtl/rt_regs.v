@@ -51,7 +51,7 @@ module rt_regs #(
     input  wire [31:0]   req_data,
     output reg           ack,
     output reg           ack_err,
-    output reg  [31:0]   ack_data,
+    output wire [31:0]   ack_data,
     output reg           soft_rst,
     output reg           cfg_we,
     output reg  [8:0]    cfg_addr,
@@ -84,6 +84,8 @@ module rt_regs #(
     reg        latched;
     reg [31:0] latch_addr, latch_hi;
     reg [31:0] scene [0:`RT_AXI_SCENE_WORDS - 1];
+    reg [31:0] reg_data, scene_q;  // a register's word; the scene RAM's read
+    reg        from_scene;        // the answer is the scene RAM's
     wire       idle = !running && !start_r;
     assign irq = gie && isr != 2'b00;
 
@@ -187,13 +189,13 @@ module rt_regs #(
         end else begin
             ack <= req;
             ack_err <= 1'b0;
-            ack_data <= 32'd0;
+            reg_data <= 32'd0;
+            from_scene <= 1'b0;
             cfg_we <= 1'b0;
             if (req && req_wr) begin
                 if (in_scene) begin
                     if (!idle) ack_err <= 1'b1;
                     else begin
-                        scene[scene_i] <= req_data;
                         cfg_we <= 1'b1;
                         cfg_addr <= scene_i;
                         cfg_data <= req_data;
@@ -215,35 +217,42 @@ module rt_regs #(
                 end
             end else if (req) begin
                 if (in_scene) begin
-                    ack_data <= scene[scene_i];
+                    from_scene <= 1'b1;
                 end else if (is_wide_lo) begin
-                    ack_data <= wide[31:0];
+                    reg_data <= wide[31:0];
                     latched <= 1'b1;
                     latch_addr <= a + 32'd4;
                     latch_hi <= wide[63:32];
                 end else if (is_wide_hi) begin
-                    if (latched && latch_addr == a) ack_data <= latch_hi;
+                    if (latched && latch_addr == a) reg_data <= latch_hi;
                     else ack_err <= 1'b1;
                 end else begin
                     case (a)
                         `RT_AXI_AP_CTRL:
-                            ack_data <= {31'd0, auto_r} << `RT_AXI_AUTO_RESTART |
+                            reg_data <= {31'd0, auto_r} << `RT_AXI_AUTO_RESTART |
                                         {31'd0, ready_r} << `RT_AXI_AP_READY |
                                         {31'd0, idle} << `RT_AXI_AP_IDLE |
                                         {31'd0, done_r} << `RT_AXI_AP_DONE |
                                         {31'd0, start_r} << `RT_AXI_AP_START;
-                        `RT_AXI_GIE: ack_data <= {31'd0, gie};
-                        `RT_AXI_IER: ack_data <= {30'd0, ier};
-                        `RT_AXI_ISR: ack_data <= {30'd0, isr};
-                        `RT_AXI_NUMERIC: ack_data <= numeric;
-                        `RT_AXI_AOVS: ack_data <= {31'd0, aovs_r};
-                        `RT_AXI_SYS_ID: ack_data <= `RT_AXI_DEVICE_ID;
-                        `RT_AXI_SYS_VERSION: ack_data <= `RT_AXI_MAP_VERSION;
+                        `RT_AXI_GIE: reg_data <= {31'd0, gie};
+                        `RT_AXI_IER: reg_data <= {30'd0, ier};
+                        `RT_AXI_ISR: reg_data <= {30'd0, isr};
+                        `RT_AXI_NUMERIC: reg_data <= numeric;
+                        `RT_AXI_AOVS: reg_data <= {31'd0, aovs_r};
+                        `RT_AXI_SYS_ID: reg_data <= `RT_AXI_DEVICE_ID;
+                        `RT_AXI_SYS_VERSION: reg_data <= `RT_AXI_MAP_VERSION;
                         default: ack_err <= 1'b1;  // write-only or not on this device
                     endcase
                 end
             end
         end
     end
+    // the scene RAM's write and read ports on their own, so that it maps to a block RAM
+    // (inside the decode above a synthesiser keeps it in distributed RAM)
+    always @(posedge clk) begin
+        if (req && req_wr && in_scene && idle) scene[scene_i] <= req_data;
+        scene_q <= scene[scene_i];
+    end
+    assign ack_data = from_scene ? scene_q : reg_data;
 endmodule
 `default_nettype wire
