@@ -158,18 +158,10 @@ fn status_from_a_floating_miso_is_refused() {
 fn fitkit_map_header_matches_the_rust_map() {
     let mut text = String::new();
     protocol::fitkit_spi::write_verilog_header(&mut text).expect("writes to a String");
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../hw/fitkit-raster/rtl/fitkit_map.vh");
-    if std::env::var_os("FPGFX_BLESS").is_some() {
-        std::fs::write(&path, &text).expect("writes the header");
-    }
-    let committed = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("{}: {e} (FPGFX_BLESS=1 writes it)", path.display()));
-    assert_eq!(
-        committed,
-        text,
-        "{} differs from protocol::fitkit_spi::MAP; run with FPGFX_BLESS=1 to regenerate",
-        path.display()
+    super::generated::matches_committed(
+        "../hw/fitkit-raster/rtl/fitkit_map.vh",
+        &text,
+        "protocol::fitkit_spi::MAP",
     );
 }
 

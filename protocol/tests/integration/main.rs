@@ -9,6 +9,7 @@ mod fitkit_spi;
 mod fpga_link;
 mod frame;
 mod fuzz_props;
+mod generated;
 mod link;
 mod modules;
 mod names;

@@ -596,18 +596,7 @@ proptest! {
 fn rt_map_header_matches_the_rust_map() {
     let mut text = String::new();
     protocol::scene::write_verilog_header(&mut text).expect("writes to a String");
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hw/rt-core/rtl/rt_map.vh");
-    if std::env::var_os("FPGFX_BLESS").is_some() {
-        std::fs::write(&path, &text).expect("writes the header");
-    }
-    let committed = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("{}: {e} (FPGFX_BLESS=1 writes it)", path.display()));
-    assert_eq!(
-        committed,
-        text,
-        "{} differs from protocol::scene; run with FPGFX_BLESS=1 to regenerate",
-        path.display()
-    );
+    super::generated::matches_committed("../hw/rt-core/rtl/rt_map.vh", &text, "protocol::scene");
     for s in protocol::scene::Shape::ALL {
         let want = format!(
             "`define RT_SHAPE_{} 3'd{}\n",
@@ -623,18 +612,10 @@ fn rt_map_header_matches_the_rust_map() {
 fn rt_axi_map_header_matches_the_rust_map() {
     let mut text = String::new();
     protocol::axi_lite::write_verilog_header(&mut text).expect("writes to a String");
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hw/rt-core/rtl/rt_axi_map.vh");
-    if std::env::var_os("FPGFX_BLESS").is_some() {
-        std::fs::write(&path, &text).expect("writes the header");
-    }
-    let committed = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("{}: {e} (FPGFX_BLESS=1 writes it)", path.display()));
-    assert_eq!(
-        committed,
-        text,
-        "{} differs from protocol::axi_lite; run with FPGFX_BLESS=1 to regenerate",
-        path.display()
+    super::generated::matches_committed(
+        "../hw/rt-core/rtl/rt_axi_map.vh",
+        &text,
+        "protocol::axi_lite",
     );
     assert!(text.contains("`define RT_AXI_SCENE_BASE 32'h00000800\n"));
     assert!(text.contains("`define RT_AXI_AUTO_RESTART 7\n"));
