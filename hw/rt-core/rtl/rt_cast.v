@@ -527,7 +527,7 @@ module rt_cast #(
     wire [ST-1:0] st;
     wire [23:0]   rgb;
     /* verilator lint_off PINCONNECTEMPTY */
-    wire          sh_valid, shade_fault;
+    wire          sh_valid;
     wire [95:0]   sh_o;
     wire [96*LIGHTS-1:0] sh_d;
     wire [32*LIGHTS-1:0] sh_tmax;
@@ -539,20 +539,13 @@ module rt_cast #(
         .background(background), .lit(lane_lit), .lights(lane_pos), .colours(lane_col),
         .bias(bias), .shadows(sh_on), .tag({nt[NT-1:96], nrm}), .sh_valid(sh_valid),
         .sh_o(sh_o), .sh_d(sh_d), .sh_tmax(sh_tmax), .occ_valid(occ_valid), .occ(occ_word),
-        .out_valid(pix_valid_w), .colour(), .rgb(rgb), .tag_out(st), .fault(shade_fault));
+        .out_valid(pix_valid_w), .colour(), .rgb(rgb), .tag_out(st));
 
     // the shadow rays wait for their slot
-    wire          shq_ovf, shq_unf;
-    wire [SQA:0]  shq_count;
+    /* verilator lint_off PINCONNECTEMPTY */
     rt_fifo #(.W(96 + 128 * LIGHTS), .AW(SQA)) u_shq (.clk(clk), .rst(rst),
         .push(ce && sh_valid), .din({sh_o, sh_d, sh_tmax}), .pop(advance && is_sh && last_sh),
-        .dout({shq_o, shq_d, shq_tmax}), .empty(shq_empty), .count(shq_count),
-        .ovf(shq_ovf), .unf(shq_unf));
-    // a schedule error (a queue overflowed or underflowed): the simulation stops on it
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire fault = shade_fault || shq_ovf || shq_unf;
-    wire [SQA:0] shq_level = shq_count;  // for waveforms
-    /* verilator lint_on UNUSEDSIGNAL */
+        .dout({shq_o, shq_d, shq_tmax}), .empty(shq_empty), .count(), .ovf(), .unf());
     /* verilator lint_on PINCONNECTEMPTY */
     assign pix_valid = pix_valid_w;
     assign pix_x = st[111:96];

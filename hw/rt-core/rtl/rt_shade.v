@@ -29,7 +29,8 @@
 // [96i +: 96]), bias (the scene's), shadows; tag (TB bits alongside); in_valid; sh_valid
 // with sh_o, sh_d (lane i in [96i +: 96]), sh_tmax (lane i in [32i +: 32]); occ_valid,
 // occ; out_valid with colour (the Q16.16 sum before packing), rgb (R in bits 23:16) and
-// tag_out; fault (sticky: a queue overflowed or underflowed, a schedule error).
+// tag_out. A queue that overflows or underflows is a schedule error: rt_fifo stops the
+// simulation.
 // Timing: shadow rays at stage 89 (kd c_d 2, the lanes' wi 87); the terms at 205 (the
 // lanes 203) enter the queue; the join pops at 206 at the earliest (with shadows off,
 // always), then the sum 1, the choice 1, the packing 1: latency 208 + 1 without shadows.
@@ -75,8 +76,7 @@ module rt_shade #(
     output wire                 out_valid,
     output reg  [95:0]          colour,
     output reg  [23:0]          rgb,
-    output wire [TB-1:0]        tag_out,
-    output wire                 fault
+    output wire [TB-1:0]        tag_out
 );
     generate
         if (LIGHTS < 1 || LIGHTS > 8 || TB < 1 || TQA < 1 || OQA < 1) begin : bad_parameter
@@ -186,23 +186,17 @@ module rt_shade #(
         .d({hit, background, tag}), .q(hbt205));
     localparam integer QW = 97 + TB + 96 + 96 * LIGHTS;
     wire [QW-1:0] tq_head;
-    wire [OQA:0]  oq_count;
-    wire [TQA:0]  tq_count;
-    wire          tq_empty, oq_empty, tq_ovf, tq_unf, oq_ovf, oq_unf;
+    wire          tq_empty, oq_empty;
     wire [LIGHTS-1:0] oq_head;
     wire          join_ = ce && !tq_empty && (!shadows || !oq_empty);
     /* verilator lint_off PINCONNECTEMPTY */
     rt_fifo #(.W(QW), .AW(TQA)) u_tq (.clk(clk), .rst(rst), .push(ce && v205),
         .din({hbt205, amb205, terms}), .pop(join_), .dout(tq_head), .empty(tq_empty),
-        .count(tq_count), .ovf(tq_ovf), .unf(tq_unf));
+        .count(), .ovf(), .unf());
     rt_fifo #(.W(LIGHTS), .AW(OQA)) u_oq (.clk(clk), .rst(rst), .push(ce && occ_valid),
         .din(occ), .pop(join_ && shadows), .dout(oq_head), .empty(oq_empty),
-        .count(oq_count), .ovf(oq_ovf), .unf(oq_unf));
+        .count(), .ovf(), .unf());
     /* verilator lint_on PINCONNECTEMPTY */
-    assign fault = tq_ovf || tq_unf || oq_ovf || oq_unf;
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire [TQA+OQA+1:0] counts = {tq_count, oq_count};  // for waveforms
-    /* verilator lint_on UNUSEDSIGNAL */
     wire [96*LIGHTS-1:0] j_terms = tq_head[96*LIGHTS-1:0];
     wire [95:0]          j_amb = tq_head[96*LIGHTS +: 96];
     wire [TB-1:0]        j_tag = tq_head[96*LIGHTS + 96 +: TB];
