@@ -22,7 +22,7 @@ fi
 
 for top in q16_dot q16_div q16_sqrt q16_rsqrt q16_norm3 q16_powi udiv_pipe usqrt_pipe dly \
     isect_quadric isect_flat isect_cube rt_isect rt_raygen rt_xform rt_normal rt_light \
-    rt_shade rt_fifo rt_axil rt_regs rt_cast rt_device q16_to_f32; do
+    rt_shade rt_fifo rt_axil rt_regs rt_readback rt_cast rt_device q16_to_f32; do
     verilator --lint-only -Wall -Irtl rtl/*.v --top-module "$top"
 done
 # the intersection unit with one shape family, one shape, and none of the quadrics
@@ -45,8 +45,8 @@ echo "lint: clean"
 prove() {
     top=$1
     shift
-    yosys -p "read_verilog -formal -DFORMAL -Irtl rtl/$top.v; chparam $* $top; \
-        prep -top $top; memory_map; opt -fast; async2sync; dffunmap; \
+    yosys -p "read_verilog -formal -DFORMAL -Irtl rtl/*.v; chparam $* $top; \
+        prep -top $top; flatten; memory_map; opt -fast; async2sync; dffunmap; \
         sat -tempinduct -prove-asserts -set-assumes -set-at 1 rst 1 -maxsteps 24" \
         >"$BUILD/rt_$top.formal.log" 2>&1 || true
     if ! grep -q "Induction step proven: SUCCESS" "$BUILD/rt_$top.formal.log"; then
@@ -59,6 +59,7 @@ prove() {
 prove rt_fifo -set W 4 -set AW 2
 prove rt_fifo -set W 3 -set AW 1
 prove rt_axil -set AW 4
+prove rt_readback
 # Icarus reads the whole core too (its testbench below covers the arithmetic units; the
 # intersection unit's and the frame's differential tests run under Verilator, in rtl-sim/)
 if [ "$SIM" = iverilog ]; then

@@ -568,10 +568,20 @@ pub const fn plane_code(p: Plane) -> u32 {
 
 /// The plane a [`readback::PLANE`] value names.
 pub fn plane_from_code(code: u32) -> Option<Plane> {
-    [Plane::Color, Plane::Depth, Plane::Normal]
-        .get(code as usize)
-        .copied()
+    PLANES.get(code as usize).copied()
 }
+
+/// Every plane, in [`plane_code`] order.
+pub const PLANES: [Plane; 3] = [Plane::Color, Plane::Depth, Plane::Normal];
+
+/// Every read-back format, in [`format_code`] order.
+pub const FORMATS: [PixelFormat; 5] = [
+    PixelFormat::Rgb888,
+    PixelFormat::Rgb332,
+    PixelFormat::Kcu116,
+    PixelFormat::DepthF32,
+    PixelFormat::NormalF32,
+];
 
 /// The [`readback::FORMAT`] value for `f`.
 pub const fn format_code(f: PixelFormat) -> u32 {
@@ -580,10 +590,7 @@ pub const fn format_code(f: PixelFormat) -> u32 {
 
 /// The format a [`readback::FORMAT`] value names.
 pub fn format_from_code(code: u32) -> Option<PixelFormat> {
-    use PixelFormat::*;
-    [Rgb888, Rgb332, Kcu116, DepthF32, NormalF32]
-        .get(code as usize)
-        .copied()
+    FORMATS.get(code as usize).copied()
 }
 
 /// The [`raster::AA`] pattern field for `p`.
@@ -709,7 +716,7 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
     writeln!(out, "`ifndef RT_AXI_MAP_VH")?;
     writeln!(out, "`define RT_AXI_MAP_VH")?;
     let bit = |v: u32| v.trailing_zeros();
-    let numbers: [(&str, u32, &str); 40] = [
+    let numbers: [(&str, u32, &str); 56] = [
         (
             "ADDR_BITS",
             DEVICE_ADDR_BITS,
@@ -785,6 +792,82 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
         ("READ_LEN", readback::LEN, "read-back: bytes, or READ_NONE"),
         ("READ_PAGE", readback::PAGE, "read-back: the window's page"),
         ("READ_NONE", readback::NONE, "READ_LEN without a read-back"),
+        ("READ_SLAVE", readback::BASE, "the read-back slave"),
+        (
+            "PLANE_COLOR",
+            plane_code(Plane::Color),
+            "READ_PLANE code: colour",
+        ),
+        (
+            "PLANE_DEPTH",
+            plane_code(Plane::Depth),
+            "READ_PLANE code: depth",
+        ),
+        (
+            "PLANE_NORMAL",
+            plane_code(Plane::Normal),
+            "READ_PLANE code: normal",
+        ),
+        (
+            "PLANE_CODES",
+            PLANES.len() as u32,
+            "READ_PLANE codes that name a plane",
+        ),
+        (
+            "FORMAT_RGB888",
+            format_code(PixelFormat::Rgb888),
+            "READ_FORMAT code: RGB888",
+        ),
+        (
+            "FORMAT_RGB332",
+            format_code(PixelFormat::Rgb332),
+            "READ_FORMAT code: RGB332",
+        ),
+        (
+            "FORMAT_KCU116",
+            format_code(PixelFormat::Kcu116),
+            "READ_FORMAT code: KCU116 (G, then B or R by column)",
+        ),
+        (
+            "FORMAT_DEPTH_F32",
+            format_code(PixelFormat::DepthF32),
+            "READ_FORMAT code: depth f32",
+        ),
+        (
+            "FORMAT_NORMAL_F32",
+            format_code(PixelFormat::NormalF32),
+            "READ_FORMAT code: normal 3 x f32",
+        ),
+        (
+            "FORMAT_CODES",
+            FORMATS.len() as u32,
+            "READ_FORMAT codes that name a format",
+        ),
+        (
+            "BPP_RGB888",
+            PixelFormat::Rgb888.bytes_per_pixel() as u32,
+            "bytes per pixel: RGB888",
+        ),
+        (
+            "BPP_RGB332",
+            PixelFormat::Rgb332.bytes_per_pixel() as u32,
+            "bytes per pixel: RGB332",
+        ),
+        (
+            "BPP_KCU116",
+            PixelFormat::Kcu116.bytes_per_pixel() as u32,
+            "bytes per pixel: KCU116",
+        ),
+        (
+            "BPP_DEPTH_F32",
+            PixelFormat::DepthF32.bytes_per_pixel() as u32,
+            "bytes per pixel: depth f32",
+        ),
+        (
+            "BPP_NORMAL_F32",
+            PixelFormat::NormalF32.bytes_per_pixel() as u32,
+            "bytes per pixel: normal 3 x f32",
+        ),
         ("READ_BASE", READ_BASE, "read-back window"),
         ("READ_WINDOW", READ_WINDOW, "bytes of the read-back window"),
         (

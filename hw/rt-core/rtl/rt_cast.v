@@ -50,6 +50,8 @@
 //   object's shape is not built), so a bus can refuse the start before it happens.
 //   rays: the rays the frame tested so far (a pixel's primary ray, L shadow rays per
 //   pixel with shadows), cleared by start.
+//   width, height: the frame size words as written (a bus keeps the frame's at start, for
+//   its read-back).
 // Timing: after start, SETUP = 17 clocks, then the generator's latency 87, then one
 // slot per pixel. Without shadows a pixel's result leaves 378 clocks after its ray's
 // last pair (xform 3, isect 73, the reduction 1, the normal 92, the colour 209); with
@@ -90,7 +92,9 @@ module rt_cast #(
     output wire [23:0] pix_rgb,
     output wire [15:0] pix_kcu116,
     output wire [7:0]  refuse,
-    output reg  [31:0] rays
+    output reg  [31:0] rays,
+    output reg  [15:0] width,
+    output reg  [15:0] height
 );
     generate
         if (OBJ < 1 || OBJ > `RT_OBJ_CAPACITY || OBJ > 255 || LIGHTS < 1 ||
@@ -111,7 +115,6 @@ module rt_cast #(
     wire ce = !hold;
 
     // ---- the scene words the core reads --------------------------------------------
-    reg [15:0]  width, height;
     reg [31:0]  spp, value_format, obj_count, bias, max_f32;
     reg [63:0]  pitch;
     reg [95:0]  eye, cu, cv, cw;

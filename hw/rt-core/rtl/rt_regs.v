@@ -21,8 +21,9 @@
 // core's `refuse` bits are set (the scene's format, samples, objects, shapes, size,
 // lights, materials: rt_cast), and nothing runs. A scene write while a frame runs is
 // refused too (the core reads its words during the frame). Addresses the device does not
-// have (the raster slave, the read-back slave and window, the texture window, reserved
-// words) and accesses against a register's direction answer SLVERR.
+// have (the raster slave, the texture window, reserved words) and accesses against a
+// register's direction answer SLVERR. The read-back slave and window are rt_readback's:
+// the device does not hand their accesses here.
 //
 // Differences from the model's register file: the model's ap_done rises after a number
 // of polls, this one when the frame ends; RESET leaves the scene RAM's words as they
@@ -34,7 +35,7 @@
 // Ports: req, req_wr, req_addr, req_data (one access, rt_axil), answered by ack, ack_err,
 // ack_data one clock later. Core side: soft_rst (RESET's pulse, for the core), cfg_we,
 // cfg_addr, cfg_data, core_start (a pulse); core_busy, core_done, core_refuse, core_rays.
-// aovs (AOVS as the running frame took it), irq.
+// aovs (AOVS as the running frame took it), idle (AP_CTRL's ap_idle), irq.
 // Timing: every access answered the clock after its request; a frame starts the clock
 // after the accepted AP_CTRL write (auto-restart: the clock after its end).
 // Parameters: AW address bits, at least `RT_AXI_ADDR_BITS`.
@@ -62,6 +63,7 @@ module rt_regs #(
     input  wire [7:0]    core_refuse,
     input  wire [31:0]   core_rays,
     output reg           aovs,
+    output wire          idle,
     output wire          irq
 );
     generate
@@ -86,7 +88,7 @@ module rt_regs #(
     reg [31:0] scene [0:`RT_AXI_SCENE_WORDS - 1];
     reg [31:0] reg_data, scene_q;  // a register's word; the scene RAM's read
     reg        from_scene;        // the answer is the scene RAM's
-    wire       idle = !running && !start_r;
+    assign idle = !running && !start_r;
     assign irq = gie && isr != 2'b00;
 
     // the decode: which register, counter or scene word the address selects

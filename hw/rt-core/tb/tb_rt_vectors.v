@@ -37,6 +37,9 @@ module tb_rt_vectors;
     wire [31:0]   rdata;
     reg           mem_ready = 1'b1;
     wire          mem_valid, mem_aovs;
+    // this bench checks the frame on the write port; the read-back is the bridge's test
+    wire          rd_valid;
+    wire [31:0]   rd_index;
     wire [31:0]   mem_index, mem_t;
     wire [23:0]   mem_rgb;
     wire [15:0]   mem_kcu116;
@@ -51,7 +54,9 @@ module tb_rt_vectors;
         .s_axi_rdata(rdata), .s_axi_rresp(rresp), .irq(irq), .mem_valid(mem_valid),
         .mem_ready(mem_ready), .mem_index(mem_index), .mem_rgb(mem_rgb),
         .mem_kcu116(mem_kcu116), .mem_obj(mem_obj), .mem_t(mem_t), .mem_n(mem_n),
-        .mem_aovs(mem_aovs));
+        .mem_aovs(mem_aovs), .rd_valid(rd_valid), .rd_ready(1'b1), .rd_index(rd_index),
+        .rd_resp(1'b0), .rd_rgb(24'd0), .rd_obj(8'd0), .rd_t(32'd0), .rd_n(96'd0));
+
 
     // ---- an AXI4-Lite master: one access at a time, each a whole handshake ------------------
     localparam integer HANDSHAKE = 10000;  // clocks before a handshake counts as stuck

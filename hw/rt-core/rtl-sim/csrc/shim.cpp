@@ -166,15 +166,18 @@ RtDevice* rt_device_new() {
         t.s_axi_awprot = 0;
         t.s_axi_arprot = 0;
         t.mem_ready = 1;
+        t.rd_ready = 1;
+        t.rd_resp = 0;
     });
 }
 
 void rt_device_free(RtDevice* m) { delete m; }
 
 // One clock. in: awvalid, awaddr, wvalid, wdata, wstrb, bready, arvalid, araddr, rready,
-// mem_ready. out, sampled before the rising edge (what the master and the memory see
-// when they decide): awready, wready, bvalid, bresp, arready, rvalid, rdata, rresp, irq,
-// mem_valid, mem_index, mem_rgb, mem_kcu116, mem_obj, mem_t, mem_n x, y, z, mem_aovs.
+// mem_ready, rd_ready, rd_resp, rd_rgb, rd_obj, rd_t, rd_n x, y, z. out, sampled before
+// the rising edge (what the master and the memory see when they decide): awready,
+// wready, bvalid, bresp, arready, rvalid, rdata, rresp, irq, mem_valid, mem_index,
+// mem_rgb, mem_kcu116, mem_obj, mem_t, mem_n x, y, z, mem_aovs, rd_valid, rd_index.
 void rt_device_cycle(RtDevice* m, const uint32_t* in, uint32_t* out) {
     Vrt_device& t = *m->top;
     t.s_axi_awvalid = in[0] != 0;
@@ -187,15 +190,24 @@ void rt_device_cycle(RtDevice* m, const uint32_t* in, uint32_t* out) {
     t.s_axi_araddr = in[7];
     t.s_axi_rready = in[8] != 0;
     t.mem_ready = in[9] != 0;
+    t.rd_ready = in[10] != 0;
+    t.rd_resp = in[11] != 0;
+    t.rd_rgb = in[12];
+    t.rd_obj = in[13];
+    t.rd_t = in[14];
+    t.rd_n[0] = in[15];
+    t.rd_n[1] = in[16];
+    t.rd_n[2] = in[17];
     t.clk = 0;
     t.eval();
-    const uint32_t o[19] = {
+    const uint32_t o[21] = {
         t.s_axi_awready, t.s_axi_wready, t.s_axi_bvalid, t.s_axi_bresp, t.s_axi_arready,
         t.s_axi_rvalid,  t.s_axi_rdata,  t.s_axi_rresp,  t.irq,         t.mem_valid,
         t.mem_index,     t.mem_rgb,      t.mem_kcu116,   t.mem_obj,     t.mem_t,
-        t.mem_n[0],      t.mem_n[1],     t.mem_n[2],     t.mem_aovs,
+        t.mem_n[0],      t.mem_n[1],     t.mem_n[2],     t.mem_aovs,    t.rd_valid,
+        t.rd_index,
     };
-    for (int i = 0; i < 19; i++) out[i] = o[i];
+    for (int i = 0; i < 21; i++) out[i] = o[i];
     t.clk = 1;
     t.eval();
 }

@@ -1,6 +1,7 @@
 //! The Verilated `rt_device`: the core behind its AXI4-Lite slave, driven as a soft core
 //! drives it, one 32-bit access at a time, each a real handshake on the RTL's clock,
-//! and its memory port taken by a memory that can stall it.
+//! and its memory ports served by a memory that can stall them: the write port's records
+//! are kept by index, and the read port (the read-back window's) answers from them.
 
 use std::ptr::NonNull;
 
@@ -54,6 +55,17 @@ pub struct MemRecord {
     pub aovs: bool,
 }
 
+/// What memory holds where the write port never wrote (a real memory's old contents).
+const BLANK: MemRecord = MemRecord {
+    index: 0,
+    rgb: 0,
+    kcu116: 0,
+    obj: 0,
+    t: 0,
+    n: [0; 3],
+    aovs: false,
+};
+
 /// How the master and the memory behave: random delays before each channel's VALID and
 /// READY, and clocks on which the memory is not ready, from a seeded generator so a
 /// failing run repeats.
@@ -63,7 +75,7 @@ pub struct Jitter {
     pub seed: u64,
     /// Largest number of clocks a VALID or READY waits (0: none).
     pub max_delay: u32,
-    /// Percent of clocks on which the memory port is not ready.
+    /// Percent of clocks on which a memory port is not ready.
     pub mem_busy_percent: u32,
 }
 
@@ -88,6 +100,9 @@ pub struct Device {
     jitter: Jitter,
     state: u64,
     records: Vec<MemRecord>,
+    memory: Vec<MemRecord>,
+    /// The read port's answer: the clocks until it is given, and the index read.
+    reading: Option<(u32, u32)>,
     irq: bool,
 }
 
@@ -105,7 +120,7 @@ struct Master {
 }
 
 /// What the device drives, sampled before the clock edge.
-struct Pins([u32; 19]);
+struct Pins([u32; 21]);
 
 impl Pins {
     fn awready(&self) -> bool {
@@ -144,6 +159,8 @@ impl Device {
             jitter,
             state: jitter.seed ^ 0x9e37_79b9_7f4a_7c15,
             records: Vec::new(),
+            memory: Vec::new(),
+            reading: None,
             irq: false,
         })
     }
@@ -163,16 +180,35 @@ impl Device {
         }
     }
 
-    /// One clock with the master's pins `m`; the memory port takes a waiting record
-    /// unless it is busy on this clock.
+    /// Whether a memory port is busy on this clock ([`Jitter::mem_busy_percent`]).
+    fn mem_busy(&mut self) -> bool {
+        self.jitter.mem_busy_percent > 0
+            && (self.next() % 100) < u64::from(self.jitter.mem_busy_percent)
+    }
+
+    /// One clock with the master's pins `m`; the memory's write port takes a waiting
+    /// record unless it is busy on this clock, and its read port takes a read likewise
+    /// and answers it after up to [`Jitter::max_delay`] more clocks.
     fn clock(&mut self, m: Master) -> Pins {
-        let busy = self.jitter.mem_busy_percent > 0
-            && (self.next() % 100) < u64::from(self.jitter.mem_busy_percent);
+        let busy = self.mem_busy();
+        let rd_busy = self.mem_busy();
         let (awaddr, wdata, wstrb) = (
             m.aw.unwrap_or(0),
             m.w.map_or(0, |w| w.0),
             m.w.map_or(0, |w| w.1),
         );
+        let answer = match self.reading {
+            Some((0, index)) => {
+                self.reading = None;
+                Some(self.memory.get(index as usize).copied().unwrap_or(BLANK))
+            }
+            Some((n, index)) => {
+                self.reading = Some((n - 1, index));
+                None
+            }
+            None => None,
+        };
+        let r = answer.unwrap_or(BLANK);
         let inputs = [
             u32::from(m.aw.is_some()),
             awaddr,
@@ -184,6 +220,14 @@ impl Device {
             m.ar.unwrap_or(0),
             u32::from(m.rready),
             u32::from(!busy),
+            u32::from(!rd_busy && self.reading.is_none()),
+            u32::from(answer.is_some()),
+            r.rgb,
+            u32::from(r.obj),
+            r.t as u32,
+            r.n[0] as u32,
+            r.n[1] as u32,
+            r.n[2] as u32,
         ];
         let o = ffi::device_cycle(self.model, &inputs);
         self.cycle += 1;
@@ -192,7 +236,7 @@ impl Device {
             if busy {
                 self.held += 1;
             } else {
-                self.records.push(MemRecord {
+                let rec = MemRecord {
                     index: o[10],
                     rgb: o[11],
                     kcu116: o[12] as u16,
@@ -200,8 +244,18 @@ impl Device {
                     t: o[14] as i32,
                     n: [o[15] as i32, o[16] as i32, o[17] as i32],
                     aovs: o[18] != 0,
-                });
+                };
+                let i = rec.index as usize;
+                if self.memory.len() <= i {
+                    self.memory.resize(i + 1, BLANK);
+                }
+                self.memory[i] = rec;
+                self.records.push(rec);
             }
+        }
+        if o[19] != 0 && inputs[10] != 0 {
+            let wait = self.delay();
+            self.reading = Some((wait, o[20]));
         }
         Pins(o)
     }

@@ -62,9 +62,9 @@ pub(crate) fn device_free(m: NonNull<RtDevice>) {
 }
 
 #[cfg(verilated)]
-pub(crate) fn device_cycle(m: NonNull<RtDevice>, inputs: &[u32; 10]) -> [u32; 19] {
-    let mut out = [0u32; 19];
-    // SAFETY: the shim reads 10 words and writes 19, the arrays' sizes.
+pub(crate) fn device_cycle(m: NonNull<RtDevice>, inputs: &[u32; 18]) -> [u32; 21] {
+    let mut out = [0u32; 21];
+    // SAFETY: the shim reads 18 words and writes 21, the arrays' sizes.
     unsafe { sys::rt_device_cycle(m.as_ptr(), inputs.as_ptr(), out.as_mut_ptr()) };
     out
 }
@@ -78,8 +78,8 @@ pub(crate) fn device_new() -> Result<NonNull<RtDevice>, RtlError> {
 pub(crate) fn device_free(_: NonNull<RtDevice>) {}
 
 #[cfg(not(verilated))]
-pub(crate) fn device_cycle(_: NonNull<RtDevice>, _: &[u32; 10]) -> [u32; 19] {
-    [0; 19]
+pub(crate) fn device_cycle(_: NonNull<RtDevice>, _: &[u32; 18]) -> [u32; 21] {
+    [0; 21]
 }
 
 #[cfg(verilated)]

@@ -271,8 +271,11 @@ fn what_the_map_does_not_allow_answers_slverr() {
             axi_lite::raster::CTRL,
             "the raster slave (not on this device)",
         ),
-        (axi_lite::readback::LEN, "the read-back slave (not yet)"),
-        (axi_lite::READ_BASE, "the read-back window (not yet)"),
+        (
+            axi_lite::readback::PAGE + 4,
+            "the read-back slave past its registers",
+        ),
+        (axi_lite::READ_BASE, "the read-back window before any frame"),
         (
             axi_lite::TEXTURE_BASE,
             "the texture window (write only, not on this device)",
@@ -295,6 +298,18 @@ fn what_the_map_does_not_allow_answers_slverr() {
         (past_image, 1, "the scene window past the image"),
         (axi_lite::NUMERIC, 99, "a NUMERIC code no format has"),
         (axi_lite::raster::PUSH_LO, 1, "the raster slave"),
+        (axi_lite::readback::LEN, 1, "READ_LEN (read only)"),
+        (
+            axi_lite::readback::PLANE,
+            3,
+            "a READ_PLANE code no plane has",
+        ),
+        (
+            axi_lite::readback::FORMAT,
+            5,
+            "a READ_FORMAT code no format has",
+        ),
+        (axi_lite::READ_BASE, 1, "the read-back window (read only)"),
         (axi_lite::TEXTURE_BASE, 1, "the texture window"),
         (0x806, 1, "an unaligned address"),
     ];

@@ -6,4 +6,5 @@ mod arith;
 mod cast;
 mod device;
 mod isect;
+mod readback;
 mod scenes;
