@@ -130,6 +130,9 @@ pub enum Target {
     /// The controller in this process driving the FITkit block's RTL (Verilated) over its
     /// SPI pins.
     Rtl,
+    /// The controller in this process driving the ray-casting core's RTL (Verilated) over
+    /// its AXI4-Lite pins with its register driver (written `rtl:rt`).
+    RtlRt,
     /// A serial port (a board's USB-UART, `fpgfx-sim --pty`, QEMU's pty).
     Serial {
         /// Device path (`/dev/ttyUSB0`, a pty's `/dev/pts/N`).
@@ -142,8 +145,8 @@ pub enum Target {
 }
 
 impl Target {
-    /// Parses a `--port` value: `builtin`, `builtin:mmio`, `rtl`, `tcp:HOST:PORT` (or
-    /// `tcp://HOST:PORT`), or a serial device path.
+    /// Parses a `--port` value: `builtin`, `builtin:mmio`, `rtl`, `rtl:rt`, `tcp:HOST:PORT`
+    /// (or `tcp://HOST:PORT`), or a serial device path.
     pub fn parse(port: &str, baud: u32) -> Target {
         if port == "builtin" {
             Target::BuiltIn
@@ -151,6 +154,8 @@ impl Target {
             Target::BuiltInMmio
         } else if port == "rtl" {
             Target::Rtl
+        } else if port == "rtl:rt" {
+            Target::RtlRt
         } else if let Some(addr) = port
             .strip_prefix("tcp://")
             .or_else(|| port.strip_prefix("tcp:"))
@@ -213,6 +218,9 @@ pub enum ConnectError {
     /// The RTL target is not in this build (no verilator when it was built).
     #[error("--port rtl")]
     Rtl(#[from] sim_board::rtl::RtlTargetError),
+    /// The ray-casting core's RTL target is not in this build, or its probe failed.
+    #[error("--port rtl:rt")]
+    RtlRt(#[from] sim_board::rt_rtl::RtRtlTargetError),
     /// The register-bus driver did not find the model's device (a broken build).
     #[error("--port builtin:mmio: {0}")]
     Mmio(firmware::MmioError<sim_target::mmio::RegisterError>),
@@ -260,6 +268,7 @@ pub fn open(target: &Target) -> Result<Box<dyn Transport>, ConnectError> {
             .map(|t| Box::new(t) as Box<dyn Transport>)
             .map_err(ConnectError::Mmio),
         Target::Rtl => Ok(Box::new(sim_board::rtl::rtl_target()?)),
+        Target::RtlRt => Ok(Box::new(sim_board::rt_rtl::rt_rtl_target()?)),
         Target::Serial { path, baud } => crate::serial::SerialTransport::open(path, *baud)
             .map(|t| Box::new(t) as Box<dyn Transport>)
             .map_err(|e| ConnectError::serial_open(path, *baud, e)),

@@ -26,6 +26,10 @@ pub enum Fpga {
     /// The FITkit block's RTL, Verilated, behind the controller's SPI driver: FITkit
     /// layout, raster only.
     Rtl,
+    /// The ray-casting core's RTL, Verilated, behind the controller's AXI4-Lite register
+    /// driver: ray tracing only, in Q16.16, what the core builds.
+    #[value(name = "rtl:rt")]
+    RtlRt,
 }
 
 /// Why a board stopped serving (it never stops otherwise).
@@ -50,6 +54,9 @@ pub enum BoardError {
     /// The RTL board could not be built (no Verilated model in this build).
     #[error(transparent)]
     Rtl(#[from] RtlTargetError),
+    /// The ray-casting core's RTL could not be made (no verilator in this build).
+    #[error("--fpga rtl:rt")]
+    RtlRt(#[from] crate::rt_rtl::RtRtlTargetError),
 }
 
 /// Serves the board carrying `fpga` on `link` (a pty master), slowed to a UART at `pace`
@@ -130,6 +137,13 @@ fn run<S: Read + Write + Pending>(
             let caps = crate::rtl::caps();
             let layout = &protocol::bus::FITKIT;
             let c = Controller::new(HostLink(link), bus, caps, layout, "fpgfx-sim --fpga rtl");
+            run_on(c, between, on_fault)
+        }
+        Fpga::RtlRt => {
+            let bus = crate::rt_rtl::bus()?;
+            let caps = crate::rt_rtl::caps();
+            let ident = "fpgfx-sim --fpga rtl:rt";
+            let c = Controller::new(HostLink(link), bus, caps, &protocol::bus::WIDE, ident);
             run_on(c, between, on_fault)
         }
     }

@@ -51,6 +51,9 @@ pub enum FpgaPortError {
     /// The RTL could not be built (no Verilated model in this build).
     #[error(transparent)]
     Rtl(#[from] RtlTargetError),
+    /// The ray-casting core's RTL could not be made (no verilator in this build).
+    #[error("--fpga rtl:rt")]
+    RtlRt(#[from] crate::rt_rtl::RtRtlTargetError),
 }
 
 /// An open port the FPGA will be served on.
@@ -90,6 +93,11 @@ impl FpgaPort {
                 let rtl = fitkit_rtl_sim::Rtl::shared().map_err(RtlTargetError::from)?;
                 let bus = crate::rtl::bus_on(&rtl, fitkit_rtl_sim::SpiConfig::default())?;
                 let server = FpgaServer::new(bus, crate::rtl::caps(), &protocol::bus::FITKIT);
+                self.serve_on(server, on_fault)
+            }
+            Fpga::RtlRt => {
+                let bus = crate::rt_rtl::bus()?;
+                let server = FpgaServer::new(bus, crate::rt_rtl::caps(), &protocol::bus::WIDE);
                 self.serve_on(server, on_fault)
             }
         }

@@ -22,7 +22,7 @@ use protocol::MAX_PAYLOAD;
 use protocol::bus::{BusLayout, MAX_RECORDS};
 use protocol::frame::Caps;
 
-use firmware::{FitkitSpiError, FpgaBus};
+use firmware::{FitkitSpiError, FpgaBus, MmioError};
 use sim_target::DeviceError;
 
 /// An FPGA bus error as the link reports it: the controller receives only a
@@ -53,6 +53,18 @@ impl<E: core::fmt::Debug> Served for FitkitSpiError<E> {
             FitkitSpiError::NoSetup => FaultCode::Setup,
             FitkitSpiError::Timeout { .. } => FaultCode::Stuck,
             FitkitSpiError::Spi(_) | FitkitSpiError::Frame(_) => FaultCode::Bus,
+            // A variant added later is still a refusal of what was sent.
+            _ => FaultCode::Packet,
+        }
+    }
+}
+
+impl<E: core::fmt::Debug + core::fmt::Display> Served for MmioError<E> {
+    fn fault_code(&self) -> FaultCode {
+        match self {
+            MmioError::Stuck { .. } => FaultCode::Stuck,
+            MmioError::Access(_) | MmioError::Identity { .. } => FaultCode::Bus,
+            MmioError::OutOfMap { .. } => FaultCode::OutOfRange,
             // A variant added later is still a refusal of what was sent.
             _ => FaultCode::Packet,
         }
@@ -152,6 +164,11 @@ where
     /// line is quiet. Returns whether there was work.
     pub fn work(&mut self) -> bool {
         let last = self.requests.saturating_sub(1);
+        // An FPGA without a raster block (the ray-casting core) has no FIFO to run, and
+        // no registers to ask about one.
+        if !self.caps.raster {
+            return false;
+        }
         match self.bus.idle() {
             Ok(true) => false,
             Ok(false) => {
@@ -306,8 +323,13 @@ where
 
     fn status(&mut self) -> Result<FpgaStatus, B::Error> {
         let done = self.bus.poll_done()?;
-        let fifo_free = self.bus.fifo_free()?.min(usize::from(u16::MAX)) as u16;
-        let idle = self.bus.idle()?;
+        let (fifo_free, idle) = match self.caps.raster {
+            true => (
+                self.bus.fifo_free()?.min(usize::from(u16::MAX)) as u16,
+                self.bus.idle()?,
+            ),
+            false => (0, true),
+        };
         Ok(FpgaStatus {
             fifo_free,
             idle,

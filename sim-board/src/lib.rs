@@ -13,6 +13,9 @@
 //!   rate, so `fpgfx --port` is exercised over a tty;
 //! * with the FITkit block's RTL, Verilated, for the FPGA ([`rtl`]): the controller's
 //!   SPI driver on the block's pins (`--port rtl`, `fpgfx-sim --fpga rtl`);
+//! * with the ray-casting core's RTL, Verilated, for the FPGA ([`rt_rtl`]): the
+//!   controller's AXI4-Lite register driver on the core's bus (`--port rtl:rt`,
+//!   `fpgfx-sim --fpga rtl:rt`);
 //! * the FPGA alone on a serial port ([`FpgaPort`], speaking the serial FPGA link through
 //!   [`FpgaServer`]), for a controller elsewhere: the QEMU board's second UART, with the
 //!   model or the RTL behind it;
@@ -35,6 +38,7 @@ pub mod bootloader;
 pub mod bootloader_pty;
 pub mod in_process;
 pub mod pty;
+pub mod rt_rtl;
 pub mod rtl;
 
 mod fpga_port;

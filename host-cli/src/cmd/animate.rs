@@ -41,6 +41,10 @@ pub struct Args {
     /// ↑ ↓ tilt, + − zoom, q or Esc stops. --frames is then the most frames rendered.
     #[arg(long)]
     interactive: bool,
+    /// Reduce each scene to what the target's ray tracer builds (printing the first
+    /// frame's changes), instead of refusing it.
+    #[arg(long)]
+    fit: bool,
 }
 
 /// Raw terminal mode for `--interactive`, restored however the loop ends.
@@ -171,6 +175,16 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
                 if let Some((w, h)) = a.size {
                     scene.width = w;
                     scene.height = h;
+                }
+                if a.fit {
+                    if let Some(peer) = session.peer() {
+                        let changes = jobs::scene::fit_build(&mut scene, &peer.caps.rt_build);
+                        if f == 0 {
+                            for change in changes {
+                                eprintln!("{name}: {change} (--fit)");
+                            }
+                        }
+                    }
                 }
                 let regs = scene_regs(&session, &scene, numeric).with_context(|| label.clone())?;
                 let (out, words) = renderer

@@ -26,9 +26,10 @@ pub struct TargetArgs {
     /// Target: a serial port (a board, `fpgfx-sim --pty`, QEMU), `tcp:HOST:PORT`
     /// (`fpgfx-sim --tcp`), `builtin` (the golden model in process), `builtin:mmio` (the
     /// same with the controller on the model's AXI4-Lite registers, as a soft core beside
-    /// ViRAY-style IP) or `rtl` (the FITkit raster block's RTL, Verilated, driven over its
-    /// SPI pins). Default: the one known USB-serial adapter if exactly one is plugged in,
-    /// else the built-in target.
+    /// ViRAY-style IP), `rtl` (the FITkit raster block's RTL, Verilated, driven over its
+    /// SPI pins) or `rtl:rt` (the ray-casting core's RTL, Verilated, driven over its
+    /// AXI4-Lite pins by the same register driver). Default: the one known USB-serial
+    /// adapter if exactly one is plugged in, else the built-in target.
     #[arg(long, global = true, env = "FPGFX_PORT")]
     pub port: Option<String>,
     /// Line rate of a serial --port [default: 115200].

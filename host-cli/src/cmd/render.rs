@@ -3,8 +3,9 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use host_cli::run::render::{scene_regs, AovFiles, Packing, Renderer};
+use host_cli::run::render::{scene_regs, AovFiles, Aovs, Packing, RenderOutput, Renderer};
 use protocol::frame::Numeric;
+use sim_target::scene_regs::Regs;
 
 use super::{check_output_file, flag_path, parse_size, phase_line, TargetArgs};
 
@@ -34,6 +35,10 @@ pub struct Args {
     /// Print rays, time, board-time estimate and link counters.
     #[arg(long)]
     stats: bool,
+    /// Reduce the scene to what the target's ray tracer builds (a core without textures,
+    /// spot lights, …), printing each change, instead of refusing it.
+    #[arg(long)]
+    fit: bool,
 }
 
 /// Renders the scene on the target, writes the PNG and the AOVs and, with `--stats`,
@@ -75,6 +80,13 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
     let numeric = a.numeric;
     warn_out_of_range(&name, &scene, numeric);
     session.handshake().context("handshake with the target")?;
+    if a.fit {
+        if let Some(peer) = session.peer() {
+            for change in jobs::scene::fit_build(&mut scene, &peer.caps.rt_build) {
+                eprintln!("{name}: {change} (--fit)");
+            }
+        }
+    }
     let regs = scene_regs(&session, &scene, numeric).with_context(|| name.clone())?;
     // The target renders a frame without answering in between: allow for a full-HD
     // frame in the slowest format.
@@ -117,6 +129,9 @@ pub fn run(target: &TargetArgs, a: &Args) -> Result<()> {
             sim_target::rt::BOARD_CLOCK_HZ / 1e6,
             sim_target::rt::BOARD_II
         );
+        if target.settings()?.port.as_deref() == Some("rtl:rt") {
+            model_beside_rtl(&regs, numeric, a.packing, aov_files.aovs(), &out)?;
+        }
         println!(
             "saturations   {} results clipped to the format's range (fixed point; floats \
              do not saturate)",
@@ -155,4 +170,46 @@ fn warn_out_of_range(name: &str, scene: &sim_target::rt::Scene, numeric: Numeric
             format_max(numeric)
         );
     }
+}
+
+/// With `--port rtl:rt --stats`: the core's clock count from the model's schedule of it
+/// (`sim_target::rt::core`) beside the RTL's `RT_CYCLES`, and whether the built-in
+/// target's frame and planes for the same registers, format and packing agree with the
+/// RTL's.
+fn model_beside_rtl(
+    regs: &Regs,
+    numeric: Numeric,
+    packing: Packing,
+    aovs: Aovs,
+    rtl: &RenderOutput,
+) -> Result<()> {
+    let scene = sim_target::scene_regs::from_regs(regs).context("the image the core read")?;
+    let cycles = sim_target::rt::core::CoreFrame::of(&scene).cycles();
+    let mut session = host_cli::session::Session::new(sim_board::in_process::sim_target());
+    session
+        .handshake()
+        .context("handshake with the golden model")?;
+    session.timeout = std::time::Duration::from_secs(3600);
+    let (model, _) = Renderer::new().frame(&mut session, regs, numeric, packing, aovs)?;
+    let differ = model
+        .image
+        .pixels()
+        .zip(rtl.image.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    let planes = model.depth == rtl.depth && model.normal == rtl.normal;
+    println!(
+        "model cycles  {cycles} (the core's schedule, sim_target::rt::core; RTL {} = {:+})",
+        rtl.cycles,
+        rtl.cycles as i64 - cycles as i64
+    );
+    println!(
+        "model frame   {}",
+        match (differ, planes) {
+            (0, true) => "identical to the RTL's (colour and AOV planes)".to_string(),
+            (0, false) => "colour identical to the RTL's, AOV planes differ".to_string(),
+            (n, _) => format!("{n} pixels differ from the RTL's"),
+        }
+    );
+    Ok(())
 }

@@ -29,6 +29,7 @@ mod ports;
 mod pty;
 mod qemu;
 mod qemu_riscv;
+mod rt_rtl;
 mod rtl;
 mod stress;
 mod vectors;

@@ -58,7 +58,7 @@ impl Board {
     /// Builds the board binary (a no-op when `cargo xtask test` already did) and returns
     /// it. A missing Rust target fails here with the command that installs it, rather than
     /// with cargo's "can't find crate for `core`".
-    fn elf(&self) -> PathBuf {
+    pub(crate) fn elf(&self) -> PathBuf {
         let libdir = Command::new("rustc")
             .current_dir(workspace())
             .args(["--print", "target-libdir", "--target", self.target])
@@ -105,7 +105,7 @@ impl Board {
 
 /// QEMU's stdout: first its "char device redirected to /dev/pts/N (label serialK)"
 /// lines, then the semihosting bytes (defmt frames).
-struct Qemu {
+pub(crate) struct Qemu {
     _child: KillOnDrop,
     out: Arc<Mutex<Vec<u8>>>,
 }
@@ -228,7 +228,7 @@ fn render(port: Option<&str>, out: &str) -> String {
 
 /// `board` in QEMU with `fpgfx-sim --fpga-link` and `fpga_args` on its second UART:
 /// QEMU, the host link's pty, and the FPGA's process (both killed on drop).
-fn start(board: &Board, elf: &Path, fpga_args: &[&str]) -> (Qemu, String, KillOnDrop) {
+pub(crate) fn start(board: &Board, elf: &Path, fpga_args: &[&str]) -> (Qemu, String, KillOnDrop) {
     let (qemu, host_pty, fpga_pty) = Qemu::start(board, elf);
     let fpga = KillOnDrop(
         sim_command()
@@ -242,7 +242,7 @@ fn start(board: &Board, elf: &Path, fpga_args: &[&str]) -> (Qemu, String, KillOn
 }
 
 /// Asserts that the board booted, reached its FPGA and a host, and did not panic.
-fn assert_board_log(qemu: &Qemu, elf: &Path) {
+pub(crate) fn assert_board_log(qemu: &Qemu, elf: &Path) {
     let log = qemu.log(elf);
     println!("--- board log (defmt over semihosting) ---");
     for line in &log {

@@ -6,7 +6,8 @@
 //! QEMU's machine has no device for the AXI4-Lite ray-trace block, so the FPGA is on the
 //! serial link here too. `cargo test qemu_riscv` runs just this.
 
-use crate::qemu::{draws_and_renders_like_built_in, Board, Load};
+use crate::common::{example, fails, ok, rgb, tmp};
+use crate::qemu::{assert_board_log, draws_and_renders_like_built_in, start, Board, Load};
 
 /// The MicroBlaze V board binary on QEMU's generic MicroBlaze V machine (QEMU 9.1 and
 /// later; Debian's `qemu-system-misc` from bookworm-backports or trixie).
@@ -25,4 +26,53 @@ const MICROBLAZE_V: Board = Board {
 #[test]
 fn qemu_riscv_board_draws_and_renders_like_built_in() {
     draws_and_renders_like_built_in(&MICROBLAZE_V);
+}
+
+/// The MicroBlaze V board with the ray-casting core's RTL as its FPGA: `fpgfx-sim
+/// --fpga-link --fpga rtl:rt` answers the link with the register driver on the Verilated
+/// `rt_device`, as the STM32 board reaches the raster block's RTL. The board learns the
+/// core's build from its identity; its frame must equal the model's, and a scene asking
+/// for more than the core builds is refused by name before anything is sent.
+#[test]
+fn qemu_riscv_board_renders_on_the_rt_core() {
+    let elf = MICROBLAZE_V.elf();
+    let (qemu, host_pty, _fpga) = start(&MICROBLAZE_V, &elf, &["--fpga", "rtl:rt"]);
+    let scene = crate::common::workspace()
+        .join("hw/rt-core/scenes/core.toml")
+        .display()
+        .to_string();
+    let (board, built_in) = (tmp("rt-core-board.png"), tmp("rt-core-model.png"));
+    let args = |port: &str, out: &str| {
+        ok(&[
+            "--port",
+            port,
+            "render",
+            &scene,
+            "--numeric",
+            "q16.16",
+            "--size",
+            "32x18",
+            "-o",
+            out,
+        ])
+    };
+    args(&host_pty, &board);
+    args("builtin", &built_in);
+    assert_eq!(
+        rgb(&board),
+        rgb(&built_in),
+        "board frame differs from the model"
+    );
+    let err = fails(&[
+        "--port",
+        &host_pty,
+        "render",
+        &example("reference.toml"),
+        "--numeric",
+        "q16.16",
+        "-o",
+        &tmp("never-rt.png"),
+    ]);
+    assert!(err.contains("a spot light"), "{err}");
+    assert_board_log(&qemu, &elf);
 }

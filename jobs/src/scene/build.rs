@@ -81,6 +81,87 @@ pub fn check_build(scene: &Scene, build: &RtBuild) -> Result<(), SceneRegsError>
     Ok(())
 }
 
+/// Reduces `scene` to what `build` builds, so that a target carrying only part of the
+/// ray tracer can still render it: objects of shapes not built are removed, samples
+/// capped, shadows turned off, lights beyond the lanes dropped, spot lights made point
+/// lights, textures removed, Oren–Nayar shaded as Lambert, Torrance–Sparrow as
+/// Blinn–Phong with the same exponent, and without reflection the trace is cut to primary
+/// rays (depth 1, every reflection off). Returns each change, naming the field as
+/// [`check_build`] would, for the user to see what the picture lost.
+pub fn fit_build(scene: &mut Scene, build: &RtBuild) -> Vec<String> {
+    let mut changes = Vec::new();
+    let before = scene.objects.len();
+    let mut i = 0;
+    scene.objects.retain(|o| {
+        let keep = build.shapes & (1 << o.shape.code()) != 0;
+        if !keep {
+            let name = format!("{:?}", o.shape).to_lowercase();
+            changes.push(format!("object {i}: shape = \"{name}\" removed"));
+        }
+        i += 1;
+        keep
+    });
+    debug_assert!(scene.objects.len() + changes.len() == before);
+    if scene.spp > u32::from(build.max_spp) {
+        changes.push(format!("render.spp = {} → {}", scene.spp, build.max_spp));
+        scene.spp = u32::from(build.max_spp);
+    }
+    if scene.shadows && !build.has(RtBuild::SHADOWS) {
+        changes.push("render.shadows = true → false".into());
+        scene.shadows = false;
+    }
+    if scene.lights.len() > usize::from(build.lights) {
+        changes.push(format!(
+            "lights {}..{} removed (the target shades {})",
+            build.lights,
+            scene.lights.len(),
+            build.lights
+        ));
+        scene.lights.truncate(usize::from(build.lights));
+    }
+    for (i, l) in scene.lights.iter_mut().enumerate() {
+        if l.spot.is_some() && !build.has(RtBuild::SPOT_LIGHTS) {
+            changes.push(format!("light {i}: spot light → point light"));
+            l.spot = None;
+        }
+    }
+    let reflection = build.has(RtBuild::REFLECTION);
+    if !reflection && scene.depth > 1 {
+        changes.push(format!("render.depth = {} → 1", scene.depth));
+        scene.depth = 1;
+    }
+    for m in &mut scene.materials {
+        let name = m.name.clone();
+        if m.texture.is_some() && !build.has(RtBuild::TEXTURES) {
+            changes.push(format!("material `{name}`: texture removed"));
+            m.texture = None;
+        }
+        if matches!(m.diffuse_model, DiffuseModel::OrenNayar { .. })
+            && !build.has(RtBuild::OREN_NAYAR)
+        {
+            changes.push(format!(
+                "material `{name}`: diffuse.model = \"oren-nayar\" → \"lambert\""
+            ));
+            m.diffuse_model = DiffuseModel::Lambert;
+        }
+        if let Some(sp) = &mut m.specular {
+            if matches!(sp.model, SpecularModel::TorranceSparrow { .. })
+                && !build.has(RtBuild::TORRANCE_SPARROW)
+            {
+                changes.push(format!(
+                    "material `{name}`: specular.model = \"torrance-sparrow\" → \"blinn-phong\""
+                ));
+                sp.model = SpecularModel::BlinnPhong;
+            }
+        }
+        if m.reflection != Reflection::None && !reflection {
+            changes.push(format!("material `{name}`: reflection removed"));
+            m.reflection = Reflection::None;
+        }
+    }
+    changes
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,16 +222,45 @@ mod tests {
     }
 
     #[test]
+    fn a_fitted_scene_passes_the_check_and_says_what_it_lost() {
+        let builds = [
+            sim_target::rt::core::BUILD,
+            RtBuild {
+                shapes: 0b11,
+                lights: 0,
+                max_spp: 1,
+                features: 0,
+            },
+            RtBuild::FULL,
+        ];
+        for build in builds {
+            let mut s = reference();
+            let changes = fit_build(&mut s, &build);
+            check_build(&s, &build).unwrap_or_else(|e| panic!("{build:?}: {e}"));
+            assert_eq!(changes.is_empty(), build == RtBuild::FULL, "{changes:?}");
+        }
+        let mut s = reference();
+        let changes = fit_build(&mut s, &sim_target::rt::core::BUILD);
+        let text = changes.join("; ");
+        for what in [
+            "render.depth",
+            "spot light → point light",
+            "texture removed",
+        ] {
+            assert!(text.contains(what), "{what} not in: {text}");
+        }
+    }
+
+    #[test]
     fn the_rt_core_build_takes_its_example() {
         let text = include_str!("../../../hw/rt-core/scenes/core.toml");
         let s = crate::scene::parse(text, "core.toml").expect("core.toml parses");
         // the default rt_cast: every shape, one point-light lane, one sample, shadows
-        let core = RtBuild {
-            shapes: 0x7f,
-            lights: 1,
-            max_spp: 1,
-            features: RtBuild::SHADOWS,
-        };
+        let core = sim_target::rt::core::BUILD;
+        assert_eq!(
+            (core.shapes, core.lights, core.max_spp, core.features),
+            (0x7f, 1, 1, RtBuild::SHADOWS)
+        );
         check_build(&s, &core).expect("the RTL core builds hw/rt-core/scenes/core.toml");
     }
 }

@@ -8,7 +8,7 @@ mod file;
 pub mod range;
 mod wire;
 
-pub use build::check_build;
+pub use build::{check_build, fit_build};
 pub use compile::{to_regs, to_regs_as};
 pub use file::{parse, parse_with_limits, Limits, SceneFileError};
 pub use sim_target::scene_regs::{Regs, SceneRegsError};

@@ -31,6 +31,17 @@ pub const TO_OCCLUSION: u64 = 3 + 73 + 1;
 /// After the join: the sum, the choice of hit or background, the packing.
 pub const AFTER_JOIN: u64 = 3;
 
+/// What the core builds with its default parameters (`rt_device`'s: every shape, one
+/// point-light lane beside the ambient light, one sample per pixel, hard shadows): the
+/// `Caps::rt_build` a target on the core advertises, so the host refuses or reduces a
+/// scene asking for more before anything is sent.
+pub const BUILD: protocol::frame::RtBuild = protocol::frame::RtBuild {
+    shapes: 0x7f,
+    lights: (<protocol::scene::SceneRegs>::LIGHT_CAPACITY - 1) as u8,
+    max_spp: 1,
+    features: protocol::frame::RtBuild::SHADOWS,
+};
+
 /// A frame's shape as the core schedules it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CoreFrame {

@@ -10,7 +10,7 @@ use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use rt_core_rtl_sim::Cast;
 use sim_target::rt::core::CoreFrame;
-use sim_target::rt::{self, DiffuseModel, Reflection, Scene, SpecularModel};
+use sim_target::rt::{self, DiffuseModel, Reflection, Scene};
 
 use super::scenes::{compare, expected_cycles, model, scene};
 
@@ -164,9 +164,10 @@ fn what_the_core_does_not_build_is_refused() {
     assert_eq!(frame.err, 1 << 6, "three lights: err {:#010b}", frame.err);
 }
 
-/// The reference scene reduced to what the core builds: textures and reflections off,
-/// the spot light a point light, Oren–Nayar as Lambert, Torrance–Sparrow as Blinn–Phong
-/// with its exponent; its shadows stay on.
+/// The reference scene reduced to what the core builds (`jobs::scene::fit_build`, as
+/// `fpgfx render --fit` does): textures and reflections off, the spot light a point
+/// light, Oren–Nayar as Lambert, Torrance–Sparrow as Blinn–Phong with its exponent; its
+/// shadows stay on.
 fn reduced_reference(width: u32, height: u32) -> Scene {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -176,18 +177,7 @@ fn reduced_reference(width: u32, height: u32) -> Scene {
     let mut s = jobs::scene::parse(&text, "reference.toml").expect("reference parses");
     s.width = width;
     s.height = height;
-    s.depth = 1;
-    for l in &mut s.lights {
-        l.spot = None;
-    }
-    for m in &mut s.materials {
-        m.texture = None;
-        m.reflection = Reflection::None;
-        m.diffuse_model = DiffuseModel::Lambert;
-        if let Some(sp) = &mut m.specular {
-            sp.model = SpecularModel::BlinnPhong;
-        }
-    }
+    jobs::scene::fit_build(&mut s, &sim_target::rt::core::BUILD);
     s
 }
 

@@ -1,0 +1,150 @@
+//! The ray-casting core's RTL as a target: `fpgfx --port rtl:rt` (the controller in
+//! process, its AXI4-Lite register driver on the Verilated `rt_device`'s pins, the frame
+//! read back through the device's own window). Frames and AOV planes must equal
+//! `--port builtin --numeric q16.16` byte for byte; `--stats` must put the model's
+//! schedule of the core beside the RTL's count, equal; what the core does not build is
+//! refused naming the field, or reduced with `--fit`.
+
+use crate::common::{example, fails, ok, tmp};
+
+fn core_scene() -> String {
+    crate::common::workspace()
+        .join("hw/rt-core/scenes/core.toml")
+        .display()
+        .to_string()
+}
+
+fn bytes(path: &str) -> Vec<u8> {
+    std::fs::read(path).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+#[test]
+fn rtl_rt_renders_the_core_scene_as_builtin_does() {
+    let scene = core_scene();
+    let mut files = Vec::new();
+    for port in ["builtin", "rtl:rt"] {
+        let tag = port.replace(':', "-");
+        let (png, depth, normal) = (
+            tmp(&format!("core-{tag}.png")),
+            tmp(&format!("core-{tag}-d.pfm")),
+            tmp(&format!("core-{tag}-n.pfm")),
+        );
+        ok(&[
+            "--port",
+            port,
+            "render",
+            &scene,
+            "--numeric",
+            "q16.16",
+            "--size",
+            "40x24",
+            "--aov",
+            &format!("depth={depth},normal={normal}"),
+            "-o",
+            &png,
+        ]);
+        files.push([bytes(&png), bytes(&depth), bytes(&normal)]);
+    }
+    for (i, what) in ["frame", "depth plane", "normal plane"].iter().enumerate() {
+        assert!(!files[0][i].is_empty(), "{what}: nothing written");
+        assert!(
+            files[0][i] == files[1][i],
+            "{what}: rtl:rt differs from builtin"
+        );
+    }
+}
+
+#[test]
+fn rtl_rt_stats_put_the_models_count_beside_the_rtls() {
+    let run = ok(&[
+        "--port",
+        "rtl:rt",
+        "render",
+        &example("reference.toml"),
+        "--fit",
+        "--numeric",
+        "q16.16",
+        "--size",
+        "32x18",
+        "--stats",
+        "--aov",
+        &format!("depth={}", tmp("ref-d.pfm")),
+        "-o",
+        &tmp("ref.png"),
+    ]);
+    let line = run
+        .stdout
+        .lines()
+        .find(|l| l.starts_with("model cycles"))
+        .unwrap_or_else(|| panic!("no model cycles line:\n{}", run.stdout));
+    assert!(
+        line.ends_with("= +0)"),
+        "RTL and model cycles differ: {line}"
+    );
+    assert!(
+        run.stdout
+            .contains("model frame   identical to the RTL's (colour and AOV planes)"),
+        "{}",
+        run.stdout
+    );
+    // --fit says what the reference scene lost, by field
+    for what in [
+        "spot light → point light",
+        "texture removed",
+        "render.depth",
+    ] {
+        assert!(run.stderr.contains(what), "{what}: {}", run.stderr);
+    }
+}
+
+#[test]
+fn rtl_rt_refuses_what_the_core_does_not_build() {
+    let err = fails(&[
+        "--port",
+        "rtl:rt",
+        "render",
+        &example("reference.toml"),
+        "--numeric",
+        "q16.16",
+        "-o",
+        &tmp("never.png"),
+    ]);
+    assert!(err.contains("a spot light"), "{err}");
+    let err = fails(&[
+        "--port",
+        "rtl:rt",
+        "render",
+        &core_scene(),
+        "--numeric",
+        "f32",
+        "-o",
+        &tmp("never-f32.png"),
+    ]);
+    assert!(err.to_lowercase().contains("f32"), "{err}");
+    let help = ok(&["render", "--help"]).stdout;
+    assert!(help.contains("rtl:rt"), "{help}");
+}
+
+#[test]
+fn rtl_rt_animates_a_fitted_script() {
+    let pngs = tmp("viray-%02d.png");
+    ok(&[
+        "--port",
+        "rtl:rt",
+        "animate",
+        &example("anim/viray.rhai"),
+        "--fit",
+        "--numeric",
+        "q16.16",
+        "--frames",
+        "3",
+        "--size",
+        "24x14",
+        "-o",
+        &pngs,
+    ]);
+    let frames: Vec<Vec<u8>> = (0..3)
+        .map(|i| bytes(&pngs.replace("%02d", &format!("{i:02}"))))
+        .collect();
+    assert!(frames[0] != frames[2], "the animation does not move");
+}
