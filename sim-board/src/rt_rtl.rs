@@ -25,15 +25,41 @@ pub type RtRtlBus = MmioBus<RtlRegisters>;
 /// The Verilated device as the register space the driver reads and writes.
 pub struct RtlRegisters(pub Device);
 
-impl Registers for RtlRegisters {
-    type Error = AxiError;
+/// A bus access the device did not complete, with the register's name from the map.
+#[derive(Debug, thiserror::Error)]
+#[error("{register}: {source}")]
+pub struct RtlAccessError {
+    /// The register's name in `protocol::axi_lite`'s map, or which window or range.
+    pub register: &'static str,
+    /// What the bus said.
+    #[source]
+    pub source: AxiError,
+}
 
-    fn read(&mut self, addr: u32) -> Result<u32, AxiError> {
-        self.0.read(addr)
+impl RtlRegisters {
+    fn named<T>(addr: u32, r: Result<T, AxiError>) -> Result<T, RtlAccessError> {
+        use protocol::axi_lite::{locate, Location};
+        let register = match locate(addr) {
+            Some(Location::Register(r)) => r.name,
+            Some(Location::Scene(_)) => "the scene window",
+            Some(Location::ReadBack(_)) => "the read-back window",
+            Some(Location::Counter { .. }) => "a device counter",
+            Some(Location::Texture(_)) => "the texture window",
+            None => "no register of the map",
+        };
+        r.map_err(|source| RtlAccessError { register, source })
+    }
+}
+
+impl Registers for RtlRegisters {
+    type Error = RtlAccessError;
+
+    fn read(&mut self, addr: u32) -> Result<u32, RtlAccessError> {
+        Self::named(addr, self.0.read(addr))
     }
 
-    fn write(&mut self, addr: u32, value: u32) -> Result<(), AxiError> {
-        self.0.write(addr, value)
+    fn write(&mut self, addr: u32, value: u32) -> Result<(), RtlAccessError> {
+        Self::named(addr, self.0.write(addr, value))
     }
 }
 
@@ -46,7 +72,7 @@ pub enum RtRtlTargetError {
     Rtl(#[from] RtlError),
     /// The driver's probe did not find the device on the pins.
     #[error("the driver's probe of the Verilated core: {0}")]
-    Probe(MmioError<AxiError>),
+    Probe(MmioError<RtlAccessError>),
 }
 
 /// What the core can do: ray tracing in Q16.16 only, the terms it builds

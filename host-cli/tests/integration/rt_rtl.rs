@@ -148,3 +148,72 @@ fn rtl_rt_animates_a_fitted_script() {
         .collect();
     assert!(frames[0] != frames[2], "the animation does not move");
 }
+
+/// A memory that never takes the core's records holds the core for good, so `ap_done`
+/// never rises: the driver's wait ends within its poll bound with the register named,
+/// and the session reports it.
+#[test]
+fn rtl_rt_stuck_memory_is_an_error_naming_the_register() {
+    use host_cli::run::render::{Aovs, Packing, Renderer};
+    use host_cli::session::Session;
+    use rt_core_rtl_sim::{Device, Jitter};
+
+    let device = Device::new(Jitter {
+        seed: 1,
+        max_delay: 0,
+        mem_busy_percent: 100,
+    })
+    .expect("Verilated rt_device");
+    let mut target = sim_board::rt_rtl::rt_rtl_target_on(device).expect("the core probes");
+    target.bus().poll_limit = 2000;
+    let mut session = Session::new(target);
+    session.timeout = std::time::Duration::from_secs(60);
+    session.handshake().expect("handshake");
+    let text = std::fs::read_to_string(core_scene()).expect("core.toml");
+    let mut scene = jobs::scene::parse(&text, "core.toml").expect("parses");
+    (scene.width, scene.height) = (8, 6);
+    let regs = jobs::scene::to_regs(&scene).expect("fits");
+    let started = std::time::Instant::now();
+    let err = match Renderer::new().frame(
+        &mut session,
+        &regs,
+        protocol::frame::Numeric::Q16_16,
+        Packing::Rgb888,
+        Aovs::default(),
+    ) {
+        Ok(_) => panic!("a core whose memory never takes a record cannot finish"),
+        Err(e) => format!("{:#}", anyhow::Error::from(e)),
+    };
+    assert!(err.contains("AP_CTRL (0x0000)"), "{err}");
+    assert!(err.contains("ap_done not seen after 2000 polls"), "{err}");
+    assert!(
+        started.elapsed() < std::time::Duration::from_secs(30),
+        "took {:?}",
+        started.elapsed()
+    );
+}
+
+/// An access the device does not have answers SLVERR, and the driver's error names the
+/// register (or the window) it went to.
+#[test]
+fn rtl_rt_slverr_names_the_register() {
+    use firmware::Registers;
+    use protocol::axi_lite::{self, raster, sys};
+    use rt_core_rtl_sim::{Device, Jitter};
+    use sim_board::rt_rtl::RtlRegisters;
+
+    let mut regs = RtlRegisters(Device::new(Jitter::NONE).expect("Verilated rt_device"));
+    let cases = [
+        (regs.read(raster::CTRL).map(|_| ()), "RASTER_CTRL"),
+        (regs.write(sys::ID, 1), "ID"),
+        (
+            regs.read(axi_lite::READ_BASE).map(|_| ()),
+            "the read-back window",
+        ),
+        (regs.read(0x1_F000).map(|_| ()), "no register of the map"),
+    ];
+    for (result, name) in cases {
+        let e = result.expect_err("the device refuses it").to_string();
+        assert!(e.starts_with(name) && e.contains("SLVERR"), "{name}: {e}");
+    }
+}
