@@ -3,7 +3,8 @@
 # failure.
 #
 # Lint: verilator --lint-only -Wall on the synthesisable files (rtl/) with each unit as
-# top, and with the simulation top (sim/). Testbenches: Icarus (iverilog -g2012) when it
+# top, with the simulation top (sim/) and with the place-and-route wrapper (synth/).
+# Testbenches: Icarus (iverilog -g2012) when it
 # is installed, else Verilator's --binary --timing build (RTL_SIM=iverilog or
 # RTL_SIM=verilator forces one). Paths below are relative to this block's folder; build
 # products go to $RTL_BUILD (default target/rtl at the workspace root; a relative
@@ -36,6 +37,8 @@ verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GOBJ=1
 verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GSHADOWS=0
 verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GSHAPES="7'b0000011" -GOBJ=5
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module rt_math_top
+# the pin wrapper `cargo xtask synth` places (synth/)
+verilator --lint-only -Wall -Irtl rtl/*.v synth/*.v --top-module rt_device_pins
 echo "lint: clean"
 # formal: the properties beside a module (ifdef FORMAL), proved by Yosys's own SAT solver
 # from a reset in the first step: bounded model check and temporal induction up to 24

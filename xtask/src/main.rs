@@ -42,10 +42,12 @@ fn main() -> Result<()> {
     match args.first().map(String::as_str) {
         Some("test") => test(),
         Some("setup") => setup(),
-        Some("synth") => synth::synth(&workspace_root()),
+        Some("synth") => {
+            synth::synth(&workspace_root(), &synth::Options::parse(&args[1..])?).map(|_| ())
+        }
         Some("layers") => layers::check(&std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())),
         _ => {
-            eprintln!("usage: cargo xtask <test|setup|synth|layers>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr-ice40 on hw/fitkit-raster/rtl/: LUT/FF/BRAM/DSP per module and Fmax\n  layers check that every dependency between the workspace's crates points down");
+            eprintln!("usage: cargo xtask <test|setup|synth|layers>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME]\n  layers check that every dependency between the workspace's crates points down");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
@@ -276,11 +278,11 @@ const RT_CORE: &str = "hw/rt-core";
 /// errors), the Icarus testbenches, and synthesis to an iCE40 with its figures.
 fn rtl_checks() -> Result<()> {
     let root = workspace_root();
-    let files: Vec<String> = synth::sources(&root)?
+    let files: Vec<String> = synth::sources(&root, synth::BLOCK)?
         .iter()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    let include = format!("-I{}", synth::rtl_dir(&root).display());
+    let include = format!("-I{}", synth::rtl_dir(&root, synth::BLOCK).display());
     let mut lint = vec!["--lint-only", "-Wall", &include, "--top-module", synth::TOP];
     lint.extend(files.iter().map(String::as_str));
     run("verilator", &lint)?;
@@ -288,7 +290,9 @@ fn rtl_checks() -> Result<()> {
         let script = root.join(block).join("run-tests.sh");
         run("sh", &[&script.to_string_lossy()])?;
     }
-    synth::synth(&root)
+    let (report, _) = synth::place(&root, &synth::FITKIT_ICE40)?;
+    print!("{report}");
+    Ok(())
 }
 
 /// The Debian release this machine runs (`VERSION_CODENAME` in /etc/os-release).
