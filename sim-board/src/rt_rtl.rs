@@ -14,10 +14,10 @@ use protocol::frame::{Caps, Numeric, NumericSet};
 use protocol::scene::SceneRegs;
 use rt_core_rtl_sim::{AxiError, Device, Jitter, RtlError};
 
+use crate::in_process::BuiltIn;
+
 /// The register map's default capacities, which the Verilated core's parameters take.
 type Capacity = SceneRegs;
-
-use crate::in_process::BuiltIn;
 
 /// The controller's FPGA bus when the FPGA is the Verilated core.
 pub type RtRtlBus = MmioBus<RtlRegisters>;
@@ -76,8 +76,8 @@ pub enum RtRtlTargetError {
 }
 
 /// What the core can do: ray tracing in Q16.16 only, the terms it builds
-/// ([`sim_target::rt::core::BUILD`]), the register
-/// map's objects and lights, every read-back format, frames up to the protocol's side.
+/// ([`sim_target::rt::core::BUILD`]), the register map's objects and lights, every
+/// read-back format, frames up to the protocol's side.
 pub fn caps() -> Caps {
     let mut caps = sim_target::Device::new(&WIDE).caps();
     caps.raster = false;
@@ -89,11 +89,13 @@ pub fn caps() -> Caps {
 }
 
 /// Polls of one wait: enough for the longest frame [`caps`] allows (every pixel a slot
-/// of `OBJ_CAPACITY` primary and as many shadow pairs per light) at the three clocks a
-/// read of `AP_CTRL` takes at the least, so only a core that has stopped runs out.
+/// of `OBJ_CAPACITY` primary pairs and as many shadow pairs per light lane) at the three
+/// clocks a read of `AP_CTRL` takes at the least, so only a core that has stopped runs
+/// out.
 pub fn poll_limit() -> u32 {
     let side = u64::from(protocol::MAX_FRAME_SIDE);
-    let slot = (Capacity::OBJ_CAPACITY * Capacity::LIGHT_CAPACITY) as u64;
+    let lanes = u64::from(sim_target::rt::core::BUILD.lights);
+    let slot = Capacity::OBJ_CAPACITY as u64 * (1 + lanes);
     let clocks = side * side * slot + 1_000;
     u32::try_from(clocks / 3 + 1).unwrap_or(u32::MAX)
 }

@@ -100,7 +100,8 @@ pub struct Device {
     jitter: Jitter,
     state: u64,
     records: Vec<MemRecord>,
-    memory: Vec<MemRecord>,
+    /// The frame memory by index (a map: a broken index must not allocate gigabytes).
+    memory: std::collections::HashMap<u32, MemRecord>,
     /// The read port's answer: the clocks until it is given, and the index read.
     reading: Option<(u32, u32)>,
     irq: bool,
@@ -159,7 +160,7 @@ impl Device {
             jitter,
             state: jitter.seed ^ 0x9e37_79b9_7f4a_7c15,
             records: Vec::new(),
-            memory: Vec::new(),
+            memory: std::collections::HashMap::new(),
             reading: None,
             irq: false,
         })
@@ -200,7 +201,7 @@ impl Device {
         let answer = match self.reading {
             Some((0, index)) => {
                 self.reading = None;
-                Some(self.memory.get(index as usize).copied().unwrap_or(BLANK))
+                Some(self.memory.get(&index).copied().unwrap_or(BLANK))
             }
             Some((n, index)) => {
                 self.reading = Some((n - 1, index));
@@ -245,11 +246,7 @@ impl Device {
                     n: [o[15] as i32, o[16] as i32, o[17] as i32],
                     aovs: o[18] != 0,
                 };
-                let i = rec.index as usize;
-                if self.memory.len() <= i {
-                    self.memory.resize(i + 1, BLANK);
-                }
-                self.memory[i] = rec;
+                self.memory.insert(rec.index, rec);
                 self.records.push(rec);
             }
         }
