@@ -357,6 +357,16 @@ mod tests {
         ));
     }
 
+    #[test]
+    fn each_rtl_block_is_a_target_of_its_own() {
+        assert_eq!(Target::parse("rtl", 9600), Target::Rtl);
+        assert_eq!(Target::parse("rtl:rt", 9600), Target::RtlRt);
+        assert!(matches!(
+            Target::parse("rtl:r", 9600),
+            Target::Serial { .. }
+        ));
+    }
+
     /// The errors serialport 4 gives on Linux for the ways an open fails, as its posix
     /// back end words them.
     #[test]
