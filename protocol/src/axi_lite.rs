@@ -716,7 +716,7 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
     writeln!(out, "`ifndef RT_AXI_MAP_VH")?;
     writeln!(out, "`define RT_AXI_MAP_VH")?;
     let bit = |v: u32| v.trailing_zeros();
-    let numbers: [(&str, u32, &str); 56] = [
+    let numbers: [(&str, u32, &str); 43] = [
         (
             "ADDR_BITS",
             DEVICE_ADDR_BITS,
@@ -794,79 +794,14 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
         ("READ_NONE", readback::NONE, "READ_LEN without a read-back"),
         ("READ_SLAVE", readback::BASE, "the read-back slave"),
         (
-            "PLANE_COLOR",
-            plane_code(Plane::Color),
-            "READ_PLANE code: colour",
-        ),
-        (
-            "PLANE_DEPTH",
-            plane_code(Plane::Depth),
-            "READ_PLANE code: depth",
-        ),
-        (
-            "PLANE_NORMAL",
-            plane_code(Plane::Normal),
-            "READ_PLANE code: normal",
-        ),
-        (
             "PLANE_CODES",
             PLANES.len() as u32,
             "READ_PLANE codes that name a plane",
         ),
         (
-            "FORMAT_RGB888",
-            format_code(PixelFormat::Rgb888),
-            "READ_FORMAT code: RGB888",
-        ),
-        (
-            "FORMAT_RGB332",
-            format_code(PixelFormat::Rgb332),
-            "READ_FORMAT code: RGB332",
-        ),
-        (
-            "FORMAT_KCU116",
-            format_code(PixelFormat::Kcu116),
-            "READ_FORMAT code: KCU116 (G, then B or R by column)",
-        ),
-        (
-            "FORMAT_DEPTH_F32",
-            format_code(PixelFormat::DepthF32),
-            "READ_FORMAT code: depth f32",
-        ),
-        (
-            "FORMAT_NORMAL_F32",
-            format_code(PixelFormat::NormalF32),
-            "READ_FORMAT code: normal 3 x f32",
-        ),
-        (
             "FORMAT_CODES",
             FORMATS.len() as u32,
             "READ_FORMAT codes that name a format",
-        ),
-        (
-            "BPP_RGB888",
-            PixelFormat::Rgb888.bytes_per_pixel() as u32,
-            "bytes per pixel: RGB888",
-        ),
-        (
-            "BPP_RGB332",
-            PixelFormat::Rgb332.bytes_per_pixel() as u32,
-            "bytes per pixel: RGB332",
-        ),
-        (
-            "BPP_KCU116",
-            PixelFormat::Kcu116.bytes_per_pixel() as u32,
-            "bytes per pixel: KCU116",
-        ),
-        (
-            "BPP_DEPTH_F32",
-            PixelFormat::DepthF32.bytes_per_pixel() as u32,
-            "bytes per pixel: depth f32",
-        ),
-        (
-            "BPP_NORMAL_F32",
-            PixelFormat::NormalF32.bytes_per_pixel() as u32,
-            "bytes per pixel: normal 3 x f32",
         ),
         ("READ_BASE", READ_BASE, "read-back window"),
         ("READ_WINDOW", READ_WINDOW, "bytes of the read-back window"),
@@ -887,6 +822,24 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
             writeln!(out, "`define RT_AXI_{name} 32'h{value:08x}")?;
         }
     }
+    // each plane's and format's code, and each format's bytes per pixel, named after the
+    // variant (`DepthF32` as DEPTH_F32)
+    for p in PLANES {
+        writeln!(out, "// READ_PLANE code")?;
+        write!(out, "`define RT_AXI_PLANE_")?;
+        screaming(out, format_args!("{p:?}"))?;
+        writeln!(out, " {}", plane_code(p))?;
+    }
+    for f in FORMATS {
+        writeln!(out, "// READ_FORMAT code")?;
+        write!(out, "`define RT_AXI_FORMAT_")?;
+        screaming(out, format_args!("{f:?}"))?;
+        writeln!(out, " {}", format_code(f))?;
+        writeln!(out, "// bytes per pixel of the format")?;
+        write!(out, "`define RT_AXI_BPP_")?;
+        screaming(out, format_args!("{f:?}"))?;
+        writeln!(out, " {}", f.bytes_per_pixel())?;
+    }
     for (i, c) in COUNTERS.iter().enumerate() {
         writeln!(out, "// device counter index: {}", c.name)?;
         write!(out, "`define RT_AXI_COUNTER_")?;
@@ -896,6 +849,28 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
         writeln!(out, " {i}")?;
     }
     writeln!(out, "`endif")
+}
+
+/// Writes a CamelCase name as SCREAMING_SNAKE_CASE (`DepthF32` as `DEPTH_F32`, `Rgb888`
+/// as `RGB888`): a word break where an upper-case letter follows a lower-case one.
+fn screaming(out: &mut impl core::fmt::Write, name: core::fmt::Arguments<'_>) -> core::fmt::Result {
+    struct Screaming<'a, W> {
+        out: &'a mut W,
+        lower: bool,
+    }
+    impl<W: core::fmt::Write> core::fmt::Write for Screaming<'_, W> {
+        fn write_str(&mut self, s: &str) -> core::fmt::Result {
+            for ch in s.chars() {
+                if ch.is_ascii_uppercase() && self.lower {
+                    self.out.write_char('_')?;
+                }
+                self.lower = ch.is_ascii_lowercase();
+                self.out.write_char(ch.to_ascii_uppercase())?;
+            }
+            Ok(())
+        }
+    }
+    core::fmt::write(&mut Screaming { out, lower: false }, name)
 }
 
 // The map must stay inside what the slave decodes and the scalars below the memory.

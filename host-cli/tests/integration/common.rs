@@ -447,3 +447,16 @@ pub fn pty_pair() -> (serialport::TTYPort, String) {
     drop(slave);
     (master, path)
 }
+
+/// Asserts that `--stats` on an RTL target printed the model's clock count equal to the
+/// RTL's (its `model cycles … = +0)` line).
+pub fn assert_model_cycles_equal(stdout: &str) {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("model cycles"))
+        .unwrap_or_else(|| panic!("no model cycles line:\n{stdout}"));
+    assert!(
+        line.ends_with("= +0)"),
+        "RTL and model cycles differ: {line}"
+    );
+}

@@ -37,10 +37,7 @@ fn qemu_riscv_board_draws_and_renders_like_built_in() {
 fn qemu_riscv_board_renders_on_the_rt_core() {
     let elf = MICROBLAZE_V.elf();
     let (qemu, host_pty, _fpga) = start(&MICROBLAZE_V, &elf, &["--fpga", "rtl:rt"]);
-    let scene = crate::common::workspace()
-        .join("hw/rt-core/scenes/core.toml")
-        .display()
-        .to_string();
+    let scene = crate::rt_rtl::core_scene();
     let (board, built_in) = (tmp("rt-core-board.png"), tmp("rt-core-model.png"));
     let args = |port: &str, out: &str| {
         ok(&[

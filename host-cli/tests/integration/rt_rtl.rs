@@ -5,9 +5,10 @@
 //! schedule of the core beside the RTL's count, equal; what the core does not build is
 //! refused naming the field, or reduced with `--fit`.
 
-use crate::common::{example, fails, ok, tmp};
+use crate::common::{assert_model_cycles_equal, example, fails, ok, tmp};
 
-fn core_scene() -> String {
+/// `hw/rt-core/scenes/core.toml`: what the core builds, unreduced.
+pub(crate) fn core_scene() -> String {
     crate::common::workspace()
         .join("hw/rt-core/scenes/core.toml")
         .display()
@@ -72,15 +73,7 @@ fn rtl_rt_stats_put_the_models_count_beside_the_rtls() {
         "-o",
         &tmp("ref.png"),
     ]);
-    let line = run
-        .stdout
-        .lines()
-        .find(|l| l.starts_with("model cycles"))
-        .unwrap_or_else(|| panic!("no model cycles line:\n{}", run.stdout));
-    assert!(
-        line.ends_with("= +0)"),
-        "RTL and model cycles differ: {line}"
-    );
+    assert_model_cycles_equal(&run.stdout);
     assert!(
         run.stdout
             .contains("model frame   identical to the RTL's (colour and AOV planes)"),

@@ -4,7 +4,7 @@
 //! goldens byte for byte; the RTL's cycle count must equal the model's estimate; what the
 //! FITkit cannot draw is refused before anything is sent, naming the command.
 
-use crate::common::{example, fails, ok, rgb, start_sim, tmp};
+use crate::common::{assert_model_cycles_equal, example, fails, ok, rgb, start_sim, tmp};
 
 fn fitkit() -> String {
     example("raster/fitkit.toml")
@@ -19,15 +19,7 @@ fn rtl_port_draws_the_fitkit_golden_with_the_models_cycles() {
         "the RTL's frame differs from the golden"
     );
     // `--stats` on the RTL prints the model's estimate beside the RTL's count: equal.
-    let line = run
-        .stdout
-        .lines()
-        .find(|l| l.starts_with("model cycles"))
-        .unwrap_or_else(|| panic!("no model cycles line:\n{}", run.stdout));
-    assert!(
-        line.ends_with("= +0)"),
-        "RTL and model cycles differ: {line}"
-    );
+    assert_model_cycles_equal(&run.stdout);
     assert!(
         run.stdout.contains("model frame   identical to the RTL's"),
         "{}",

@@ -76,36 +76,10 @@
 `define RT_AXI_READ_NONE 32'hffffffff
 // the read-back slave
 `define RT_AXI_READ_SLAVE 32'h00003000
-// READ_PLANE code: colour
-`define RT_AXI_PLANE_COLOR 0
-// READ_PLANE code: depth
-`define RT_AXI_PLANE_DEPTH 1
-// READ_PLANE code: normal
-`define RT_AXI_PLANE_NORMAL 2
 // READ_PLANE codes that name a plane
 `define RT_AXI_PLANE_CODES 3
-// READ_FORMAT code: RGB888
-`define RT_AXI_FORMAT_RGB888 0
-// READ_FORMAT code: RGB332
-`define RT_AXI_FORMAT_RGB332 1
-// READ_FORMAT code: KCU116 (G, then B or R by column)
-`define RT_AXI_FORMAT_KCU116 2
-// READ_FORMAT code: depth f32
-`define RT_AXI_FORMAT_DEPTH_F32 3
-// READ_FORMAT code: normal 3 x f32
-`define RT_AXI_FORMAT_NORMAL_F32 4
 // READ_FORMAT codes that name a format
 `define RT_AXI_FORMAT_CODES 5
-// bytes per pixel: RGB888
-`define RT_AXI_BPP_RGB888 3
-// bytes per pixel: RGB332
-`define RT_AXI_BPP_RGB332 1
-// bytes per pixel: KCU116
-`define RT_AXI_BPP_KCU116 2
-// bytes per pixel: depth f32
-`define RT_AXI_BPP_DEPTH_F32 4
-// bytes per pixel: normal 3 x f32
-`define RT_AXI_BPP_NORMAL_F32 12
 // read-back window
 `define RT_AXI_READ_BASE 32'h00004000
 // bytes of the read-back window
@@ -116,6 +90,32 @@
 `define RT_AXI_TEXTURE_BASE 32'h00100000
 // bytes of each register slave
 `define RT_AXI_SLAVE_SPAN 32'h00001000
+// READ_PLANE code
+`define RT_AXI_PLANE_COLOR 0
+// READ_PLANE code
+`define RT_AXI_PLANE_DEPTH 1
+// READ_PLANE code
+`define RT_AXI_PLANE_NORMAL 2
+// READ_FORMAT code
+`define RT_AXI_FORMAT_RGB888 0
+// bytes per pixel of the format
+`define RT_AXI_BPP_RGB888 3
+// READ_FORMAT code
+`define RT_AXI_FORMAT_RGB332 1
+// bytes per pixel of the format
+`define RT_AXI_BPP_RGB332 1
+// READ_FORMAT code
+`define RT_AXI_FORMAT_KCU116 2
+// bytes per pixel of the format
+`define RT_AXI_BPP_KCU116 2
+// READ_FORMAT code
+`define RT_AXI_FORMAT_DEPTH_F32 3
+// bytes per pixel of the format
+`define RT_AXI_BPP_DEPTH_F32 4
+// READ_FORMAT code
+`define RT_AXI_FORMAT_NORMAL_F32 4
+// bytes per pixel of the format
+`define RT_AXI_BPP_NORMAL_F32 12
 // device counter index: fragments
 `define RT_AXI_COUNTER_FRAGMENTS 0
 // device counter index: cycles
