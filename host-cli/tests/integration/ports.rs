@@ -101,7 +101,10 @@ fn the_config_file_supplies_the_port_and_its_errors_name_it() {
     let gallery = example("raster/gallery.toml");
     let cfg = dir.path().join("fpgfx.toml");
     std::fs::write(&cfg, "port = \"/dev/fpgfx-from-config\"\n").expect("write");
-    let args = ["raster", &gallery];
+    // Every run writes into the test's own directory: the default `raster.png` in the
+    // shared working directory would race the other tests' output checks.
+    let png = dir.path().join("g.png").display().to_string();
+    let args = ["raster", &gallery, "-o", &png];
     let err = assert_fails(fpgfx_with_config(&cfg, &args), &args);
     assert!(
         err.contains("serial port /dev/fpgfx-from-config does not exist"),
@@ -109,12 +112,11 @@ fn the_config_file_supplies_the_port_and_its_errors_name_it() {
     );
 
     // The flag wins over the file.
-    let png = dir.path().join("g.png").display().to_string();
     let args = ["--port", "builtin", "raster", &gallery, "-o", &png];
     assert_ok(fpgfx_with_config(&cfg, &args), &args);
 
     std::fs::write(&cfg, "port = \"builtin\"\nbaud_rate = 9600\n").expect("write");
-    let args = ["raster", &gallery];
+    let args = ["raster", &gallery, "-o", &png];
     let err = assert_fails(fpgfx_with_config(&cfg, &args), &args);
     assert!(err.contains(&cfg.display().to_string()), "{err}");
     assert!(err.contains("baud_rate"), "{err}");
