@@ -5,14 +5,25 @@
 // Why a module: the core's schedules are written as "value v at stage T"; a delay of
 // N stages between the producer and the consumer keeps that bookkeeping in one place
 // per value, and N is checked (N = 0 is a wire).
+// Why a RAM for long wide chains: the core carries rays and tags for 70-odd stages, and
+// a 330-bit tag held in flip-flops for 73 stages is 24 000 of them, more than the rest
+// of the pipeline. A data chain of N >= RAM_MIN_N stages and W * N >= RAM_MIN_BITS bits
+// is a ring of N words instead (write the new word, read the one written N enables ago
+// into an output register, both on ce): an FPGA's block RAM with a registered read, a
+// handful of EBRs where the flip-flops took thousands, and the same q clock for clock.
 // Ports: d in, q = d of N enabled cycles ago; RESET = 1 clears the chain on rst (for
-// valid bits; data chains have no reset). ce low holds it.
+// valid bits; data chains have no reset, and a ring's rst only rewinds its pointer).
+// ce low holds it.
 // Timing: latency N.
+// Parameters: W >= 1 bits, N >= 0 stages; RESET 0 or 1; RAM_MIN_N >= 2 and RAM_MIN_BITS
+// choose the ring (a chain with RESET = 1 never is one).
 `default_nettype none
 module dly #(
     parameter integer W = 32,
     parameter integer N = 1,
-    parameter integer RESET = 0
+    parameter integer RESET = 0,
+    parameter integer RAM_MIN_N = 16,
+    parameter integer RAM_MIN_BITS = 1024
 ) (
     input  wire         clk,
     input  wire         rst,
@@ -21,7 +32,7 @@ module dly #(
     output wire [W-1:0] q
 );
     generate
-        if (W < 1 || N < 0 || (RESET != 0 && RESET != 1)) begin : bad_parameter
+        if (W < 1 || N < 0 || (RESET != 0 && RESET != 1) || RAM_MIN_N < 2) begin : bad_parameter
             dly_parameter_out_of_range unsupported();
         end
         if (N == 0) begin : wire_through
@@ -30,6 +41,27 @@ module dly #(
             /* verilator lint_off UNUSEDSIGNAL */
             wire unused = &{1'b0, clk, rst, ce};
             /* verilator lint_on UNUSEDSIGNAL */
+        end else if (RESET == 0 && N >= RAM_MIN_N && W * N >= RAM_MIN_BITS) begin : ring
+            // word a was written N enables before the write that follows it round the
+            // ring, so reading the word after the write address gives d of N - 1 enables
+            // ago, and the output register adds the last one
+            localparam integer AB = $clog2(N);
+            localparam [31:0] LAST = N - 1;
+            reg [W-1:0]  mem [0:N-1];
+            reg [AB-1:0] wa;
+            wire [AB-1:0] ra = wa == LAST[AB-1:0] ? {AB{1'b0}} : wa + 1'b1;
+            reg [W-1:0]  r;
+            always @(posedge clk) begin
+                if (rst) wa <= {AB{1'b0}};
+                else if (ce) wa <= ra;
+            end
+            always @(posedge clk) begin
+                if (ce) begin
+                    mem[wa] <= d;
+                    r <= mem[ra];
+                end
+            end
+            assign q = r;
         end else begin : chain
             // stage k in bits [W*k +: W], the oldest at the top
             reg [W*N-1:0] r;
