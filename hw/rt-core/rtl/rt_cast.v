@@ -133,18 +133,14 @@ module rt_cast #(
     reg [95:0]  background;
     reg [31:0]  flags, light_count, depth;
 
-    integer k;
+    integer k, w;
     wire [31:0] addr = {23'd0, cfg_addr};
-    // the image offset of field f of object o, of light l; whether addr is in a field of
-    // n words at a
+    // the image offset of field f of object o, of light l
     function [31:0] obj_at(input integer o, input integer f);
         obj_at = `RT_OBJECTS_OFFSET + o * `RT_OBJ_WORDS + f;
     endfunction
     function [31:0] light_at(input integer l, input integer f);
         light_at = `RT_LIGHTS_OFFSET + l * `RT_LIGHT_WORDS + f;
-    endfunction
-    function in_field(input [31:0] a, input integer n);
-        in_field = addr >= a && addr < a + n;
     endfunction
     always @(posedge clk) begin
         if (cfg_we && !busy) begin
@@ -178,21 +174,26 @@ module rt_cast #(
                 `RT_CAM_W + 2: cw[95:64] <= cfg_data;
                 default: ;
             endcase
+            // every word at a constant place: a word index computed from the address
+            // would be a barrel shifter per field and object (tens of thousands of LUTs)
             for (k = 0; k < OBJ; k = k + 1) begin
                 if (addr == obj_at(k, `RT_OBJ_SHAPE)) shape_k[k] <= cfg_data[SB-1:0];
-                if (in_field(obj_at(k, `RT_OBJ_TRANSLATE), 3))
-                    trans_k[k][32 * (addr - obj_at(k, `RT_OBJ_TRANSLATE)) +: 32] <= cfg_data;
-                if (in_field(obj_at(k, `RT_OBJ_MINV), 9))
-                    minv_k[k][32 * (addr - obj_at(k, `RT_OBJ_MINV)) +: 32] <= cfg_data;
+                for (w = 0; w < 3; w = w + 1) begin
+                    if (addr == obj_at(k, `RT_OBJ_TRANSLATE) + w)
+                        trans_k[k][32 * w +: 32] <= cfg_data;
+                    if (addr == obj_at(k, `RT_OBJ_AMBIENT_COLOR) + w)
+                        ca_k[k][32 * w +: 32] <= cfg_data;
+                    if (addr == obj_at(k, `RT_OBJ_DIFFUSE_COLOR) + w)
+                        cd_k[k][32 * w +: 32] <= cfg_data;
+                    if (addr == obj_at(k, `RT_OBJ_SPECULAR_COLOR) + w)
+                        cs_k[k][32 * w +: 32] <= cfg_data;
+                end
+                for (w = 0; w < 9; w = w + 1) begin
+                    if (addr == obj_at(k, `RT_OBJ_MINV) + w) minv_k[k][32 * w +: 32] <= cfg_data;
+                end
                 if (addr == obj_at(k, `RT_OBJ_AMBIENT_K)) ka_k[k] <= cfg_data;
                 if (addr == obj_at(k, `RT_OBJ_DIFFUSE_K)) kd_k[k] <= cfg_data;
                 if (addr == obj_at(k, `RT_OBJ_SPECULAR_K)) ks_k[k] <= cfg_data;
-                if (in_field(obj_at(k, `RT_OBJ_AMBIENT_COLOR), 3))
-                    ca_k[k][32 * (addr - obj_at(k, `RT_OBJ_AMBIENT_COLOR)) +: 32] <= cfg_data;
-                if (in_field(obj_at(k, `RT_OBJ_DIFFUSE_COLOR), 3))
-                    cd_k[k][32 * (addr - obj_at(k, `RT_OBJ_DIFFUSE_COLOR)) +: 32] <= cfg_data;
-                if (in_field(obj_at(k, `RT_OBJ_SPECULAR_COLOR), 3))
-                    cs_k[k][32 * (addr - obj_at(k, `RT_OBJ_SPECULAR_COLOR)) +: 32] <= cfg_data;
                 if (addr == obj_at(k, `RT_OBJ_EXPONENT)) e_k[k] <= cfg_data[9:0];
                 if (addr == obj_at(k, `RT_OBJ_DIFFUSE_MODEL)) dmodel_k[k] <= cfg_data;
                 if (addr == obj_at(k, `RT_OBJ_SPECULAR_MODEL)) smodel_k[k] <= cfg_data;
@@ -201,10 +202,12 @@ module rt_cast #(
             end
             for (k = 0; k < `RT_LIGHT_CAPACITY; k = k + 1) begin
                 if (addr == light_at(k, `RT_LIGHT_KIND)) lkind[k] <= cfg_data;
-                if (in_field(light_at(k, `RT_LIGHT_POSITION), 3))
-                    lpos[k][32 * (addr - light_at(k, `RT_LIGHT_POSITION)) +: 32] <= cfg_data;
-                if (in_field(light_at(k, `RT_LIGHT_COLOR), 3))
-                    lcol[k][32 * (addr - light_at(k, `RT_LIGHT_COLOR)) +: 32] <= cfg_data;
+                for (w = 0; w < 3; w = w + 1) begin
+                    if (addr == light_at(k, `RT_LIGHT_POSITION) + w)
+                        lpos[k][32 * w +: 32] <= cfg_data;
+                    if (addr == light_at(k, `RT_LIGHT_COLOR) + w)
+                        lcol[k][32 * w +: 32] <= cfg_data;
+                end
             end
         end
     end
