@@ -37,8 +37,10 @@ verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GOBJ=1
 verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GSHADOWS=0
 verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GSHAPES="7'b0000011" -GOBJ=5
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module rt_math_top
-# the pin wrapper `cargo xtask synth` places (synth/)
-verilator --lint-only -Wall -Irtl rtl/*.v synth/*.v --top-module rt_device_pins
+# the pin wrappers `cargo xtask synth` places (synth/)
+for top in rt_device_pins rt_isect_pins; do
+    verilator --lint-only -Wall -Irtl rtl/*.v synth/*.v --top-module "$top"
+done
 echo "lint: clean"
 # formal: the properties beside a module (ifdef FORMAL), proved by Yosys's own SAT solver
 # from a reset in the first step: bounded model check and temporal induction up to 24
