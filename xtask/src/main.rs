@@ -47,7 +47,7 @@ fn main() -> Result<()> {
         }
         Some("layers") => layers::check(&std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())),
         _ => {
-            eprintln!("usage: cargo xtask <test|setup|synth|layers>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME]\n  layers check that every dependency between the workspace's crates points down");
+            eprintln!("usage: cargo xtask <test|setup|synth|layers>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME] [--variant NAME]\n  layers check that every dependency between the workspace's crates points down");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
