@@ -6,8 +6,8 @@
 // N stages between the producer and the consumer keeps that bookkeeping in one place
 // per value, and N is checked (N = 0 is a wire).
 // Why a RAM for long wide chains: the core carries rays and tags for 70-odd stages, and
-// a 330-bit tag held in flip-flops for 73 stages is 24 000 of them, more than the rest
-// of the pipeline. A data chain of N >= RAM_MIN_N stages and W * N >= RAM_MIN_BITS bits
+// the 332-bit pair tag held in flip-flops for the intersection unit's 72 stages is
+// 24 000 of them. A data chain of N >= RAM_MIN_N stages and W * N >= RAM_MIN_BITS bits
 // is a ring of N words instead (write the new word, read the one written N enables ago
 // into an output register, both on ce): an FPGA's block RAM with a registered read, a
 // handful of EBRs where the flip-flops took thousands, and the same q clock for clock.
