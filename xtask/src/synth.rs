@@ -294,8 +294,9 @@ fn short_name(name: &str) -> &str {
 
 /// The units under `top`, each with every cell beneath it: a tree `depth` levels deep,
 /// repeated instances of one module in one row (`15x q16_dot`), rows under 2 % of the
-/// top's weight (LUTs plus flip-flops plus 100 per DSP) left out. Each module's own cells are
-/// its section of the hierarchical `stat`; a unit's are the sum over its instance tree.
+/// top's weight (LUTs plus flip-flops plus 100 per DSP) left out. Each module's own
+/// cells are its section of the hierarchical `stat`; a unit's are the sum over its
+/// instance tree.
 pub fn unit_tree(text: &str, family: &Family, top: &str, depth: usize) -> Result<Vec<Cells>> {
     let mut mods: std::collections::HashMap<String, Module> = Default::default();
     let mut cur: Option<String> = None;
