@@ -597,9 +597,9 @@ pub fn synth(root: &Path, opts: &Options) -> Result<Vec<Record>> {
             .map(|d| format!("{} {}", d.block, d.variant))
             .collect();
         bail!(
-            "no design of block {:?} and variant {:?}; there are: {}",
-            opts.block,
-            opts.variant,
+            "no design of block {} and variant {}; there are: {}",
+            opts.block.as_deref().unwrap_or("(any)"),
+            opts.variant.as_deref().unwrap_or("(any)"),
             all.join(", ")
         );
     }
