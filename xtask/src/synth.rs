@@ -396,8 +396,12 @@ pub fn rtl_dir(root: &Path, block: &str) -> PathBuf {
 
 /// The synthesisable sources: the block's `rtl/*.v`, sorted.
 pub fn sources(root: &Path, block: &str) -> Result<Vec<PathBuf>> {
-    let dir = rtl_dir(root, block);
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+    verilog_in(&rtl_dir(root, block))
+}
+
+/// The `.v` files of `dir`, sorted; an error when there are none.
+fn verilog_in(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("cannot list {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "v") && p.is_file())
@@ -631,13 +635,13 @@ pub fn place(root: &Path, d: &Design) -> Result<(String, Record)> {
         .iter()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    if let Some(w) = d.wrapper {
-        files.push(
-            root.join(d.block)
-                .join("synth")
-                .join(format!("{w}.v"))
-                .to_string_lossy()
-                .into_owned(),
+    if d.wrapper.is_some() {
+        // the wrappers and the pin shift registers they share
+        let synth_dir = root.join(d.block).join("synth");
+        files.extend(
+            verilog_in(&synth_dir)?
+                .iter()
+                .map(|p| p.to_string_lossy().into_owned()),
         );
     }
     // the variant's parameters on the top and on its wrapper, which passes them down
@@ -669,13 +673,17 @@ pub fn place(root: &Path, d: &Design) -> Result<(String, Record)> {
         )
     } else {
         // the netlist placed, with the wrapper on top; `-run :check` stops before
-        // `autoname`, and the checks it skips run here
+        // `autoname`, and the checks it skips run here; no netlist for a family nothing
+        // places (the core's is 150 MB)
+        let write = match d.family.pnr {
+            Pnr::None => String::new(),
+            _ => format!("blackbox =A:whitebox; write_json {}", json.display()),
+        };
         format!(
             "{read} {synth} {} -top {placed} -run :check; hierarchy -check; \
-             check -noinit; tee -o {} stat; blackbox =A:whitebox; write_json {}",
+             check -noinit; tee -o {} stat; {write}",
             d.family.keep_hierarchy,
             hier_stat.display(),
-            json.display()
         )
     };
     tool_output("yosys", &["-q".into(), "-p".into(), hier_script])?;

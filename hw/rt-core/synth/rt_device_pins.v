@@ -2,7 +2,7 @@
 // about 520 ports (the AXI4-Lite slave and the memory's write and read ports), more than
 // any ECP5 package bonds out, and nextpnr must place a top's ports on pins. Here every
 // input of the device comes from a shift register fed by `sin`, and every output is
-// loaded into a shift register (on `load`) that `sout` shifts out. Nothing is constant and
+// loaded into one (on `load`) that `sout` shifts out (pin_shift). Nothing is constant and
 // every output is observed, so the synthesiser keeps the whole device, and its paths stay
 // register to register: the figures are the device's, plus the two shift registers
 // (252 and 285 flip-flops, no logic between them and the device worth a timing path).
@@ -30,14 +30,10 @@ module rt_device_pins #(
                             32 + 96;
     localparam integer NO = 1 + 1 + 1 + 2 + 1 + 1 + 32 + 2 + 1 + 1 + 32 + 24 + 16 + 8 + 32 +
                             96 + 1 + 1 + 32;
-    reg  [NI-1:0] in_sr;
-    reg  [NO-1:0] out_sr;
+    wire [NI-1:0] in_sr;
     wire [NO-1:0] outs;
-    always @(posedge clk) begin
-        in_sr <= {in_sr[NI-2:0], sin};
-        out_sr <= load ? outs : {out_sr[NO-2:0], 1'b0};
-    end
-    assign sout = out_sr[NO-1];
+    pin_shift #(.NI(NI), .NO(NO)) u_pins (.clk(clk), .sin(sin), .load(load), .outs(outs),
+        .ins(in_sr), .sout(sout));
 
     wire          awvalid, wvalid, bready, arvalid, rready, mem_ready, rd_ready, rd_resp;
     wire [AW-1:0] awaddr, araddr;

@@ -23,14 +23,10 @@ module rt_isect_pins #(
     localparam integer SB = `RT_SHAPE_BITS;
     localparam integer NI = 1 + SB + 8 * 32 + TB;
     localparam integer NO = 1 + 1 + 32 + 1 + TB;
-    reg  [NI-1:0] in_sr;
-    reg  [NO-1:0] out_sr;
+    wire [NI-1:0] in_sr;
     wire [NO-1:0] outs;
-    always @(posedge clk) begin
-        in_sr <= {in_sr[NI-2:0], sin};
-        out_sr <= load ? outs : {out_sr[NO-2:0], 1'b0};
-    end
-    assign sout = out_sr[NO-1];
+    pin_shift #(.NI(NI), .NO(NO)) u_pins (.clk(clk), .sin(sin), .load(load), .outs(outs),
+        .ins(in_sr), .sout(sout));
 
     wire          in_valid;
     wire [SB-1:0] shape;
