@@ -10,8 +10,9 @@
 // x*x + z*z <= 1 (products floored, sum saturated); square: |x| <= 1 and |z| <= 1.
 //
 // Ports: shape (rt_map.vh codes; a code this module does not build gives no hit),
-// o, d (object-space ray, Q16.16), tmin, tmax; hit and t at LAT.
-// Timing: latency LAT = 40 (quotient 34, hit point 3, disk test 3), one pair per clock;
+// o, d (object-space ray, Q16.16), tmin, tmax; hit and t at LAT_FLAT.
+// Timing: latency LAT_FLAT = Q_DIV_LAT + 2 Q_DOT_LAT + 2 = 45 (isect.vh) (quotient 35, hit point
+// Q_DOT_LAT + 1, disk test Q_DOT_LAT + 1), one pair per clock;
 // ce low holds everything.
 // Parameters: PLANE, DISK, SQUARE: 1 builds the shape.
 `default_nettype none
@@ -45,71 +46,81 @@ module isect_flat #(
         end
     endgenerate
 
+    `include "isect.vh"
     localparam integer SB = `RT_SHAPE_BITS;
+    localparam integer D = Q_DOT_LAT;
+    // the schedule: the quotient, the hit point (the result at T_X + D + 1)
+    localparam integer T_Q = Q_DIV_LAT;
+    localparam integer T_X = T_Q + D + 1;
+    generate
+        if (T_X + D + 1 != LAT_FLAT) begin : bad_schedule
+            isect_flat_schedule_differs_from_isect_vh unsupported();
+        end
+    endgenerate
 
     /* verilator lint_off PINCONNECTEMPTY */
-    wire [31:0] t34;
+    wire [31:0] t_q;
     q16_div u_div (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1), .a(q_neg(oy)), .b(dy),
-        .out_valid(), .y(t34), .sat());
+        .out_valid(), .y(t_q), .sat());
 
-    wire [31:0] ox34, oz34, dx34, dz34, tmin34, tmax34;
-    wire        dy0_34;
-    wire [SB-1:0] shape34;
-    dly #(.W(193 + SB), .N(34)) d_ray34 (.clk(clk), .rst(rst), .ce(ce),
+    wire [31:0] ox_q, oz_q, dx_q, dz_q, tmin_q, tmax_q;
+    wire        dy0_q;
+    wire [SB-1:0] shape_q;
+    dly #(.W(193 + SB), .N(T_Q)) d_ray_q (.clk(clk), .rst(rst), .ce(ce),
         .d({dy == 32'd0, shape, ox, oz, dx, dz, tmin, tmax}),
-        .q({dy0_34, shape34, ox34, oz34, dx34, dz34, tmin34, tmax34}));
+        .q({dy0_q, shape_q, ox_q, oz_q, dx_q, dz_q, tmin_q, tmax_q}));
 
-    // the hit point's x and z at T37
-    wire [31:0] mx36, mz36, ox36, oz36;
+    // the hit point's x and z at T_X
+    wire [31:0] mx, mz, ox_m, oz_m;
     q16_dot #(.TERMS(1), .ROUND(0)) u_mx (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-        .a(dx34), .b(t34), .out_valid(), .y(mx36), .sat());
+        .a(dx_q), .b(t_q), .out_valid(), .y(mx), .sat());
     q16_dot #(.TERMS(1), .ROUND(0)) u_mz (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-        .a(dz34), .b(t34), .out_valid(), .y(mz36), .sat());
-    dly #(.W(64), .N(2)) d_o36 (.clk(clk), .rst(rst), .ce(ce), .d({ox34, oz34}),
-        .q({ox36, oz36}));
-    reg [31:0] x37, z37;
+        .a(dz_q), .b(t_q), .out_valid(), .y(mz), .sat());
+    dly #(.W(64), .N(D)) d_o_m (.clk(clk), .rst(rst), .ce(ce), .d({ox_q, oz_q}),
+        .q({ox_m, oz_m}));
+    reg [31:0] x, z;
     always @(posedge clk) if (ce) begin
-        x37 <= q_add(ox36, mx36);
-        z37 <= q_add(oz36, mz36);
+        x <= q_add(ox_m, mx);
+        z <= q_add(oz_m, mz);
     end
 
-    // the disk's test at T40
-    wire [31:0] xx39, zz39;
+    // the disk's test at LAT_FLAT
+    wire [31:0] xx, zz;
     q16_dot #(.TERMS(1), .ROUND(0)) u_xx (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-        .a(x37), .b(x37), .out_valid(), .y(xx39), .sat());
+        .a(x), .b(x), .out_valid(), .y(xx), .sat());
     q16_dot #(.TERMS(1), .ROUND(0)) u_zz (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-        .a(z37), .b(z37), .out_valid(), .y(zz39), .sat());
+        .a(z), .b(z), .out_valid(), .y(zz), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
 
-    // the plane's verdict at T35, the square's at T38, both carried to T39
-    reg        plane35;
-    reg  [31:0] t35;
+    // the plane's verdict at T_Q + 1, the square's at T_X + 1, both carried to LAT_FLAT - 1
+    reg        plane_q;
+    reg  [31:0] t_q1;
     always @(posedge clk) if (ce) begin
-        plane35 <= !dy0_34 && q_le(tmin34, t34) && q_le(t34, tmax34);
-        t35 <= t34;
+        plane_q <= !dy0_q && q_le(tmin_q, t_q) && q_le(t_q, tmax_q);
+        t_q1 <= t_q;
     end
-    wire        plane37;
-    dly #(.W(1), .N(2)) d_plane37 (.clk(clk), .rst(rst), .ce(ce), .d(plane35), .q(plane37));
-    reg square38;
+    wire        plane_x;
+    dly #(.W(1), .N(D)) d_plane_x (.clk(clk), .rst(rst), .ce(ce), .d(plane_q), .q(plane_x));
+    reg square_x;
     always @(posedge clk) if (ce)
-        square38 <= plane37 && q_le(q_abs(x37), Q_ONE) && q_le(q_abs(z37), Q_ONE);
+        square_x <= plane_x && q_le(q_abs(x), Q_ONE) && q_le(q_abs(z), Q_ONE);
 
-    wire        plane39, square39;
-    wire [31:0] t39;
-    wire [SB-1:0] shape39;
-    dly #(.W(1), .N(4)) d_plane39 (.clk(clk), .rst(rst), .ce(ce), .d(plane35), .q(plane39));
-    dly #(.W(1), .N(1)) d_square39 (.clk(clk), .rst(rst), .ce(ce), .d(square38), .q(square39));
-    dly #(.W(32), .N(4)) d_t39 (.clk(clk), .rst(rst), .ce(ce), .d(t35), .q(t39));
-    dly #(.W(SB), .N(5)) d_shape39 (.clk(clk), .rst(rst), .ce(ce), .d(shape34), .q(shape39));
+    wire        plane_l, square_l;
+    wire [31:0] t_l;
+    wire [SB-1:0] shape_l;
+    dly #(.W(1), .N(2 * D)) d_plane_l (.clk(clk), .rst(rst), .ce(ce), .d(plane_q), .q(plane_l));
+    dly #(.W(1), .N(D - 1)) d_square_l (.clk(clk), .rst(rst), .ce(ce), .d(square_x), .q(square_l));
+    dly #(.W(32), .N(2 * D)) d_t_l (.clk(clk), .rst(rst), .ce(ce), .d(t_q1), .q(t_l));
+    dly #(.W(SB), .N(2 * D + 1)) d_shape_l (.clk(clk), .rst(rst), .ce(ce), .d(shape_q), .q(shape_l));
 
     always @(posedge clk) if (ce) begin
-        case (shape39)
-            `RT_SHAPE_PLANE: hit <= PLANE != 0 && plane39;
-            `RT_SHAPE_DISK: hit <= DISK != 0 && plane39 && q_le(q_add(xx39, zz39), Q_ONE);
-            `RT_SHAPE_SQUARE: hit <= SQUARE != 0 && square39;
+        case (shape_l)
+            `RT_SHAPE_PLANE: hit <= PLANE != 0 && plane_l;
+            `RT_SHAPE_DISK: hit <= DISK != 0 && plane_l && q_le(q_add(xx, zz), Q_ONE);
+            `RT_SHAPE_SQUARE: hit <= SQUARE != 0 && square_l;
             default: hit <= 1'b0;
         endcase
-        t <= t39;
+        t <= t_l;
     end
 endmodule
 `default_nettype wire

@@ -27,8 +27,9 @@
 //
 // Ports: shape (rt_map.vh codes; a code this module does not build gives no hit),
 // o, d (object-space ray, Q16.16), tmin, tmax; hit and t at LAT.
-// Timing: latency LAT = 72 (front 5, rejection and root 27, quotients 35, height 4),
-// one pair per clock; ce low holds everything.
+// Timing: latency LAT_QUADRIC = 79 (isect.vh: front and disc 2 Q_DOT_LAT + 1, root
+// Q_SQRT_LAT, quotients 1 + Q_DIV_LAT, roots in order 1, height Q_DOT_LAT + 2), one pair
+// per clock; ce low holds everything. The rejection runs beside the root.
 // Parameters: SPHERE, CYLINDER, CONE: 1 builds the shape's front (and the height test
 // for the last two).
 `default_nettype none
@@ -62,30 +63,48 @@ module isect_quadric #(
         end
     endgenerate
 
+    `include "isect.vh"
     localparam integer SB = `RT_SHAPE_BITS;
+    localparam integer D = Q_DOT_LAT;
+    // the schedule: the stage each value is registered at
+    localparam integer T_F = D + 1;                 // a, h, c, "no hit"
+    localparam integer T_DISC = 2 * D + 1;          // the quarter discriminant
+    localparam integer T_MISS = 3 * D + 3;          // clearly_misses
+    localparam integer T_SQ = T_DISC + Q_SQRT_LAT;  // sqrt(disc)
+    localparam integer T_QIN = T_SQ + 1;            // the quotients' operands
+    localparam integer T_T = T_QIN + Q_DIV_LAT;     // the quotients
+    localparam integer T_R = T_T + 1;               // the roots in order
+    localparam integer T_Y = T_R + D + 1;           // their heights
+    generate
+        if (T_Y + 1 != LAT_QUADRIC || T_MISS >= T_T) begin : bad_schedule
+            isect_quadric_schedule_differs_from_isect_vh unsupported();
+        end
+    endgenerate
 
     // The shape code at the stages that decide by it.
-    wire [SB-1:0] shape3, shape5, shape71;
-    dly #(.W(SB), .N(3)) d_shape3 (.clk(clk), .rst(rst), .ce(ce), .d(shape), .q(shape3));
-    dly #(.W(SB), .N(2)) d_shape5 (.clk(clk), .rst(rst), .ce(ce), .d(shape3), .q(shape5));
-    dly #(.W(SB), .N(66)) d_shape71 (.clk(clk), .rst(rst), .ce(ce), .d(shape5), .q(shape71));
+    wire [SB-1:0] shape_f, shape_disc, shape_y;
+    dly #(.W(SB), .N(T_F)) d_shape_f (.clk(clk), .rst(rst), .ce(ce), .d(shape), .q(shape_f));
+    dly #(.W(SB), .N(T_DISC - T_F)) d_shape_disc (.clk(clk), .rst(rst), .ce(ce),
+        .d(shape_f), .q(shape_disc));
+    dly #(.W(SB), .N(T_Y - T_DISC)) d_shape_y (.clk(clk), .rst(rst), .ce(ce),
+        .d(shape_disc), .q(shape_y));
 
-    // ---- fronts: a, h, c and "no hit" at T3, disc at T5 ------------------------------
+    // ---- fronts: a, h, c and "no hit" at T_F, disc at T_DISC ---------------------------
     /* verilator lint_off PINCONNECTEMPTY */
-    wire [31:0] a_s3, h_s3, c_s3, disc_s5;
-    wire [31:0] a_c3, h_c3, c_c3, disc_c5;
-    wire [31:0] a_k3, h_k3, c_k3, disc_k5;
-    wire        none_c3;
+    wire [31:0] a_s, h_s, c_s, disc_s;
+    wire [31:0] a_c, h_c, c_c, disc_c;
+    wire [31:0] a_k, h_k, c_k, disc_k;
+    wire        none_c;
 
     generate
         if (SPHERE != 0) begin : sphere
-            wire [31:0] a2, h2, oo2, x0, x1, x2, xx4;
+            wire [31:0] a_p, h_p, oo_p, x0, x1, x2, xx2;
             q16_dot #(.TERMS(3), .ROUND(1)) u_a (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({dz, dy, dx}), .b({dz, dy, dx}), .out_valid(), .y(a2), .sat());
+                .in_valid(1'b1), .a({dz, dy, dx}), .b({dz, dy, dx}), .out_valid(), .y(a_p), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_h (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({dz, dy, dx}), .b({oz, oy, ox}), .out_valid(), .y(h2), .sat());
+                .in_valid(1'b1), .a({dz, dy, dx}), .b({oz, oy, ox}), .out_valid(), .y(h_p), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_oo (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({oz, oy, ox}), .b({oz, oy, ox}), .out_valid(), .y(oo2), .sat());
+                .in_valid(1'b1), .a({oz, oy, ox}), .b({oz, oy, ox}), .out_valid(), .y(oo_p), .sat());
             // d x o, each component one rounding (cross2)
             q16_dot #(.TERMS(2), .ROUND(1)) u_x0 (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({q_neg(dz), dy}), .b({oy, oz}), .out_valid(), .y(x0), .sat());
@@ -94,62 +113,66 @@ module isect_quadric #(
             q16_dot #(.TERMS(2), .ROUND(1)) u_x2 (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({q_neg(dy), dx}), .b({ox, oy}), .out_valid(), .y(x2), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_xx (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({x2, x1, x0}), .b({x2, x1, x0}), .out_valid(), .y(xx4), .sat());
-            reg [31:0] a3, h3, c3, a4, disc5;
+                .in_valid(1'b1), .a({x2, x1, x0}), .b({x2, x1, x0}), .out_valid(), .y(xx2), .sat());
+            reg [31:0] a_f, h_f, c_f, disc;
+            // a beside |d x o|^2
+            wire [31:0] a_disc;
+            dly #(.W(32), .N(D - 1)) d_a (.clk(clk), .rst(rst), .ce(ce), .d(a_f), .q(a_disc));
             always @(posedge clk) if (ce) begin
-                a3 <= a2;
-                h3 <= h2;
-                c3 <= q_sub(oo2, Q_ONE);
-                a4 <= a3;
-                disc5 <= q_sub(a4, xx4);
+                a_f <= a_p;
+                h_f <= h_p;
+                c_f <= q_sub(oo_p, Q_ONE);
+                disc <= q_sub(a_disc, xx2);
             end
-            assign a_s3 = a3;
-            assign h_s3 = h3;
-            assign c_s3 = c3;
-            assign disc_s5 = disc5;
+            assign a_s = a_f;
+            assign h_s = h_f;
+            assign c_s = c_f;
+            assign disc_s = disc;
         end else begin : no_sphere
-            assign a_s3 = 32'd0;
-            assign h_s3 = 32'd0;
-            assign c_s3 = 32'd0;
-            assign disc_s5 = 32'd0;
+            assign a_s = 32'd0;
+            assign h_s = 32'd0;
+            assign c_s = 32'd0;
+            assign disc_s = 32'd0;
         end
 
         if (CYLINDER != 0) begin : cylinder
-            wire [31:0] dxx2, dzz2, oxx2, ozz2, h2, x2, xx4;
+            wire [31:0] dxx_p, dzz_p, oxx_p, ozz_p, h_p, x_p, xx_p;
             q16_dot #(.TERMS(1), .ROUND(0)) u_dxx (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a(dx), .b(dx), .out_valid(), .y(dxx2), .sat());
+                .in_valid(1'b1), .a(dx), .b(dx), .out_valid(), .y(dxx_p), .sat());
             q16_dot #(.TERMS(1), .ROUND(0)) u_dzz (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a(dz), .b(dz), .out_valid(), .y(dzz2), .sat());
+                .in_valid(1'b1), .a(dz), .b(dz), .out_valid(), .y(dzz_p), .sat());
             q16_dot #(.TERMS(1), .ROUND(0)) u_oxx (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a(ox), .b(ox), .out_valid(), .y(oxx2), .sat());
+                .in_valid(1'b1), .a(ox), .b(ox), .out_valid(), .y(oxx_p), .sat());
             q16_dot #(.TERMS(1), .ROUND(0)) u_ozz (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a(oz), .b(oz), .out_valid(), .y(ozz2), .sat());
+                .in_valid(1'b1), .a(oz), .b(oz), .out_valid(), .y(ozz_p), .sat());
             q16_dot #(.TERMS(2), .ROUND(1)) u_h (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({dz, dx}), .b({oz, ox}), .out_valid(), .y(h2), .sat());
+                .in_valid(1'b1), .a({dz, dx}), .b({oz, ox}), .out_valid(), .y(h_p), .sat());
             q16_dot #(.TERMS(2), .ROUND(1)) u_x (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({q_neg(dz), dx}), .b({ox, oz}), .out_valid(), .y(x2), .sat());
+                .in_valid(1'b1), .a({q_neg(dz), dx}), .b({ox, oz}), .out_valid(), .y(x_p), .sat());
             q16_dot #(.TERMS(1), .ROUND(0)) u_xx (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a(x2), .b(x2), .out_valid(), .y(xx4), .sat());
-            reg [31:0] a3, h3, c3, a4, disc5;
+                .in_valid(1'b1), .a(x_p), .b(x_p), .out_valid(), .y(xx_p), .sat());
+            reg [31:0] a_f, h_f, c_f, disc;
+            // a beside x*x
+            wire [31:0] a_disc;
+            dly #(.W(32), .N(D - 1)) d_a (.clk(clk), .rst(rst), .ce(ce), .d(a_f), .q(a_disc));
             always @(posedge clk) if (ce) begin
-                a3 <= q_add(dxx2, dzz2);
-                h3 <= h2;
-                c3 <= q_sub(q_add(oxx2, ozz2), Q_ONE);
-                a4 <= a3;
-                disc5 <= q_sub(a4, xx4);
+                a_f <= q_add(dxx_p, dzz_p);
+                h_f <= h_p;
+                c_f <= q_sub(q_add(oxx_p, ozz_p), Q_ONE);
+                disc <= q_sub(a_disc, xx_p);
             end
-            assign a_c3 = a3;
-            assign h_c3 = h3;
-            assign c_c3 = c3;
-            assign disc_c5 = disc5;
+            assign a_c = a_f;
+            assign h_c = h_f;
+            assign c_c = c_f;
+            assign disc_c = disc;
             // parallel to the axis: the open tube is never crossed
-            assign none_c3 = a3 == 32'd0;
+            assign none_c = a_f == 32'd0;
         end else begin : no_cylinder
-            assign a_c3 = 32'd0;
-            assign h_c3 = 32'd0;
-            assign c_c3 = 32'd0;
-            assign disc_c5 = 32'd0;
-            assign none_c3 = 1'b1;
+            assign a_c = 32'd0;
+            assign h_c = 32'd0;
+            assign c_c = 32'd0;
+            assign disc_c = 32'd0;
+            assign none_c = 1'b1;
         end
 
         if (CONE != 0) begin : cone
@@ -157,161 +180,162 @@ module isect_quadric #(
             wire [31:0] py = q_sub(oy, Q_ONE);
             wire [31:0] ndy = q_neg(dy);
             wire [31:0] ndz = q_neg(dz);
-            wire [31:0] dxx2, dyy2, dzz2, h2, c2, xy2, yz2, xz2, disc4;
+            wire [31:0] dxx_p, dyy_p, dzz_p, h_p, c_p, xy_p, yz_p, xz_p, disc_p;
             q16_dot #(.TERMS(1), .ROUND(0)) u_dxx (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a(dx), .b(dx), .out_valid(), .y(dxx2), .sat());
+                .in_valid(1'b1), .a(dx), .b(dx), .out_valid(), .y(dxx_p), .sat());
             q16_dot #(.TERMS(1), .ROUND(0)) u_dyy (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a(dy), .b(dy), .out_valid(), .y(dyy2), .sat());
+                .in_valid(1'b1), .a(dy), .b(dy), .out_valid(), .y(dyy_p), .sat());
             q16_dot #(.TERMS(1), .ROUND(0)) u_dzz (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a(dz), .b(dz), .out_valid(), .y(dzz2), .sat());
+                .in_valid(1'b1), .a(dz), .b(dz), .out_valid(), .y(dzz_p), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_h (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({dz, ndy, dx}), .b({oz, py, ox}), .out_valid(), .y(h2), .sat());
+                .in_valid(1'b1), .a({dz, ndy, dx}), .b({oz, py, ox}), .out_valid(), .y(h_p), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_c (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({oz, q_neg(py), ox}), .b({oz, py, ox}), .out_valid(),
-                .y(c2), .sat());
+                .y(c_p), .sat());
             q16_dot #(.TERMS(2), .ROUND(1)) u_xy (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({ndy, dx}), .b({ox, py}), .out_valid(), .y(xy2), .sat());
+                .in_valid(1'b1), .a({ndy, dx}), .b({ox, py}), .out_valid(), .y(xy_p), .sat());
             q16_dot #(.TERMS(2), .ROUND(1)) u_yz (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({ndz, dy}), .b({py, oz}), .out_valid(), .y(yz2), .sat());
+                .in_valid(1'b1), .a({ndz, dy}), .b({py, oz}), .out_valid(), .y(yz_p), .sat());
             q16_dot #(.TERMS(2), .ROUND(1)) u_xz (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({ndz, dx}), .b({ox, oz}), .out_valid(), .y(xz2), .sat());
+                .in_valid(1'b1), .a({ndz, dx}), .b({ox, oz}), .out_valid(), .y(xz_p), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_disc (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({q_neg(xz2), yz2, xy2}), .b({xz2, yz2, xy2}), .out_valid(),
-                .y(disc4), .sat());
-            reg [31:0] a3, h3, c3, disc5;
+                .in_valid(1'b1), .a({q_neg(xz_p), yz_p, xy_p}), .b({xz_p, yz_p, xy_p}), .out_valid(),
+                .y(disc_p), .sat());
+            reg [31:0] a_f, h_f, c_f, disc;
             always @(posedge clk) if (ce) begin
-                a3 <= q_add(q_sub(dxx2, dyy2), dzz2);
-                h3 <= h2;
-                c3 <= c2;
-                disc5 <= disc4;
+                a_f <= q_add(q_sub(dxx_p, dyy_p), dzz_p);
+                h_f <= h_p;
+                c_f <= c_p;
+                disc <= disc_p;
             end
-            assign a_k3 = a3;
-            assign h_k3 = h3;
-            assign c_k3 = c3;
-            assign disc_k5 = disc5;
+            assign a_k = a_f;
+            assign h_k = h_f;
+            assign c_k = c_f;
+            assign disc_k = disc;
         end else begin : no_cone
-            assign a_k3 = 32'd0;
-            assign h_k3 = 32'd0;
-            assign c_k3 = 32'd0;
-            assign disc_k5 = 32'd0;
+            assign a_k = 32'd0;
+            assign h_k = 32'd0;
+            assign c_k = 32'd0;
+            assign disc_k = 32'd0;
         end
     endgenerate
 
     // the pair's shape, built or not
-    wire is_sphere3 = SPHERE != 0 && shape3 == `RT_SHAPE_SPHERE;
-    wire is_cyl3 = CYLINDER != 0 && shape3 == `RT_SHAPE_CYLINDER;
-    wire is_cone3 = CONE != 0 && shape3 == `RT_SHAPE_CONE;
-    wire [31:0] a3 = is_cyl3 ? a_c3 : is_cone3 ? a_k3 : a_s3;
-    wire [31:0] h3 = is_cyl3 ? h_c3 : is_cone3 ? h_k3 : h_s3;
-    wire [31:0] c3 = is_cyl3 ? c_c3 : is_cone3 ? c_k3 : c_s3;
-    wire        none3 = !(is_sphere3 || is_cyl3 || is_cone3) || (is_cyl3 && none_c3);
-    wire [31:0] disc5 = shape5 == `RT_SHAPE_CYLINDER ? disc_c5
-                      : shape5 == `RT_SHAPE_CONE ? disc_k5 : disc_s5;
+    wire is_sphere = SPHERE != 0 && shape_f == `RT_SHAPE_SPHERE;
+    wire is_cyl = CYLINDER != 0 && shape_f == `RT_SHAPE_CYLINDER;
+    wire is_cone = CONE != 0 && shape_f == `RT_SHAPE_CONE;
+    wire [31:0] a_f = is_cyl ? a_c : is_cone ? a_k : a_s;
+    wire [31:0] h_f = is_cyl ? h_c : is_cone ? h_k : h_s;
+    wire [31:0] c_f = is_cyl ? c_c : is_cone ? c_k : c_s;
+    wire        none_f = !(is_sphere || is_cyl || is_cone) || (is_cyl && none_c);
+    wire [31:0] disc = shape_disc == `RT_SHAPE_CYLINDER ? disc_c
+                      : shape_disc == `RT_SHAPE_CONE ? disc_k : disc_s;
 
-    // ---- early rejection (clearly_misses): miss at T9 ---------------------------------
-    wire [31:0] hh5, ac5, m8;
+    // ---- early rejection (clearly_misses): miss at T_MISS ------------------------------
+    wire [31:0] hh, ac, margin;
     q16_dot #(.TERMS(1), .ROUND(0)) u_hh (.clk(clk), .rst(rst), .ce(ce),
-        .in_valid(1'b1), .a(h3), .b(h3), .out_valid(), .y(hh5), .sat());
+        .in_valid(1'b1), .a(h_f), .b(h_f), .out_valid(), .y(hh), .sat());
     q16_dot #(.TERMS(1), .ROUND(0)) u_ac (.clk(clk), .rst(rst), .ce(ce),
-        .in_valid(1'b1), .a(a3), .b(c3), .out_valid(), .y(ac5), .sat());
-    reg [31:0] lhs6, sum6, lhs7, lhs8;
-    reg        miss9;
+        .in_valid(1'b1), .a(a_f), .b(c_f), .out_valid(), .y(ac), .sat());
+    reg [31:0] lhs, sum_rj;
+    reg        miss;
     // S::from_f64(1/256) and S::from_f64(1/64)
     q16_dot #(.TERMS(1), .ROUND(0)) u_m (.clk(clk), .rst(rst), .ce(ce),
-        .in_valid(1'b1), .a(sum6), .b(32'h0000_0100), .out_valid(), .y(m8), .sat());
+        .in_valid(1'b1), .a(sum_rj), .b(32'h0000_0100), .out_valid(), .y(margin), .sat());
     always @(posedge clk) if (ce) begin
-        lhs6 <= q_sub(hh5, ac5);
-        sum6 <= q_add(hh5, q_abs(ac5));
-        lhs7 <= lhs6;
-        lhs8 <= lhs7;
-        miss9 <= q_lt(lhs8, q_neg(q_add(m8, 32'h0000_0400)));
+        lhs <= q_sub(hh, ac);
+        sum_rj <= q_add(hh, q_abs(ac));
+        miss <= q_lt(lhs_m, q_neg(q_add(margin, 32'h0000_0400)));
     end
+    // h*h - a*c beside the margin
+    wire [31:0] lhs_m;
+    dly #(.W(32), .N(D)) d_lhs (.clk(clk), .rst(rst), .ce(ce), .d(lhs), .q(lhs_m));
 
-    // ---- the root: sqrt(disc) at T32 ---------------------------------------------------
-    wire [31:0] sq32;
-    q16_sqrt u_sqrt (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1), .x(disc5),
-        .out_valid(), .y(sq32));
-    wire [31:0] a32, h32, c32;
-    dly #(.W(96), .N(29)) d_ahc32 (.clk(clk), .rst(rst), .ce(ce), .d({a3, h3, c3}),
-        .q({a32, h32, c32}));
+    // ---- the root: sqrt(disc) at T_SQ ---------------------------------------------------
+    wire [31:0] sq;
+    q16_sqrt u_sqrt (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1), .x(disc),
+        .out_valid(), .y(sq));
+    wire [31:0] a_sq, h_sq, c_sq;
+    dly #(.W(96), .N(T_SQ - T_F)) d_ahc_sq (.clk(clk), .rst(rst), .ce(ce), .d({a_f, h_f, c_f}),
+        .q({a_sq, h_sq, c_sq}));
 
-    // ---- the quotients: operands at T33, results at T67 -------------------------------
-    wire [31:0] q32 = h32[31] ? q_sub(sq32, h32) : q_neg(q_add(h32, sq32));
-    reg  [31:0] n1_33, d1_33, n2_33, d2_33;
-    reg         a0_33, h0_33, q0_33;
+    // ---- the quotients: operands at T_QIN, results at T_T -----------------------------
+    wire [31:0] q_sq = h_sq[31] ? q_sub(sq, h_sq) : q_neg(q_add(h_sq, sq));
+    reg  [31:0] n1, d1, n2, d2;
+    reg         a0, h0, q0;
     always @(posedge clk) if (ce) begin
         // a = 0: the linear root -c / (h + h), through the first divider
-        n1_33 <= a32 == 32'd0 ? q_neg(c32) : q32;
-        d1_33 <= a32 == 32'd0 ? q_add(h32, h32) : a32;
-        n2_33 <= c32;
-        d2_33 <= q32;
-        a0_33 <= a32 == 32'd0;
-        h0_33 <= h32 == 32'd0;
-        q0_33 <= q32 == 32'd0;
+        n1 <= a_sq == 32'd0 ? q_neg(c_sq) : q_sq;
+        d1 <= a_sq == 32'd0 ? q_add(h_sq, h_sq) : a_sq;
+        n2 <= c_sq;
+        d2 <= q_sq;
+        a0 <= a_sq == 32'd0;
+        h0 <= h_sq == 32'd0;
+        q0 <= q_sq == 32'd0;
     end
-    wire [31:0] t1_67, t2_67;
-    q16_div u_div1 (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1), .a(n1_33), .b(d1_33),
-        .out_valid(), .y(t1_67), .sat());
-    q16_div u_div2 (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1), .a(n2_33), .b(d2_33),
-        .out_valid(), .y(t2_67), .sat());
+    wire [31:0] t1, t2;
+    q16_div u_div1 (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1), .a(n1), .b(d1),
+        .out_valid(), .y(t1), .sat());
+    q16_div u_div2 (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1), .a(n2), .b(d2),
+        .out_valid(), .y(t2), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
 
-    // every reason for no roots, carried to T67
-    wire none67, miss67, dneg67, a0_67, h0_67, q0_67;
-    dly #(.W(1), .N(64)) d_none (.clk(clk), .rst(rst), .ce(ce), .d(none3), .q(none67));
-    dly #(.W(1), .N(58)) d_miss (.clk(clk), .rst(rst), .ce(ce), .d(miss9), .q(miss67));
-    dly #(.W(1), .N(62)) d_dneg (.clk(clk), .rst(rst), .ce(ce), .d(disc5[31]), .q(dneg67));
-    dly #(.W(3), .N(34)) d_flags (.clk(clk), .rst(rst), .ce(ce), .d({a0_33, h0_33, q0_33}),
-        .q({a0_67, h0_67, q0_67}));
+    // every reason for no roots, carried to T_T
+    wire none_t, miss_t, dneg_t, a0_t, h0_t, q0_t;
+    dly #(.W(1), .N(T_T - T_F)) d_none (.clk(clk), .rst(rst), .ce(ce), .d(none_f), .q(none_t));
+    dly #(.W(1), .N(T_T - T_MISS)) d_miss (.clk(clk), .rst(rst), .ce(ce), .d(miss), .q(miss_t));
+    dly #(.W(1), .N(T_T - T_DISC)) d_dneg (.clk(clk), .rst(rst), .ce(ce), .d(disc[31]), .q(dneg_t));
+    dly #(.W(3), .N(T_T - T_QIN)) d_flags (.clk(clk), .rst(rst), .ce(ce), .d({a0, h0, q0}),
+        .q({a0_t, h0_t, q0_t}));
 
-    // ---- roots in ascending order at T68 ------------------------------------------------
-    wire [31:0] r1 = a0_67 ? t1_67 : q0_67 ? 32'd0 : t1_67;
-    wire [31:0] r2 = a0_67 ? t1_67 : q0_67 ? 32'd0 : t2_67;
-    reg         ok68;
-    reg  [31:0] lo68, hi68;
+    // ---- roots in ascending order at T_R ----------------------------------------------
+    wire [31:0] r1 = a0_t ? t1 : q0_t ? 32'd0 : t1;
+    wire [31:0] r2 = a0_t ? t1 : q0_t ? 32'd0 : t2;
+    reg         ok_r;
+    reg  [31:0] lo_r, hi_r;
     always @(posedge clk) if (ce) begin
-        ok68 <= !none67 && !miss67 && !(a0_67 && h0_67) && (a0_67 || !dneg67);
-        lo68 <= q_le(r1, r2) ? r1 : r2;
-        hi68 <= q_le(r1, r2) ? r2 : r1;
+        ok_r <= !none_t && !miss_t && !(a0_t && h0_t) && (a0_t || !dneg_t);
+        lo_r <= q_le(r1, r2) ? r1 : r2;
+        hi_r <= q_le(r1, r2) ? r2 : r1;
     end
 
     // ---- the pick: the first root in range (and, for the cylinder and the cone, in
-    // height) at T72 -------------------------------------------------------------------
-    wire [31:0] tmin68, tmax68, oy68, dy68;
-    dly #(.W(128), .N(68)) d_ray68 (.clk(clk), .rst(rst), .ce(ce),
-        .d({tmin, tmax, oy, dy}), .q({tmin68, tmax68, oy68, dy68}));
-    wire in_lo68 = q_le(tmin68, lo68) && q_le(lo68, tmax68);
-    wire in_hi68 = q_le(tmin68, hi68) && q_le(hi68, tmax68);
+    // height) at LAT_QUADRIC----------------------------------------------------------------
+    wire [31:0] tmin_r, tmax_r, oy_r, dy_r;
+    dly #(.W(128), .N(T_R)) d_ray_r (.clk(clk), .rst(rst), .ce(ce),
+        .d({tmin, tmax, oy, dy}), .q({tmin_r, tmax_r, oy_r, dy_r}));
+    wire in_lo_r = q_le(tmin_r, lo_r) && q_le(lo_r, tmax_r);
+    wire in_hi_r = q_le(tmin_r, hi_r) && q_le(hi_r, tmax_r);
 
-    wire [31:0] mlo70, mhi70;
+    wire [31:0] mlo, mhi;
     /* verilator lint_off PINCONNECTEMPTY */
     q16_dot #(.TERMS(1), .ROUND(0)) u_ylo (.clk(clk), .rst(rst), .ce(ce),
-        .in_valid(1'b1), .a(dy68), .b(lo68), .out_valid(), .y(mlo70), .sat());
+        .in_valid(1'b1), .a(dy_r), .b(lo_r), .out_valid(), .y(mlo), .sat());
     q16_dot #(.TERMS(1), .ROUND(0)) u_yhi (.clk(clk), .rst(rst), .ce(ce),
-        .in_valid(1'b1), .a(dy68), .b(hi68), .out_valid(), .y(mhi70), .sat());
+        .in_valid(1'b1), .a(dy_r), .b(hi_r), .out_valid(), .y(mhi), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
-    wire [31:0] oy70, lo71, hi71;
-    wire        ok71, in_lo71, in_hi71;
-    dly #(.W(32), .N(2)) d_oy70 (.clk(clk), .rst(rst), .ce(ce), .d(oy68), .q(oy70));
-    dly #(.W(67), .N(3)) d_roots71 (.clk(clk), .rst(rst), .ce(ce),
-        .d({ok68, in_lo68, in_hi68, lo68, hi68}), .q({ok71, in_lo71, in_hi71, lo71, hi71}));
-    reg [31:0] ylo71, yhi71;
+    wire [31:0] oy_m, lo_y, hi_y;
+    wire        ok_y, in_lo_y, in_hi_y;
+    dly #(.W(32), .N(D)) d_oy_m (.clk(clk), .rst(rst), .ce(ce), .d(oy_r), .q(oy_m));
+    dly #(.W(67), .N(D + 1)) d_roots_y (.clk(clk), .rst(rst), .ce(ce),
+        .d({ok_r, in_lo_r, in_hi_r, lo_r, hi_r}), .q({ok_y, in_lo_y, in_hi_y, lo_y, hi_y}));
+    reg [31:0] ylo, yhi;
     always @(posedge clk) if (ce) begin
-        ylo71 <= q_add(oy70, mlo70);
-        yhi71 <= q_add(oy70, mhi70);
+        ylo <= q_add(oy_m, mlo);
+        yhi <= q_add(oy_m, mhi);
     end
 
     // cylinder y in [-1, 1], cone y in [0, 1]
-    wire        cone71 = shape71 == `RT_SHAPE_CONE;
-    wire        curved71 = shape71 == `RT_SHAPE_CYLINDER || cone71;
-    wire [31:0] y_lo_bound = cone71 ? 32'd0 : q_neg(Q_ONE);
-    wire        tall_lo = q_le(y_lo_bound, ylo71) && q_le(ylo71, Q_ONE);
-    wire        tall_hi = q_le(y_lo_bound, yhi71) && q_le(yhi71, Q_ONE);
-    wire        take_lo = in_lo71 && (!curved71 || tall_lo);
-    wire        take_hi = in_hi71 && (!curved71 || tall_hi);
+    wire        cone_y = shape_y == `RT_SHAPE_CONE;
+    wire        curved_y = shape_y == `RT_SHAPE_CYLINDER || cone_y;
+    wire [31:0] y_lo_bound = cone_y ? 32'd0 : q_neg(Q_ONE);
+    wire        tall_lo = q_le(y_lo_bound, ylo) && q_le(ylo, Q_ONE);
+    wire        tall_hi = q_le(y_lo_bound, yhi) && q_le(yhi, Q_ONE);
+    wire        take_lo = in_lo_y && (!curved_y || tall_lo);
+    wire        take_hi = in_hi_y && (!curved_y || tall_hi);
     always @(posedge clk) if (ce) begin
-        hit <= ok71 && (take_lo || take_hi);
-        t <= take_lo ? lo71 : hi71;
+        hit <= ok_y && (take_lo || take_hi);
+        t <= take_lo ? lo_y : hi_y;
     end
 endmodule
 `default_nettype wire

@@ -14,8 +14,10 @@
 // result clipped or b = 0 (the model counts both as saturations).
 //
 // Ports: a, b signed Q16.16; in_valid / out_valid; ce low holds the pipeline.
-// Timing: latency 34 (operand magnitudes, 32 quotient bits, sign and clamp), one
-// operand pair per clock.
+// Timing: latency Q_DIV_LAT = 35 (q16_ops.vh: operands, their magnitudes, 32 quotient
+// bits, sign and clamp), one operand pair per clock. The operands are registered as they
+// come so that the caller's operand logic (a saturating negation or difference) and the
+// magnitudes' negation and comparison are not one clock at 100 MHz.
 `default_nettype none
 module q16_div (
     input  wire               clk,
@@ -28,11 +30,28 @@ module q16_div (
     output reg  signed [31:0] y,
     output reg                sat
 );
+    `include "q16_lat.vh"
+    generate
+        if (Q_DIV_LAT != 35) begin : bad_latency
+            q16_div_stage_count_differs_from_q_div_lat unsupported();
+        end
+    endgenerate
+
     // side band: [2] negative quotient, [1] clip to the maximum, [0] clip to the minimum
     localparam integer UB = 3;
 
-    wire [31:0] mag_a = a[31] ? 32'd0 - a : a;
-    wire [31:0] mag_b = b[31] ? 32'd0 - b : b;
+    reg                vi;
+    reg  signed [31:0] ai, bi;
+    always @(posedge clk) begin
+        if (rst) vi <= 1'b0;
+        else if (ce) vi <= in_valid;
+        if (ce) begin
+            ai <= a;
+            bi <= b;
+        end
+    end
+    wire [31:0] mag_a = ai[31] ? 32'd0 - ai : ai;
+    wire [31:0] mag_b = bi[31] ? 32'd0 - bi : bi;
 
     reg          v0;
     reg  [31:0]  n0;
@@ -40,16 +59,16 @@ module q16_div (
     reg  [UB-1:0] u0;
     always @(posedge clk) begin
         if (rst) v0 <= 1'b0;
-        else if (ce) v0 <= in_valid;
+        else if (ce) v0 <= vi;
         if (ce) begin
             n0 <= mag_a;
             d0 <= mag_b;
-            if (b == 32'sd0)
-                u0 <= {1'b0, !a[31], a[31]};
+            if (bi == 32'sd0)
+                u0 <= {1'b0, !ai[31], ai[31]};
             else if ({16'd0, mag_a[31:16]} >= mag_b)
-                u0 <= {1'b0, a[31] == b[31], a[31] != b[31]};
+                u0 <= {1'b0, ai[31] == bi[31], ai[31] != bi[31]};
             else
-                u0 <= {a[31] != b[31], 2'b00};
+                u0 <= {ai[31] != bi[31], 2'b00};
         end
     end
 

@@ -8,7 +8,8 @@
 //
 // Ports: x, y, z (Q16.16), tag (TB bits carried alongside); in_valid / out_valid; nx, ny,
 // nz the result. ce low holds every stage.
-// Timing: latency 83 (dot3 2, rsqrt 79, scale 2), one vector per clock.
+// Timing: latency LATENCY = 2 Q_DOT_LAT + 79 = 87 (dot3, rsqrt 79, scale), one vector
+// per clock.
 // Parameters: TB >= 1.
 `default_nettype none
 module q16_norm3 #(
@@ -34,44 +35,46 @@ module q16_norm3 #(
         end
     endgenerate
 
-    localparam integer LATENCY = 83;
+    `include "q16_lat.vh"
+    localparam integer RSQRT_LAT = Q_RSQRT_LAT;
+    localparam integer LATENCY = Q_NORM3_LAT;
 
-    // stage 1-2: l2 = v.v
+    // l2 = v.v
     wire [31:0] l2;
     /* verilator lint_off PINCONNECTEMPTY */
     q16_dot #(.TERMS(3), .ROUND(1)) u_l2 (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
         .a({z, y, x}), .b({z, y, x}), .out_valid(), .y(l2), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
-    wire [95:0] v2;
-    dly #(.W(96), .N(2)) u_v2 (.clk(clk), .rst(rst), .ce(ce), .d({z, y, x}), .q(v2));
+    wire [95:0] v_l2;
+    dly #(.W(96), .N(Q_DOT_LAT)) u_v_l2 (.clk(clk), .rst(rst), .ce(ce), .d({z, y, x}), .q(v_l2));
 
-    // stage 3-81: 1/sqrt(l2), with v and "l2 <= 0" alongside
+    // 1/sqrt(l2), with v and "l2 <= 0" alongside
     wire [31:0] inv;
     /* verilator lint_off PINCONNECTEMPTY */
     q16_rsqrt u_inv (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1), .x(l2),
         .out_valid(), .y(inv), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
-    wire [96:0] v81;
-    dly #(.W(97), .N(79)) u_v81 (.clk(clk), .rst(rst), .ce(ce),
-        .d({$signed(l2) <= 0, v2}), .q(v81));
+    wire [96:0] v_inv;
+    dly #(.W(97), .N(RSQRT_LAT)) u_v_inv (.clk(clk), .rst(rst), .ce(ce),
+        .d({$signed(l2) <= 0, v_l2}), .q(v_inv));
 
-    // stage 82-83: v * inv, or v when l2 <= 0
+    // the last product: v * inv, or v when l2 <= 0
     wire [31:0] sx, sy, sz;
     /* verilator lint_off PINCONNECTEMPTY */
     q16_dot #(.TERMS(1), .ROUND(1)) u_sx (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-        .a(v81[31:0]), .b(inv), .out_valid(), .y(sx), .sat());
+        .a(v_inv[31:0]), .b(inv), .out_valid(), .y(sx), .sat());
     q16_dot #(.TERMS(1), .ROUND(1)) u_sy (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-        .a(v81[63:32]), .b(inv), .out_valid(), .y(sy), .sat());
+        .a(v_inv[63:32]), .b(inv), .out_valid(), .y(sy), .sat());
     q16_dot #(.TERMS(1), .ROUND(1)) u_sz (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-        .a(v81[95:64]), .b(inv), .out_valid(), .y(sz), .sat());
+        .a(v_inv[95:64]), .b(inv), .out_valid(), .y(sz), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
-    wire [96:0] v83;
-    dly #(.W(97), .N(2)) u_v83 (.clk(clk), .rst(rst), .ce(ce), .d(v81), .q(v83));
+    wire [96:0] v_s;
+    dly #(.W(97), .N(Q_DOT_LAT)) u_v_s (.clk(clk), .rst(rst), .ce(ce), .d(v_inv), .q(v_s));
     always @(*) begin
-        if (v83[96]) begin
-            nx = v83[31:0];
-            ny = v83[63:32];
-            nz = v83[95:64];
+        if (v_s[96]) begin
+            nx = v_s[31:0];
+            ny = v_s[63:32];
+            nz = v_s[95:64];
         end else begin
             nx = sx;
             ny = sy;

@@ -11,6 +11,7 @@ localparam [31:0] Q_ONE = 32'h0001_0000;
 localparam [31:0] Q_MAX = 32'h7fff_ffff;
 localparam [31:0] Q_MIN = 32'h8000_0000;
 /* verilator lint_on UNUSEDPARAM */
+`include "q16_lat.vh"
 
 function [31:0] q_add(input [31:0] qa, input [31:0] qb);
     reg [32:0] s;

@@ -13,7 +13,7 @@
 //
 // Ports: x, e (the exponent's 10 bits), tag (TB bits alongside); in_valid / out_valid; y.
 // ce low holds every stage.
-// Timing: latency 20 (ten stages of one product each, 2 clocks per product), one operand
+// Timing: latency LAT = 10 Q_DOT_LAT = 40 (ten stages of one product each), one operand
 // per clock.
 // Parameters: TB >= 1.
 `default_nettype none
@@ -37,6 +37,9 @@ module q16_powi #(
         end
     endgenerate
 
+    `include "q16_lat.vh"
+    localparam integer LAT = Q_POWI_LAT;
+
     // stage k's inputs: base (x^(2^k)), acc, the exponent's bits still to use
     wire [31:0] base [0:10];
     wire [31:0] acc  [0:10];
@@ -56,15 +59,15 @@ module q16_powi #(
                 .in_valid(1'b1), .a(acc[k]), .b(base[k]), .out_valid(), .y(prod), .sat());
             /* verilator lint_on PINCONNECTEMPTY */
             wire [31:0] acc_k2;
-            dly #(.W(32 + 10), .N(2)) u_keep (.clk(clk), .rst(rst), .ce(ce),
+            dly #(.W(32 + 10), .N(Q_DOT_LAT)) u_keep (.clk(clk), .rst(rst), .ce(ce),
                 .d({acc[k], bits[k]}), .q({acc_k2, bits[k+1]}));
             assign acc[k+1] = bits[k+1][k] ? prod : acc_k2;
         end
     endgenerate
     assign y = acc[10];
 
-    dly #(.W(1), .N(20), .RESET(1)) u_valid (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
+    dly #(.W(1), .N(LAT), .RESET(1)) u_valid (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
         .q(out_valid));
-    dly #(.W(TB), .N(20)) u_tag (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag_out));
+    dly #(.W(TB), .N(LAT)) u_tag (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag_out));
 endmodule
 `default_nettype wire

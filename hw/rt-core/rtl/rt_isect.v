@@ -19,7 +19,8 @@
 // Ports: shape (rt_map.vh codes), o, d (object-space ray, Q16.16), tmin (the scene's
 // bias), tmax, tag (TB bits the caller carries along: pixel, object index);
 // in_valid / out_valid; hit, t, unsupported.
-// Timing: latency 73, one pair per clock; ce low holds everything.
+// Timing: latency LAT_QUADRIC + 1 = 80 (isect.vh: the longest datapath, then the
+// choice), one pair per clock; ce low holds everything.
 // Parameters: SHAPES, bit i builds shape code i (rt_map.vh); TB >= 1.
 `default_nettype none
 `include "rt_map.vh"
@@ -53,10 +54,9 @@ module rt_isect #(
         end
     endgenerate
 
+    `include "q16_ops.vh"
+    `include "isect.vh"
     localparam integer SB = `RT_SHAPE_BITS;
-    localparam integer LAT_QUADRIC = 72;
-    localparam integer LAT_FLAT = 40;
-    localparam integer LAT_CUBE = 36;
     // each shape's bit as the submodules' integer parameters
     localparam integer SPHERE = SHAPES[0] ? 1 : 0;
     localparam integer PLANE = SHAPES[1] ? 1 : 0;
@@ -111,22 +111,22 @@ module rt_isect #(
         end
     endgenerate
 
-    wire [SB-1:0] shape72;
-    wire [TB-1:0] tag72;
-    wire          valid72;
+    wire [SB-1:0] shape_l;
+    wire [TB-1:0] tag_l;
+    wire          valid_l;
     dly #(.W(SB + TB), .N(LAT_QUADRIC)) d_pair (.clk(clk), .rst(rst), .ce(ce),
-        .d({shape, tag}), .q({shape72, tag72}));
+        .d({shape, tag}), .q({shape_l, tag_l}));
     dly #(.W(1), .N(LAT_QUADRIC), .RESET(1)) d_valid (.clk(clk), .rst(rst), .ce(ce),
-        .d(in_valid), .q(valid72));
+        .d(in_valid), .q(valid_l));
 
-    wire built = shape72 <= 3'd6 && SHAPES[shape72];
+    wire built = shape_l <= 3'd6 && SHAPES[shape_l];
     always @(posedge clk) begin
         if (rst) out_valid <= 1'b0;
-        else if (ce) out_valid <= valid72;
+        else if (ce) out_valid <= valid_l;
         if (ce) begin
             unsupported <= !built;
-            tag_out <= tag72;
-            case (shape72)
+            tag_out <= tag_l;
+            case (shape_l)
                 `RT_SHAPE_SPHERE, `RT_SHAPE_CYLINDER, `RT_SHAPE_CONE: begin
                     hit <= built && hit_q;
                     t <= t_q;

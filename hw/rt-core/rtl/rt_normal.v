@@ -12,8 +12,9 @@
 // Ports: shape, lo, ld (the object-space ray), t (its hit distance), m (M^-1 row-major as
 // rt_xform takes it), d (the world-space ray direction), tag (TB bits alongside);
 // in_valid / out_valid; n (world space, unit, facing the ray). ce low holds every stage.
-// Timing: latency 92 (hit point 3, shape normal 1, transform 2, normalise 83, facing
-// test 2, flip 1), one hit per clock.
+// Timing: latency LATENCY = 3 Q_DOT_LAT + Q_NORM3_LAT + 3 = 102 (hit point Q_DOT_LAT + 1,
+// shape normal 1, transform Q_DOT_LAT, normalise Q_NORM3_LAT, facing test Q_DOT_LAT,
+// flip 1), one hit per clock.
 // Parameters: TB >= 1.
 `default_nettype none
 `include "rt_map.vh"
@@ -43,10 +44,15 @@ module rt_normal #(
 
     `include "q16_ops.vh"
 
-    localparam integer LATENCY = 92;
+    // the stages: hit point, shape normal, world normal, normalised, facing the ray
+    localparam integer T_LP = Q_DOT_LAT + 1;
+    localparam integer T_ON = T_LP + 1;
+    localparam integer T_NW = T_ON + Q_DOT_LAT;
+    localparam integer T_NN = T_NW + Q_NORM3_LAT;
+    localparam integer LATENCY = T_NN + Q_DOT_LAT + 1;
     localparam integer SB = `RT_SHAPE_BITS;
 
-    // stage 1-2: ld * t
+    // ld * t
     wire [95:0] ldt;
     genvar c;
     generate
@@ -58,90 +64,90 @@ module rt_normal #(
             /* verilator lint_on PINCONNECTEMPTY */
         end
     endgenerate
-    wire [95:0] lo2;
-    wire [SB-1:0] shape2;
-    dly #(.W(96 + SB), .N(2)) u_lo2 (.clk(clk), .rst(rst), .ce(ce), .d({shape, lo}),
-        .q({shape2, lo2}));
+    wire [95:0] lo_dt;
+    wire [SB-1:0] shape_dt;
+    dly #(.W(96 + SB), .N(Q_DOT_LAT)) u_lo_dt (.clk(clk), .rst(rst), .ce(ce), .d({shape, lo}),
+        .q({shape_dt, lo_dt}));
 
-    // stage 3: lp = lo + ld * t
-    reg [95:0] lp3;
-    reg [SB-1:0] shape3;
+    // T_LP: lp = lo + ld * t
+    reg [95:0] lp;
+    reg [SB-1:0] shape_lp;
     always @(posedge clk) begin
         if (ce) begin
-            lp3 <= {q_add(lo2[95:64], ldt[95:64]), q_add(lo2[63:32], ldt[63:32]),
-                    q_add(lo2[31:0], ldt[31:0])};
-            shape3 <= shape2;
+            lp <= {q_add(lo_dt[95:64], ldt[95:64]), q_add(lo_dt[63:32], ldt[63:32]),
+                    q_add(lo_dt[31:0], ldt[31:0])};
+            shape_lp <= shape_dt;
         end
     end
 
-    // stage 4: the shape's normal at lp
-    wire [31:0] px = lp3[31:0], py = lp3[63:32], pz = lp3[95:64];
+    // T_ON: the shape's normal at lp
+    wire [31:0] px = lp[31:0], py = lp[63:32], pz = lp[95:64];
     wire [31:0] ax = q_abs(px), ay = q_abs(py), az = q_abs(pz);
     // -1 for a negative component, else 1
     function [31:0] sgn(input negative);
         sgn = negative ? q_neg(Q_ONE) : Q_ONE;
     endfunction
-    reg [95:0] on4;
+    reg [95:0] on;
     always @(posedge clk) begin
         if (ce) begin
-            case (shape3)
-                `RT_SHAPE_SPHERE: on4 <= lp3;
-                `RT_SHAPE_CYLINDER: on4 <= {pz, 32'd0, px};
-                `RT_SHAPE_CONE: on4 <= {pz, q_sub(Q_ONE, py), px};
+            case (shape_lp)
+                `RT_SHAPE_SPHERE: on <= lp;
+                `RT_SHAPE_CYLINDER: on <= {pz, 32'd0, px};
+                `RT_SHAPE_CONE: on <= {pz, q_sub(Q_ONE, py), px};
                 `RT_SHAPE_CUBE: begin
-                    if (!q_lt(ax, ay) && !q_lt(ax, az)) on4 <= {32'd0, 32'd0, sgn(px[31])};
-                    else if (!q_lt(ay, az)) on4 <= {32'd0, sgn(py[31]), 32'd0};
-                    else on4 <= {sgn(pz[31]), 32'd0, 32'd0};
+                    if (!q_lt(ax, ay) && !q_lt(ax, az)) on <= {32'd0, 32'd0, sgn(px[31])};
+                    else if (!q_lt(ay, az)) on <= {32'd0, sgn(py[31]), 32'd0};
+                    else on <= {sgn(pz[31]), 32'd0, 32'd0};
                 end
-                default: on4 <= {32'd0, Q_ONE, 32'd0};  // plane, disk, square
+                default: on <= {32'd0, Q_ONE, 32'd0};  // plane, disk, square
             endcase
         end
     end
 
-    // stage 5-6: back to world space by the transpose of M^-1: row r is column r of m
-    wire [287:0] m4;
-    dly #(.W(288), .N(4)) u_m4 (.clk(clk), .rst(rst), .ce(ce), .d(m), .q(m4));
-    wire [95:0] nw6;
+    // T_NW: back to world space by the transpose of M^-1: row r is column r of m
+    wire [287:0] m_on;
+    dly #(.W(288), .N(T_ON)) u_m_on (.clk(clk), .rst(rst), .ce(ce), .d(m), .q(m_on));
+    wire [95:0] nw;
     genvar r;
     generate
         for (r = 0; r < 3; r = r + 1) begin : row
             /* verilator lint_off PINCONNECTEMPTY */
             q16_dot #(.TERMS(3), .ROUND(1)) u_n (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({m4[32*(6+r) +: 32], m4[32*(3+r) +: 32], m4[32*r +: 32]}),
-                .b(on4), .out_valid(), .y(nw6[32*r +: 32]), .sat());
+                .in_valid(1'b1), .a({m_on[32*(6+r) +: 32], m_on[32*(3+r) +: 32], m_on[32*r +: 32]}),
+                .b(on), .out_valid(), .y(nw[32*r +: 32]), .sat());
             /* verilator lint_on PINCONNECTEMPTY */
         end
     endgenerate
 
-    // stage 7-89: normalised
-    wire [95:0] nn89;
+    // T_NN: normalised
+    wire [95:0] nn;
     /* verilator lint_off PINCONNECTEMPTY */
     q16_norm3 #(.TB(1)) u_norm (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-        .x(nw6[31:0]), .y(nw6[63:32]), .z(nw6[95:64]), .tag(1'b0), .out_valid(),
-        .nx(nn89[31:0]), .ny(nn89[63:32]), .nz(nn89[95:64]), .tag_out());
+        .x(nw[31:0]), .y(nw[63:32]), .z(nw[95:64]), .tag(1'b0), .out_valid(),
+        .nx(nn[31:0]), .ny(nn[63:32]), .nz(nn[95:64]), .tag_out());
     /* verilator lint_on PINCONNECTEMPTY */
 
-    // stage 90-91: n.d, with n alongside
-    wire [95:0] d89;
-    dly #(.W(96), .N(89)) u_d89 (.clk(clk), .rst(rst), .ce(ce), .d(d), .q(d89));
+    // n.d, with n alongside
+    wire [95:0] d_nn;
+    dly #(.W(96), .N(T_NN)) u_d_nn (.clk(clk), .rst(rst), .ce(ce), .d(d), .q(d_nn));
     // only its sign is read
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [31:0] nd91;
+    wire [31:0] nd;
     /* verilator lint_on UNUSEDSIGNAL */
     /* verilator lint_off PINCONNECTEMPTY */
     q16_dot #(.TERMS(3), .ROUND(1)) u_nd (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-        .a(nn89), .b(d89), .out_valid(), .y(nd91), .sat());
+        .a(nn), .b(d_nn), .out_valid(), .y(nd), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
-    wire [95:0] nn91;
-    dly #(.W(96), .N(2)) u_nn91 (.clk(clk), .rst(rst), .ce(ce), .d(nn89), .q(nn91));
+    wire [95:0] nn_nd;
+    dly #(.W(96), .N(Q_DOT_LAT)) u_nn_nd (.clk(clk), .rst(rst), .ce(ce), .d(nn), .q(nn_nd));
 
-    // stage 92: facing the ray
+    // LATENCY: facing the ray
     always @(posedge clk) begin
         if (ce) begin
-            if (!nd91[31])
-                n <= {q_neg(nn91[95:64]), q_neg(nn91[63:32]), q_neg(nn91[31:0])};
+            if (!nd[31])
+                n <= {q_neg(nn_nd[95:64]), q_neg(nn_nd[63:32]), q_neg(nn_nd[31:0])};
             else
-                n <= nn91;
+                n <= nn_nd;
         end
     end
 

@@ -19,7 +19,8 @@
 //   ux..wz: the camera basis words (Q16.16), held for the frame.
 //   tag: TB bits carried to the output beside the ray.
 //   in_valid / out_valid; ce low holds every stage.
-// Timing: latency 87 (round 1, scale 2, sum 1, normalise 83), one sample per clock.
+// Timing: latency 3 Q_DOT_LAT + 81 = 93 (round 1, scale Q_DOT_LAT, sum 1, normalise
+// 2 Q_DOT_LAT + 79), one sample per clock.
 // Parameters: PB (bits of px, py) 42..64, TB >= 1.
 `default_nettype none
 module rt_raygen #(
@@ -55,7 +56,8 @@ module rt_raygen #(
     endgenerate
 
     `include "q16_ops.vh"
-
+    // the stage of d' = (ux + vy) - w
+    localparam integer T_SUM = 2 + Q_DOT_LAT;
 
     // the sample's position rounded to Q16.16, half away from zero; r's bits above 31 are
     // zero for every |p| < 2^52, the range the host guarantees
@@ -80,7 +82,7 @@ module rt_raygen #(
         end
     end
 
-    // stage 2-3: u*x, v*y
+    // u*x, v*y
     wire [31:0] uxx, uxy, uxz, vyx, vyy, vyz;
     /* verilator lint_off PINCONNECTEMPTY */
     q16_dot #(.TERMS(1), .ROUND(1)) u_ux (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
@@ -97,27 +99,27 @@ module rt_raygen #(
         .a(vz), .b(y1), .out_valid(), .y(vyz), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
 
-    // valid and tag to stage 4
-    wire          valid4;
-    wire [TB-1:0] tag4;
-    dly #(.W(1), .N(4), .RESET(1)) u_valid4 (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
-        .q(valid4));
-    dly #(.W(TB), .N(4)) u_tag4 (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag4));
+    // valid and tag to the sum's stage
+    wire          valid_sum;
+    wire [TB-1:0] tag_sum;
+    dly #(.W(1), .N(T_SUM), .RESET(1)) u_valid_sum (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
+        .q(valid_sum));
+    dly #(.W(TB), .N(T_SUM)) u_tag_sum (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag_sum));
 
-    // stage 4: d' = (ux + vy) - w
-    reg [31:0] rx4, ry4, rz4;
+    // d' = (ux + vy) - w
+    reg [31:0] rx, ry, rz;
     always @(posedge clk) begin
         if (ce) begin
-            rx4 <= q_sub(q_add(uxx, vyx), wx);
-            ry4 <= q_sub(q_add(uxy, vyy), wy);
-            rz4 <= q_sub(q_add(uxz, vyz), wz);
+            rx <= q_sub(q_add(uxx, vyx), wx);
+            ry <= q_sub(q_add(uxy, vyy), wy);
+            rz <= q_sub(q_add(uxz, vyz), wz);
         end
     end
 
-    // stage 5-87: d = d' normalised
+    // d = d' normalised
     wire [TB-1:0] norm_tag;
-    q16_norm3 #(.TB(TB)) u_norm (.clk(clk), .rst(rst), .ce(ce), .in_valid(valid4),
-        .x(rx4), .y(ry4), .z(rz4), .tag(tag4), .out_valid(out_valid), .nx(dx), .ny(dy),
+    q16_norm3 #(.TB(TB)) u_norm (.clk(clk), .rst(rst), .ce(ce), .in_valid(valid_sum),
+        .x(rx), .y(ry), .z(rz), .tag(tag_sum), .out_valid(out_valid), .nx(dx), .ny(dy),
         .nz(dz), .tag_out(norm_tag));
     assign tag_out = norm_tag;
 endmodule

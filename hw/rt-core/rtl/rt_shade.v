@@ -31,9 +31,10 @@
 // occ; out_valid with colour (the Q16.16 sum before packing), rgb (R in bits 23:16) and
 // tag_out. A queue that overflows or underflows is a schedule error: rt_fifo stops the
 // simulation.
-// Timing: shadow rays at stage 89 (kd c_d 2, the lanes' wi 87); the terms at 205 (the
-// lanes 203) enter the queue; the join pops at 206 at the earliest (with shadows off,
-// always), then the sum 1, the choice 1, the packing 1: latency 208 + 1 without shadows.
+// Timing (rt_light.vh, q16_ops.vh): shadow rays at stage D + L_WI = 97 (kd c_d
+// D = Q_DOT_LAT = 4, the lanes' wi 93); the terms at D + L_LAT = 247 (the lanes 243) enter
+// the queue; the join pops at 248 at the earliest (with shadows off, always), then the sum
+// 1, the choice 1, the packing 1: latency 250 + 1 without shadows.
 // ce low holds every stage and the join; one pixel per clock.
 // Parameters: LIGHTS 1..8 lanes (point lights built), TB >= 1, TQA, OQA >= 1.
 `default_nettype none
@@ -41,7 +42,7 @@ module rt_shade #(
     parameter integer LIGHTS = 1,
     parameter integer TB = 1,
     parameter integer TQA = 3,
-    parameter integer OQA = 5
+    parameter integer OQA = 6
 ) (
     input  wire                 clk,
     input  wire                 rst,
@@ -86,10 +87,12 @@ module rt_shade #(
 
     `include "q16_ops.vh"
 
-    localparam integer LANE = 203;
-    localparam integer WI = 87;  // the lanes' wi and dist
+    `include "rt_light.vh"
+    localparam integer D = Q_DOT_LAT;
+    localparam integer LANE = L_LAT;
+    localparam integer WI = L_WI;  // the lanes' wi and dist
 
-    // ---- 1-2: kd c_d, k_s c_s; 1-4: the ambient term ----------------------------------------
+    // ---- D: kd c_d, k_s c_s; 2 D: the ambient term -------------------------------------
     wire [95:0] kdcd, kscs, cala, amb;
     genvar c;
     generate
@@ -105,32 +108,32 @@ module rt_shade #(
                 .in_valid(1'b1), .a(ca[32*c +: 32]), .b(la[32*c +: 32]), .out_valid(),
                 .y(cala[32*c +: 32]), .sat());
             q16_dot #(.TERMS(1), .ROUND(1)) u_amb (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a(cala[32*c +: 32]), .b(ka2), .out_valid(),
+                .in_valid(1'b1), .a(cala[32*c +: 32]), .b(ka_cala), .out_valid(),
                 .y(amb[32*c +: 32]), .sat());
             /* verilator lint_on PINCONNECTEMPTY */
         end
     endgenerate
-    wire [31:0] ka2;
-    dly #(.W(32), .N(2)) u_ka2 (.clk(clk), .rst(rst), .ce(ce), .d(ka), .q(ka2));
-    wire [95:0] amb205;
-    dly #(.W(96), .N(2 + LANE - 4)) u_amb205 (.clk(clk), .rst(rst), .ce(ce), .d(amb),
-        .q(amb205));
+    wire [31:0] ka_cala;
+    dly #(.W(32), .N(D)) u_ka_cala (.clk(clk), .rst(rst), .ce(ce), .d(ka), .q(ka_cala));
+    wire [95:0] amb_q;
+    dly #(.W(96), .N(LANE - D)) u_amb_q (.clk(clk), .rst(rst), .ce(ce), .d(amb),
+        .q(amb_q));
 
     // the lanes' other inputs, delayed to meet kd c_d
     localparam integer LW = 96 + 96 + 32 + 96 + 10 + 96 * LIGHTS * 2 + LIGHTS;
     wire [LW-1:0] lane_in;
-    dly #(.W(LW), .N(2)) u_lane_in (.clk(clk), .rst(rst), .ce(ce),
+    dly #(.W(LW), .N(D)) u_lane_in (.clk(clk), .rst(rst), .ce(ce),
         .d({eye, d, t, n, e, lights, colours, lit}), .q(lane_in));
-    wire [95:0]          eye2 = lane_in[LW-1 -: 96];
-    wire [95:0]          d2 = lane_in[LW-97 -: 96];
-    wire [31:0]          t2 = lane_in[LW-193 -: 32];
-    wire [95:0]          n2 = lane_in[LW-225 -: 96];
-    wire [9:0]           e2 = lane_in[LW-321 -: 10];
-    wire [96*LIGHTS-1:0] lights2 = lane_in[LIGHTS + 96*LIGHTS +: 96*LIGHTS];
-    wire [96*LIGHTS-1:0] colours2 = lane_in[LIGHTS +: 96*LIGHTS];
-    wire [LIGHTS-1:0]    lit2 = lane_in[LIGHTS-1:0];
+    wire [95:0]          eye_l = lane_in[LW-1 -: 96];
+    wire [95:0]          d_l = lane_in[LW-97 -: 96];
+    wire [31:0]          t_l = lane_in[LW-193 -: 32];
+    wire [95:0]          n_l = lane_in[LW-225 -: 96];
+    wire [9:0]           e_l = lane_in[LW-321 -: 10];
+    wire [96*LIGHTS-1:0] lights_l = lane_in[LIGHTS + 96*LIGHTS +: 96*LIGHTS];
+    wire [96*LIGHTS-1:0] colours_l = lane_in[LIGHTS +: 96*LIGHTS];
+    wire [LIGHTS-1:0]    lit_l = lane_in[LIGHTS-1:0];
 
-    // ---- 3-205: each light's term -----------------------------------------------------------
+    // ---- D + 1 to D + LANE: each light's term --------------------------------------------------------
     wire [96*LIGHTS-1:0] terms, ps;
     genvar l;
     generate
@@ -139,21 +142,21 @@ module rt_shade #(
             wire        on;
             /* verilator lint_off PINCONNECTEMPTY */
             rt_light #(.TB(1)) u_light (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1),
-                .eye(eye2), .d(d2), .t(t2), .n(n2), .light(lights2[96*l +: 96]),
-                .colour(colours2[96*l +: 96]), .kdcd(kdcd), .kscs(kscs), .e(e2),
-                .tag(lit2[l]), .out_valid(), .term(term), .tag_out(on),
+                .eye(eye_l), .d(d_l), .t(t_l), .n(n_l), .light(lights_l[96*l +: 96]),
+                .colour(colours_l[96*l +: 96]), .kdcd(kdcd), .kscs(kscs), .e(e_l),
+                .tag(lit_l[l]), .out_valid(), .term(term), .tag_out(on),
                 .p(ps[96*l +: 96]), .wi(sh_d[96*l +: 96]), .extent(sh_tmax[32*l +: 32]));
             /* verilator lint_on PINCONNECTEMPTY */
             assign terms[96*l +: 96] = on ? term : 96'd0;
         end
     endgenerate
 
-    // ---- 2: n.scale(bias); 6: the shadow rays' origin p + n.scale(bias); 89: out -------------
+    // ---- D: n.scale(bias); D + L_P + 1: the shadow rays' origin p + n.scale(bias) ----------
     // (every lane computes the same p; lane 0's is taken)
     /* verilator lint_off UNUSEDSIGNAL */
     wire [96*LIGHTS-1:0] ps_all = ps;
     /* verilator lint_on UNUSEDSIGNAL */
-    wire [95:0] nb, nb5;
+    wire [95:0] nb, nb_p;
     generate
         for (c = 0; c < 3; c = c + 1) begin : offset
             /* verilator lint_off PINCONNECTEMPTY */
@@ -163,35 +166,35 @@ module rt_shade #(
             /* verilator lint_on PINCONNECTEMPTY */
         end
     endgenerate
-    dly #(.W(96), .N(3)) u_nb5 (.clk(clk), .rst(rst), .ce(ce), .d(nb), .q(nb5));
-    reg [95:0] po6;
+    dly #(.W(96), .N(L_P)) u_nb_p (.clk(clk), .rst(rst), .ce(ce), .d(nb), .q(nb_p));
+    reg [95:0] po;
     always @(posedge clk) begin
         if (ce) begin
-            po6 <= {q_add(ps_all[95:64], nb5[95:64]), q_add(ps_all[63:32], nb5[63:32]),
-                    q_add(ps_all[31:0], nb5[31:0])};
+            po <= {q_add(ps_all[95:64], nb_p[95:64]), q_add(ps_all[63:32], nb_p[63:32]),
+                    q_add(ps_all[31:0], nb_p[31:0])};
         end
     end
-    wire [95:0] po88;
-    dly #(.W(96), .N(2 + WI - 1 - 6)) u_po (.clk(clk), .rst(rst), .ce(ce), .d(po6), .q(po88));
-    always @(posedge clk) if (ce) sh_o <= po88;
-    dly #(.W(1), .N(2 + WI), .RESET(1)) u_sh_valid (.clk(clk), .rst(rst), .ce(ce),
+    wire [95:0] po_wi;
+    dly #(.W(96), .N(WI - L_P - 2)) u_po (.clk(clk), .rst(rst), .ce(ce), .d(po), .q(po_wi));
+    always @(posedge clk) if (ce) sh_o <= po_wi;
+    dly #(.W(1), .N(D + WI), .RESET(1)) u_sh_valid (.clk(clk), .rst(rst), .ce(ce),
         .d(in_valid && shadows), .q(sh_valid));
 
-    // ---- 205: the pixel waits for its occlusion word; both queues in pixel order ---------------
-    wire         v205;
-    dly #(.W(1), .N(2 + LANE), .RESET(1)) u_v205 (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
-        .q(v205));
-    wire [97+TB-1:0] hbt205;  // hit, background and tag at 205
-    dly #(.W(97 + TB), .N(2 + LANE)) u_hbt (.clk(clk), .rst(rst), .ce(ce),
-        .d({hit, background, tag}), .q(hbt205));
+    // ---- D + LANE: the pixel waits for its occlusion word; both queues in pixel order ---------------
+    wire         v_q;
+    dly #(.W(1), .N(D + LANE), .RESET(1)) u_v_q (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
+        .q(v_q));
+    wire [97+TB-1:0] hbt_q;  // hit, background and tag at D + LANE
+    dly #(.W(97 + TB), .N(D + LANE)) u_hbt (.clk(clk), .rst(rst), .ce(ce),
+        .d({hit, background, tag}), .q(hbt_q));
     localparam integer QW = 97 + TB + 96 + 96 * LIGHTS;
     wire [QW-1:0] tq_head;
     wire          tq_empty, oq_empty;
     wire [LIGHTS-1:0] oq_head;
     wire          join_ = ce && !tq_empty && (!shadows || !oq_empty);
     /* verilator lint_off PINCONNECTEMPTY */
-    rt_fifo #(.W(QW), .AW(TQA)) u_tq (.clk(clk), .rst(rst), .push(ce && v205),
-        .din({hbt205, amb205, terms}), .pop(join_), .dout(tq_head), .empty(tq_empty),
+    rt_fifo #(.W(QW), .AW(TQA)) u_tq (.clk(clk), .rst(rst), .push(ce && v_q),
+        .din({hbt_q, amb_q, terms}), .pop(join_), .dout(tq_head), .empty(tq_empty),
         .count(), .ovf(), .unf());
     rt_fifo #(.W(LIGHTS), .AW(OQA)) u_oq (.clk(clk), .rst(rst), .push(ce && occ_valid),
         .din(occ), .pop(join_ && shadows), .dout(oq_head), .empty(oq_empty),

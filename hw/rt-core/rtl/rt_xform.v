@@ -12,7 +12,7 @@
 // Ports: o, d (world space, Q16.16), m (M^-1 row-major, m00 in bits [31:0], then m01 ...
 // m22), t (the object's translation); tag (TB bits carried alongside); in_valid /
 // out_valid; lo, ld (object space). ce low holds every stage.
-// Timing: latency 3 (o - t 1, dot3 2), one pair per clock.
+// Timing: latency LAT = 1 + Q_DOT_LAT = 5 (o - t, then dot3), one pair per clock.
 // Parameters: TB >= 1.
 `default_nettype none
 module rt_xform #(
@@ -53,7 +53,10 @@ module rt_xform #(
     dly #(.W(96), .N(1)) u_d1 (.clk(clk), .rst(rst), .ce(ce), .d(d), .q(d1));
     dly #(.W(288), .N(1)) u_m1 (.clk(clk), .rst(rst), .ce(ce), .d(m), .q(m1));
 
-    // stage 2-3: each row of M^-1 against o - t and against d
+    // the way out: o - t, then the products
+    localparam integer LAT = 1 + Q_DOT_LAT;
+
+    // stages 2 to LAT: each row of M^-1 against o - t and against d
     genvar r;
     generate
         for (r = 0; r < 3; r = r + 1) begin : row
@@ -68,8 +71,8 @@ module rt_xform #(
         end
     endgenerate
 
-    dly #(.W(1), .N(3), .RESET(1)) u_valid (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
+    dly #(.W(1), .N(LAT), .RESET(1)) u_valid (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
         .q(out_valid));
-    dly #(.W(TB), .N(3)) u_tag (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag_out));
+    dly #(.W(TB), .N(LAT)) u_tag (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag_out));
 endmodule
 `default_nettype wire

@@ -7,7 +7,7 @@
 // a2 * b2; the divider a0 / b0; the roots a0); each unit has its own valid and, where it
 // can clip, saturation flag. ce low holds every unit (operands offered then are not
 // taken).
-// Timing: the units' own (q16_dot 2, q16_div 34, q16_sqrt 27, q16_rsqrt 79,
+// Timing: the units' own (q16_dot 4, q16_div 35, q16_sqrt 27, q16_rsqrt 79,
 // q16_to_f32 2); q16_to_f32 converts a0 and has no saturation flag (every word fits).
 `default_nettype none
 module rt_math_top (

@@ -14,20 +14,20 @@
 /// (W − 1)·K and (H − 1)·K, 16 clocks, and one to negate.
 pub const SETUP: u64 = 17;
 /// The primary-ray generator's latency (`rt_raygen`).
-pub const RAYGEN: u64 = 87;
-/// From a pair entering the transform to its nearest-hit result: transform 3,
-/// intersection 73, the reduction's register 1 (`rt_xform`, `rt_isect`).
-pub const TO_REDUCED: u64 = 3 + 73 + 1;
+pub const RAYGEN: u64 = 93;
+/// From a pair entering the transform to its nearest-hit result: transform 5,
+/// intersection 80, the reduction's register 1 (`rt_xform`, `rt_isect`).
+pub const TO_REDUCED: u64 = 5 + 80 + 1;
 /// The normal (`rt_normal`).
-pub const NORMAL: u64 = 92;
-/// From the colour stage's input to its shadow rays: k_d·c_d 2, the light lanes' ω_i 87.
-pub const SHADOW_RAYS: u64 = 89;
-/// From the colour stage's input to its light terms entering the join queue: k_d·c_d 2,
-/// the lanes 203.
-pub const TERMS: u64 = 205;
-/// A shadow pair's way from the unit's input to its pixel's occlusion word: transform 3,
-/// intersection 73, the word's register 1.
-pub const TO_OCCLUSION: u64 = 3 + 73 + 1;
+pub const NORMAL: u64 = 102;
+/// From the colour stage's input to its shadow rays: k_d·c_d 4, the light lanes' ω_i 93.
+pub const SHADOW_RAYS: u64 = 97;
+/// From the colour stage's input to its light terms entering the join queue: k_d·c_d 4,
+/// the lanes 243.
+pub const TERMS: u64 = 247;
+/// A shadow pair's way from the unit's input to its pixel's occlusion word: transform 5,
+/// intersection 80, the word's register 1.
+pub const TO_OCCLUSION: u64 = 5 + 80 + 1;
 /// After the join: the sum, the choice of hit or background, the packing.
 pub const AFTER_JOIN: u64 = 3;
 
@@ -118,13 +118,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn without_shadows_a_pixel_leaves_378_clocks_after_its_last_pair() {
+    fn without_shadows_a_pixel_leaves_439_clocks_after_its_last_pair() {
         let f = CoreFrame {
             width: 160,
             height: 90,
             objects: 8,
             shadow_lights: 0,
         };
-        assert_eq!(f.cycles(), 1 + 17 + 87 + 14_400 * 8 + 378);
+        assert_eq!(f.cycles(), 1 + 17 + 93 + 14_400 * 8 + 439);
     }
 }

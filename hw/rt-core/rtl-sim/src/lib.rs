@@ -73,8 +73,9 @@ impl Unit {
     /// as each module's header states (a test holds the RTL to these).
     pub const fn latency(self) -> u64 {
         match self {
-            Unit::Mul | Unit::MulRn | Unit::Dot2 | Unit::Dot3 | Unit::ToF32 => 2,
-            Unit::Div => 34,
+            Unit::Mul | Unit::MulRn | Unit::Dot2 | Unit::Dot3 => 4,
+            Unit::ToF32 => 2,
+            Unit::Div => 35,
             Unit::Sqrt => 27,
             Unit::Rsqrt => 79,
         }
@@ -228,7 +229,7 @@ unsafe impl Send for Intersect {}
 
 impl Intersect {
     /// Clock edges from a pair going in to its result coming out (`rt_isect.v`).
-    pub const LATENCY: u64 = 73;
+    pub const LATENCY: u64 = 80;
 
     /// A fresh model, reset for four cycles.
     pub fn new() -> Result<Self, RtlError> {
