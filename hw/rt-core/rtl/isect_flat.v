@@ -11,8 +11,8 @@
 //
 // Ports: shape (rt_map.vh codes; a code this module does not build gives no hit),
 // o, d (object-space ray, Q16.16), tmin, tmax; hit and t at LAT_FLAT.
-// Timing: latency LAT_FLAT = Q_DIV_LAT + 2 Q_DOT_LAT + 2 = 45 (isect.vh) (quotient 35, hit point
-// Q_DOT_LAT + 1, disk test Q_DOT_LAT + 1), one pair per clock;
+// Timing: latency LAT_FLAT = Q_DIV_LAT + 2 Q_DOT_LAT + 3 = 46 (isect.vh: quotient 35,
+// hit point Q_DOT_LAT + 1, disk test Q_DOT_LAT + 2), one pair per clock;
 // ce low holds everything.
 // Parameters: PLANE, DISK, SQUARE: 1 builds the shape.
 `default_nettype none
@@ -49,11 +49,11 @@ module isect_flat #(
     `include "isect.vh"
     localparam integer SB = `RT_SHAPE_BITS;
     localparam integer D = Q_DOT_LAT;
-    // the schedule: the quotient, the hit point (the result at T_X + D + 1)
+    // the schedule: the quotient, the hit point (the result at T_X + D + 2)
     localparam integer T_Q = Q_DIV_LAT;
     localparam integer T_X = T_Q + D + 1;
     generate
-        if (T_X + D + 1 != LAT_FLAT) begin : bad_schedule
+        if (T_X + D + 2 != LAT_FLAT) begin : bad_schedule
             isect_flat_schedule_differs_from_isect_vh unsupported();
         end
     endgenerate
@@ -92,7 +92,8 @@ module isect_flat #(
         .a(z), .b(z), .out_valid(), .y(zz), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
 
-    // the plane's verdict at T_Q + 1, the square's at T_X + 1, both carried to LAT_FLAT - 1
+    // the plane's verdict at T_Q + 1, the square's at T_X + 2 (|x|, |z| first), both
+    // carried to LAT_FLAT - 1
     reg        plane_q;
     reg  [31:0] t_q1;
     always @(posedge clk) if (ce) begin
@@ -100,23 +101,30 @@ module isect_flat #(
         t_q1 <= t_q;
     end
     wire        plane_x;
-    dly #(.W(1), .N(D)) d_plane_x (.clk(clk), .rst(rst), .ce(ce), .d(plane_q), .q(plane_x));
-    reg square_x;
-    always @(posedge clk) if (ce)
-        square_x <= plane_x && q_le(q_abs(x), Q_ONE) && q_le(q_abs(z), Q_ONE);
+    dly #(.W(1), .N(D + 1)) d_plane_x (.clk(clk), .rst(rst), .ce(ce), .d(plane_q), .q(plane_x));
+    reg [31:0] ax, az;
+    reg        square_x;
+    always @(posedge clk) if (ce) begin
+        ax <= q_abs(x);
+        az <= q_abs(z);
+        square_x <= plane_x && q_le(ax, Q_ONE) && q_le(az, Q_ONE);
+    end
+    // the disk's x*x + z*z, then its test
+    reg [31:0] r2;
+    always @(posedge clk) if (ce) r2 <= q_add(xx, zz);
 
     wire        plane_l, square_l;
     wire [31:0] t_l;
     wire [SB-1:0] shape_l;
-    dly #(.W(1), .N(2 * D)) d_plane_l (.clk(clk), .rst(rst), .ce(ce), .d(plane_q), .q(plane_l));
+    dly #(.W(1), .N(2 * D + 1)) d_plane_l (.clk(clk), .rst(rst), .ce(ce), .d(plane_q), .q(plane_l));
     dly #(.W(1), .N(D - 1)) d_square_l (.clk(clk), .rst(rst), .ce(ce), .d(square_x), .q(square_l));
-    dly #(.W(32), .N(2 * D)) d_t_l (.clk(clk), .rst(rst), .ce(ce), .d(t_q1), .q(t_l));
-    dly #(.W(SB), .N(2 * D + 1)) d_shape_l (.clk(clk), .rst(rst), .ce(ce), .d(shape_q), .q(shape_l));
+    dly #(.W(32), .N(2 * D + 1)) d_t_l (.clk(clk), .rst(rst), .ce(ce), .d(t_q1), .q(t_l));
+    dly #(.W(SB), .N(2 * D + 2)) d_shape_l (.clk(clk), .rst(rst), .ce(ce), .d(shape_q), .q(shape_l));
 
     always @(posedge clk) if (ce) begin
         case (shape_l)
             `RT_SHAPE_PLANE: hit <= PLANE != 0 && plane_l;
-            `RT_SHAPE_DISK: hit <= DISK != 0 && plane_l && q_le(q_add(xx, zz), Q_ONE);
+            `RT_SHAPE_DISK: hit <= DISK != 0 && plane_l && q_le(r2, Q_ONE);
             `RT_SHAPE_SQUARE: hit <= SQUARE != 0 && square_l;
             default: hit <= 1'b0;
         endcase

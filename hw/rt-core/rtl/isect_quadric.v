@@ -27,9 +27,12 @@
 //
 // Ports: shape (rt_map.vh codes; a code this module does not build gives no hit),
 // o, d (object-space ray, Q16.16), tmin, tmax; hit and t at LAT.
-// Timing: latency LAT_QUADRIC = 79 (isect.vh: front and disc 2 Q_DOT_LAT + 1, root
-// Q_SQRT_LAT, quotients 1 + Q_DIV_LAT, roots in order 1, height Q_DOT_LAT + 2), one pair
-// per clock; ce low holds everything. The rejection runs beside the root.
+// Timing: latency LAT_QUADRIC = 81 (isect.vh: front Q_DOT_LAT + 2, disc 2 Q_DOT_LAT + 1,
+// root Q_SQRT_LAT, quotients 3 + Q_DIV_LAT, roots in order 1, height Q_DOT_LAT + 2), one
+// pair per clock; ce low holds everything. The rejection runs beside the root. No clock
+// holds more than one saturating operation (an adder and its clip) before a comparison
+// or a register: two of them in series, each a carry chain and a multiplexer, are about
+// 10 ns on an ECP5.
 // Parameters: SPHERE, CYLINDER, CONE: 1 builds the shape's front (and the height test
 // for the last two).
 `default_nettype none
@@ -67,11 +70,11 @@ module isect_quadric #(
     localparam integer SB = `RT_SHAPE_BITS;
     localparam integer D = Q_DOT_LAT;
     // the schedule: the stage each value is registered at
-    localparam integer T_F = D + 1;                 // a, h, c, "no hit"
+    localparam integer T_F = D + 2;                 // a, h, c, "no hit"
     localparam integer T_DISC = 2 * D + 1;          // the quarter discriminant
-    localparam integer T_MISS = 3 * D + 3;          // clearly_misses
+    localparam integer T_MISS = T_F + 2 * D + 5;    // clearly_misses
     localparam integer T_SQ = T_DISC + Q_SQRT_LAT;  // sqrt(disc)
-    localparam integer T_QIN = T_SQ + 1;            // the quotients' operands
+    localparam integer T_QIN = T_SQ + 3;            // the quotients' operands
     localparam integer T_T = T_QIN + Q_DIV_LAT;     // the quotients
     localparam integer T_R = T_T + 1;               // the roots in order
     localparam integer T_Y = T_R + D + 1;           // their heights
@@ -89,7 +92,8 @@ module isect_quadric #(
     dly #(.W(SB), .N(T_Y - T_DISC)) d_shape_y (.clk(clk), .rst(rst), .ce(ce),
         .d(shape_disc), .q(shape_y));
 
-    // ---- fronts: a, h, c and "no hit" at T_F, disc at T_DISC ---------------------------
+    // ---- fronts: a, h, c and "no hit" at T_F (two clocks after the products: no clock
+    // holds two saturating operations), disc at T_DISC -------------------------------
     /* verilator lint_off PINCONNECTEMPTY */
     wire [31:0] a_s, h_s, c_s, disc_s;
     wire [31:0] a_c, h_c, c_c, disc_c;
@@ -114,14 +118,18 @@ module isect_quadric #(
                 .in_valid(1'b1), .a({q_neg(dy), dx}), .b({ox, oy}), .out_valid(), .y(x2), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_xx (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({x2, x1, x0}), .b({x2, x1, x0}), .out_valid(), .y(xx2), .sat());
-            reg [31:0] a_f, h_f, c_f, disc;
+            reg [31:0] a1, h1, c1, a_f, h_f, c_f, disc;
             // a beside |d x o|^2
             wire [31:0] a_disc;
-            dly #(.W(32), .N(D - 1)) d_a (.clk(clk), .rst(rst), .ce(ce), .d(a_f), .q(a_disc));
+            dly #(.W(32), .N(T_DISC - 1 - T_F)) d_a (.clk(clk), .rst(rst), .ce(ce), .d(a_f),
+                .q(a_disc));
             always @(posedge clk) if (ce) begin
-                a_f <= a_p;
-                h_f <= h_p;
-                c_f <= q_sub(oo_p, Q_ONE);
+                a1 <= a_p;
+                h1 <= h_p;
+                c1 <= q_sub(oo_p, Q_ONE);
+                a_f <= a1;
+                h_f <= h1;
+                c_f <= c1;
                 disc <= q_sub(a_disc, xx2);
             end
             assign a_s = a_f;
@@ -151,14 +159,18 @@ module isect_quadric #(
                 .in_valid(1'b1), .a({q_neg(dz), dx}), .b({ox, oz}), .out_valid(), .y(x_p), .sat());
             q16_dot #(.TERMS(1), .ROUND(0)) u_xx (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a(x_p), .b(x_p), .out_valid(), .y(xx_p), .sat());
-            reg [31:0] a_f, h_f, c_f, disc;
+            reg [31:0] a1, h1, o1, a_f, h_f, c_f, disc;
             // a beside x*x
             wire [31:0] a_disc;
-            dly #(.W(32), .N(D - 1)) d_a (.clk(clk), .rst(rst), .ce(ce), .d(a_f), .q(a_disc));
+            dly #(.W(32), .N(T_DISC - 1 - T_F)) d_a (.clk(clk), .rst(rst), .ce(ce), .d(a_f),
+                .q(a_disc));
             always @(posedge clk) if (ce) begin
-                a_f <= q_add(dxx_p, dzz_p);
-                h_f <= h_p;
-                c_f <= q_sub(q_add(oxx_p, ozz_p), Q_ONE);
+                a1 <= q_add(dxx_p, dzz_p);
+                h1 <= h_p;
+                o1 <= q_add(oxx_p, ozz_p);
+                a_f <= a1;
+                h_f <= h1;
+                c_f <= q_sub(o1, Q_ONE);
                 disc <= q_sub(a_disc, xx_p);
             end
             assign a_c = a_f;
@@ -189,8 +201,10 @@ module isect_quadric #(
                 .in_valid(1'b1), .a(dz), .b(dz), .out_valid(), .y(dzz_p), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_h (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({dz, ndy, dx}), .b({oz, py, ox}), .out_valid(), .y(h_p), .sat());
+            // -p_y as 1 - o_y: the same word for every o_y (both clip only at o_y = -2^31,
+            // to 2^31 - 1), one saturating operation instead of two
             q16_dot #(.TERMS(3), .ROUND(1)) u_c (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({oz, q_neg(py), ox}), .b({oz, py, ox}), .out_valid(),
+                .in_valid(1'b1), .a({oz, q_sub(Q_ONE, oy), ox}), .b({oz, py, ox}), .out_valid(),
                 .y(c_p), .sat());
             q16_dot #(.TERMS(2), .ROUND(1)) u_xy (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({ndy, dx}), .b({ox, py}), .out_valid(), .y(xy_p), .sat());
@@ -201,11 +215,15 @@ module isect_quadric #(
             q16_dot #(.TERMS(3), .ROUND(1)) u_disc (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({q_neg(xz_p), yz_p, xy_p}), .b({xz_p, yz_p, xy_p}), .out_valid(),
                 .y(disc_p), .sat());
-            reg [31:0] a_f, h_f, c_f, disc;
+            reg [31:0] s1, z1, h1, c1, a_f, h_f, c_f, disc;
             always @(posedge clk) if (ce) begin
-                a_f <= q_add(q_sub(dxx_p, dyy_p), dzz_p);
-                h_f <= h_p;
-                c_f <= c_p;
+                s1 <= q_sub(dxx_p, dyy_p);
+                z1 <= dzz_p;
+                h1 <= h_p;
+                c1 <= c_p;
+                a_f <= q_add(s1, z1);
+                h_f <= h1;
+                c_f <= c1;
                 disc <= disc_p;
             end
             assign a_k = a_f;
@@ -237,19 +255,25 @@ module isect_quadric #(
         .in_valid(1'b1), .a(h_f), .b(h_f), .out_valid(), .y(hh), .sat());
     q16_dot #(.TERMS(1), .ROUND(0)) u_ac (.clk(clk), .rst(rst), .ce(ce),
         .in_valid(1'b1), .a(a_f), .b(c_f), .out_valid(), .y(ac), .sat());
-    reg [31:0] lhs, sum_rj;
+    // one saturating operation per clock: h*h - a*c and |a*c|, their sum, the margin
+    // (a product), + 2^-6, its negation, the comparison
+    reg [31:0] lhs, hh_r, aac, sum_rj, thr, nthr;
     reg        miss;
     // S::from_f64(1/256) and S::from_f64(1/64)
     q16_dot #(.TERMS(1), .ROUND(0)) u_m (.clk(clk), .rst(rst), .ce(ce),
         .in_valid(1'b1), .a(sum_rj), .b(32'h0000_0100), .out_valid(), .y(margin), .sat());
+    // h*h - a*c beside -(margin + 2^-6)
+    wire [31:0] lhs_m;
+    dly #(.W(32), .N(D + 3)) d_lhs (.clk(clk), .rst(rst), .ce(ce), .d(lhs), .q(lhs_m));
     always @(posedge clk) if (ce) begin
         lhs <= q_sub(hh, ac);
-        sum_rj <= q_add(hh, q_abs(ac));
-        miss <= q_lt(lhs_m, q_neg(q_add(margin, 32'h0000_0400)));
+        hh_r <= hh;
+        aac <= q_abs(ac);
+        sum_rj <= q_add(hh_r, aac);
+        thr <= q_add(margin, 32'h0000_0400);
+        nthr <= q_neg(thr);
+        miss <= q_lt(lhs_m, nthr);
     end
-    // h*h - a*c beside the margin
-    wire [31:0] lhs_m;
-    dly #(.W(32), .N(D)) d_lhs (.clk(clk), .rst(rst), .ce(ce), .d(lhs), .q(lhs_m));
 
     // ---- the root: sqrt(disc) at T_SQ ---------------------------------------------------
     wire [31:0] sq;
@@ -260,18 +284,32 @@ module isect_quadric #(
         .q({a_sq, h_sq, c_sq}));
 
     // ---- the quotients: operands at T_QIN, results at T_T -----------------------------
-    wire [31:0] q_sq = h_sq[31] ? q_sub(sq, h_sq) : q_neg(q_add(h_sq, sq));
-    reg  [31:0] n1, d1, n2, d2;
-    reg         a0, h0, q0;
+    // one saturating operation per clock: sqrt(disc) - h and h + sqrt(disc); q, -c and
+    // h + h; the operands (a = 0: the linear root -c / (h + h), through the first divider)
+    reg [31:0] s_sub, s_add, a_s1, h_s1, c_s1;
+    reg [31:0] q_r, a_s2, c_s2, lin_n, lin_d;
+    reg        hz_s2;
+    reg [31:0] n1, d1, n2, d2;
+    reg        a0, h0, q0;
     always @(posedge clk) if (ce) begin
-        // a = 0: the linear root -c / (h + h), through the first divider
-        n1 <= a_sq == 32'd0 ? q_neg(c_sq) : q_sq;
-        d1 <= a_sq == 32'd0 ? q_add(h_sq, h_sq) : a_sq;
-        n2 <= c_sq;
-        d2 <= q_sq;
-        a0 <= a_sq == 32'd0;
-        h0 <= h_sq == 32'd0;
-        q0 <= q_sq == 32'd0;
+        s_sub <= q_sub(sq, h_sq);
+        s_add <= q_add(h_sq, sq);
+        a_s1 <= a_sq;
+        h_s1 <= h_sq;
+        c_s1 <= c_sq;
+        q_r <= h_s1[31] ? s_sub : q_neg(s_add);
+        a_s2 <= a_s1;
+        c_s2 <= c_s1;
+        lin_n <= q_neg(c_s1);
+        lin_d <= q_add(h_s1, h_s1);
+        hz_s2 <= h_s1 == 32'd0;
+        n1 <= a_s2 == 32'd0 ? lin_n : q_r;
+        d1 <= a_s2 == 32'd0 ? lin_d : a_s2;
+        n2 <= c_s2;
+        d2 <= q_r;
+        a0 <= a_s2 == 32'd0;
+        h0 <= hz_s2;
+        q0 <= q_r == 32'd0;
     end
     wire [31:0] t1, t2;
     q16_div u_div1 (.clk(clk), .rst(rst), .ce(ce), .in_valid(1'b1), .a(n1), .b(d1),

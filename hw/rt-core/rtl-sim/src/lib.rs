@@ -229,7 +229,7 @@ unsafe impl Send for Intersect {}
 
 impl Intersect {
     /// Clock edges from a pair going in to its result coming out (`rt_isect.v`).
-    pub const LATENCY: u64 = 80;
+    pub const LATENCY: u64 = 82;
 
     /// A fresh model, reset for four cycles.
     pub fn new() -> Result<Self, RtlError> {
