@@ -8,9 +8,10 @@
 // Why a RAM for long wide chains: the core carries rays and tags for 70-odd stages, and
 // the 332-bit pair tag held in flip-flops for the intersection unit's 72 stages is
 // 24 000 of them. A data chain of N >= RAM_MIN_N stages and W * N >= RAM_MIN_BITS bits
-// is a ring of N words instead (write the new word, read the one written N enables ago
-// into an output register, both on ce): an FPGA's block RAM with a registered read, a
-// handful of EBRs where the flip-flops took thousands, and the same q clock for clock.
+// is a ring of N - 1 words instead (write the new word, read the one written N - 1
+// enables ago into a read register and then an output register, all on ce): an FPGA's
+// block RAM with a registered read, a handful of EBRs where the flip-flops took
+// thousands, and the same q clock for clock.
 // Ports: d in, q = d of N enabled cycles ago; RESET = 1 clears the chain on rst (for
 // valid bits; data chains have no reset, and a ring's rst only rewinds its pointer).
 // ce low holds it.
@@ -42,15 +43,18 @@ module dly #(
             wire unused = &{1'b0, clk, rst, ce};
             /* verilator lint_on UNUSEDSIGNAL */
         end else if (RESET == 0 && N >= RAM_MIN_N && W * N >= RAM_MIN_BITS) begin : ring
-            // word a was written N enables before the write that follows it round the
-            // ring, so reading the word after the write address gives d of N - 1 enables
-            // ago, and the output register adds the last one
-            localparam integer AB = $clog2(N);
-            localparam [31:0] LAST = N - 1;
-            reg [W-1:0]  mem [0:N-1];
+            // a ring of M = N - 1 words: word a was written M enables before the write
+            // that follows it round the ring, so reading the word after the write address
+            // gives d of M - 1 enables ago; the RAM's read register adds one and a register
+            // in the fabric the last, because a block RAM's output is slow (4.1 ns on an
+            // ECP5 EBR) and must not start a path of logic
+            localparam integer M = N - 1;
+            localparam integer AB = $clog2(M);
+            localparam [31:0] LAST = M - 1;
+            reg [W-1:0]  mem [0:M-1];
             reg [AB-1:0] wa;
             wire [AB-1:0] ra = wa == LAST[AB-1:0] ? {AB{1'b0}} : wa + 1'b1;
-            reg [W-1:0]  r;
+            reg [W-1:0]  r0, r;
             always @(posedge clk) begin
                 if (rst) wa <= {AB{1'b0}};
                 else if (ce) wa <= ra;
@@ -58,7 +62,8 @@ module dly #(
             always @(posedge clk) begin
                 if (ce) begin
                     mem[wa] <= d;
-                    r <= mem[ra];
+                    r0 <= mem[ra];
+                    r <= r0;
                 end
             end
             assign q = r;
