@@ -10,24 +10,46 @@
 //! fixed, so the last pixel's arrival, and with it the frame's count, is a closed form.
 //! The constants are the RTL's stage counts, named after the units.
 
+/// The arithmetic units' latencies (`hw/rt-core/rtl/q16_lat.vh`): a product
+/// (`q16_dot`), a quotient (`q16_div`), a square root and a reciprocal square root. The
+/// units' schedules are sums of these, and so are the constants below.
+const DOT: u64 = 4;
+const DIV: u64 = 35;
+const SQRT: u64 = 27;
+const RSQRT: u64 = 79;
+/// A vector normalised (`q16_norm3`): v·v, 1/√, the scaling product.
+const NORM3: u64 = 2 * DOT + RSQRT;
+
 /// Clocks after `start` before the first ray enters the generator: the products
 /// (W − 1)·K and (H − 1)·K, 16 clocks, and one to negate.
 pub const SETUP: u64 = 17;
-/// The primary-ray generator's latency (`rt_raygen`).
-pub const RAYGEN: u64 = 93;
-/// From a pair entering the transform to its nearest-hit result: transform 5,
-/// intersection 82, the reduction's register 1 (`rt_xform`, `rt_isect`).
-pub const TO_REDUCED: u64 = 5 + 82 + 1;
-/// The normal (`rt_normal`).
-pub const NORMAL: u64 = 102;
-/// From the colour stage's input to its shadow rays: k_d·c_d 4, the light lanes' ω_i 93.
-pub const SHADOW_RAYS: u64 = 97;
-/// From the colour stage's input to its light terms entering the join queue: k_d·c_d 4,
-/// the lanes 243.
-pub const TERMS: u64 = 247;
-/// A shadow pair's way from the unit's input to its pixel's occlusion word: transform 5,
-/// intersection 82, the word's register 1.
-pub const TO_OCCLUSION: u64 = 5 + 82 + 1;
+/// The primary-ray generator's latency (`rt_raygen`): the position words, u·x and v·y,
+/// their sum, the normalisation.
+pub const RAYGEN: u64 = 1 + DOT + 1 + NORM3;
+/// The intersection unit's latency (`rt_isect`, `isect.vh`): the quadrics' datapath
+/// (front, discriminant, root, the quotients' operands, quotients, roots in order,
+/// height), the longest, then the choice of datapath.
+pub const ISECT: u64 = 3 * DOT + SQRT + DIV + 7 + 1;
+/// From a pair entering the transform to its nearest-hit result: the transform (o − t,
+/// then a product), the intersection, the reduction's register (`rt_xform`, `rt_isect`).
+pub const TO_REDUCED: u64 = 1 + DOT + ISECT + 1;
+/// The normal (`rt_normal`): the hit point, the shape's normal, to world space, normalised,
+/// the facing test and the flip.
+pub const NORMAL: u64 = DOT + 1 + 1 + DOT + NORM3 + DOT + 1;
+/// A light lane's shadow ray (`rt_light.vh`'s `L_WI`): p, to_l, d², 1/√d², ω_i.
+const LANE_WI: u64 = DOT + 1 + 1 + DOT + RSQRT + DOT;
+/// A light lane's term (`L_LAT`): after ω_i, the half vector normalised, n·h and its
+/// clamp, the power (ten products), the norm's product, the BRDF's products and sum, the
+/// colour and g.
+const LANE_TERM: u64 = LANE_WI + 1 + NORM3 + DOT + 1 + 10 * DOT + DOT + DOT + 1 + 2 * DOT;
+/// From the colour stage's input to its shadow rays: k_d·c_d, then the lanes' ω_i.
+pub const SHADOW_RAYS: u64 = DOT + LANE_WI;
+/// From the colour stage's input to its light terms entering the join queue: k_d·c_d,
+/// then the lanes.
+pub const TERMS: u64 = DOT + LANE_TERM;
+/// A shadow pair's way from the unit's input to its pixel's occlusion word: the
+/// transform, the intersection, the word's register.
+pub const TO_OCCLUSION: u64 = 1 + DOT + ISECT + 1;
 /// After the join: the sum, the choice of hit or background, the packing.
 pub const AFTER_JOIN: u64 = 3;
 
@@ -116,6 +138,15 @@ impl CoreFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_units_latencies_are_the_rtls() {
+        // the figures the RTL's headers state for Q_DOT_LAT = 4, Q_DIV_LAT = 35
+        assert_eq!(
+            [RAYGEN, ISECT, NORMAL, SHADOW_RAYS, TERMS],
+            [93, 82, 102, 97, 247]
+        );
+    }
 
     #[test]
     fn without_shadows_a_pixel_leaves_441_clocks_after_its_last_pair() {
