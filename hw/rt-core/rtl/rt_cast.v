@@ -17,7 +17,7 @@
 // pairs (light l with objects 0 .. N-1, in light order) of the oldest pixel whose shadow
 // rays are queued when the shadow part begins, or none. The colour stage sends every
 // pixel's L shadow rays (origin p + n.scale(bias), direction wi, tmin = bias, tmax =
-// dist: the model's `occluded`) about 288 clocks after its primary pairs, into a queue
+// dist: the model's `occluded`) about 289 clocks after its primary pairs, into a queue
 // of 2^SQA pixels; a shadow pair that hits anything marks its light blocked (an any(),
 // so the object order does not matter), and after the pixel's last shadow pair its
 // occlusion word goes back to the colour stage, which joins it with the pixel's light
@@ -52,9 +52,9 @@
 //   pixel with shadows), cleared by start.
 //   width, height: the frame size words as written (a bus keeps the frame's at start, for
 //   its read-back).
-// Timing: after start, SETUP = 17 clocks, then the generator's latency 93, then one
-// slot per pixel. Without shadows a pixel's result leaves 441 clocks after its ray's
-// last pair (xform 5, isect 82, the reduction 1, the normal 102, the colour 251); with
+// Timing: after start, SETUP = 17 clocks, then the generator's latency 96, then one
+// slot per pixel. Without shadows a pixel's result leaves 443 clocks after its ray's
+// last pair (xform 5, isect 82, the reduction 1, the normal 103, the colour 252); with
 // them, when both its terms and its occlusion word have arrived (rt-core.md gives the
 // frame's count). hold adds one clock per held clock. (The units' schedules are written
 // in q16_lat.vh's latencies; these figures are for Q_DOT_LAT = 4, Q_DIV_LAT = 35.)

@@ -12,9 +12,10 @@
 // Ports: shape, lo, ld (the object-space ray), t (its hit distance), m (M^-1 row-major as
 // rt_xform takes it), d (the world-space ray direction), tag (TB bits alongside);
 // in_valid / out_valid; n (world space, unit, facing the ray). ce low holds every stage.
-// Timing: latency LATENCY = 3 Q_DOT_LAT + Q_NORM3_LAT + 3 = 102 (hit point Q_DOT_LAT + 1,
-// shape normal 1, transform Q_DOT_LAT, normalise Q_NORM3_LAT, facing test Q_DOT_LAT,
-// flip 1), one hit per clock.
+// Timing: latency LATENCY = 3 Q_DOT_LAT + Q_NORM3_LAT + 4 = 103 (hit point Q_DOT_LAT + 1,
+// |components| 1, shape normal 1, transform Q_DOT_LAT, normalise Q_NORM3_LAT, facing
+// test Q_DOT_LAT, flip 1), one hit per clock; no clock holds more than one carry chain
+// and its multiplexers.
 // Parameters: TB >= 1.
 `default_nettype none
 `include "rt_map.vh"
@@ -46,7 +47,8 @@ module rt_normal #(
 
     // the stages: hit point, shape normal, world normal, normalised, facing the ray
     localparam integer T_LP = Q_DOT_LAT + 1;
-    localparam integer T_ON = T_LP + 1;
+    localparam integer T_ABS = T_LP + 1;
+    localparam integer T_ON = T_ABS + 1;
     localparam integer T_NW = T_ON + Q_DOT_LAT;
     localparam integer T_NN = T_NW + Q_NORM3_LAT;
     localparam integer LATENCY = T_NN + Q_DOT_LAT + 1;
@@ -80,9 +82,22 @@ module rt_normal #(
         end
     end
 
+    // T_ABS: |x|, |y|, |z| (the cube's test compares them), lp beside them
+    reg [95:0] lp_a;
+    reg [SB-1:0] shape_a;
+    reg [31:0] ax, ay, az;
+    always @(posedge clk) begin
+        if (ce) begin
+            lp_a <= lp;
+            shape_a <= shape_lp;
+            ax <= q_abs(lp[31:0]);
+            ay <= q_abs(lp[63:32]);
+            az <= q_abs(lp[95:64]);
+        end
+    end
+
     // T_ON: the shape's normal at lp
-    wire [31:0] px = lp[31:0], py = lp[63:32], pz = lp[95:64];
-    wire [31:0] ax = q_abs(px), ay = q_abs(py), az = q_abs(pz);
+    wire [31:0] px = lp_a[31:0], py = lp_a[63:32], pz = lp_a[95:64];
     // -1 for a negative component, else 1
     function [31:0] sgn(input negative);
         sgn = negative ? q_neg(Q_ONE) : Q_ONE;
@@ -90,8 +105,8 @@ module rt_normal #(
     reg [95:0] on;
     always @(posedge clk) begin
         if (ce) begin
-            case (shape_lp)
-                `RT_SHAPE_SPHERE: on <= lp;
+            case (shape_a)
+                `RT_SHAPE_SPHERE: on <= lp_a;
                 `RT_SHAPE_CYLINDER: on <= {pz, 32'd0, px};
                 `RT_SHAPE_CONE: on <= {pz, q_sub(Q_ONE, py), px};
                 `RT_SHAPE_CUBE: begin

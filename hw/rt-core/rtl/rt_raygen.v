@@ -19,8 +19,9 @@
 //   ux..wz: the camera basis words (Q16.16), held for the frame.
 //   tag: TB bits carried to the output beside the ray.
 //   in_valid / out_valid; ce low holds every stage.
-// Timing: latency 3 Q_DOT_LAT + 81 = 93 (round 1, scale Q_DOT_LAT, sum 1, normalise
-// 2 Q_DOT_LAT + 79), one sample per clock.
+// Timing: latency Q_DOT_LAT + 5 + Q_NORM3_LAT = 96 (round 3, scale Q_DOT_LAT, sum 1,
+// difference 1, normalise Q_NORM3_LAT), one sample per clock; no clock holds more than
+// one carry chain.
 // Parameters: PB (bits of px, py) 42..64, TB >= 1.
 `default_nettype none
 module rt_raygen #(
@@ -56,29 +57,33 @@ module rt_raygen #(
     endgenerate
 
     `include "q16_ops.vh"
-    // the stage of d' = (ux + vy) - w
-    localparam integer T_SUM = 2 + Q_DOT_LAT;
+    // the stages: the position words, u*x + v*y, d' = (u*x + v*y) - w
+    localparam integer T_POS = 3;
+    localparam integer T_SUM = T_POS + Q_DOT_LAT + 1;
+    localparam integer T_D = T_SUM + 1;
 
-    // the sample's position rounded to Q16.16, half away from zero; r's bits above 31 are
-    // zero for every |p| < 2^52, the range the host guarantees
+    // the sample's position rounded to Q16.16, half away from zero, one carry chain per
+    // clock: the magnitude, the rounded word, the sign again; r's bits above 31 are zero
+    // for every |p| < 2^52, the range the host guarantees
+    reg [PB-1:0] mx1, my1;
+    // bits above 31 are zero in the host's range, and not read
     /* verilator lint_off UNUSEDSIGNAL */
-    function [31:0] round_pitch(input signed [PB-1:0] p);
-        reg [PB-1:0] mag;
-        reg [PB-1:0] r;
-        begin
-            mag = p[PB-1] ? 0 - p : p;
-            r = (mag + (1 << 23)) >> 24;
-            round_pitch = p[PB-1] ? 32'd0 - r[31:0] : r[31:0];
-        end
-    endfunction
+    reg [PB-1:0] rx2, ry2;
     /* verilator lint_on UNUSEDSIGNAL */
-
-    // stage 1: the position words
-    reg [31:0] x1, y1;
+    reg          sx1, sy1, sx2, sy2;
+    reg [31:0]   x1, y1;
     always @(posedge clk) begin
         if (ce) begin
-            x1 <= round_pitch(px);
-            y1 <= round_pitch(py);
+            sx1 <= px[PB-1];
+            sy1 <= py[PB-1];
+            mx1 <= px[PB-1] ? 0 - px : px;
+            my1 <= py[PB-1] ? 0 - py : py;
+            sx2 <= sx1;
+            sy2 <= sy1;
+            rx2 <= (mx1 + (1 << 23)) >> 24;
+            ry2 <= (my1 + (1 << 23)) >> 24;
+            x1 <= sx2 ? 32'd0 - rx2[31:0] : rx2[31:0];
+            y1 <= sy2 ? 32'd0 - ry2[31:0] : ry2[31:0];
         end
     end
 
@@ -99,20 +104,23 @@ module rt_raygen #(
         .a(vz), .b(y1), .out_valid(), .y(vyz), .sat());
     /* verilator lint_on PINCONNECTEMPTY */
 
-    // valid and tag to the sum's stage
+    // valid and tag to d'
     wire          valid_sum;
     wire [TB-1:0] tag_sum;
-    dly #(.W(1), .N(T_SUM), .RESET(1)) u_valid_sum (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
+    dly #(.W(1), .N(T_D), .RESET(1)) u_valid_sum (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
         .q(valid_sum));
-    dly #(.W(TB), .N(T_SUM)) u_tag_sum (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag_sum));
+    dly #(.W(TB), .N(T_D)) u_tag_sum (.clk(clk), .rst(rst), .ce(ce), .d(tag), .q(tag_sum));
 
-    // d' = (ux + vy) - w
-    reg [31:0] rx, ry, rz;
+    // d' = (ux + vy) - w, one saturating operation per clock
+    reg [31:0] sx, sy, sz, rx, ry, rz;
     always @(posedge clk) begin
         if (ce) begin
-            rx <= q_sub(q_add(uxx, vyx), wx);
-            ry <= q_sub(q_add(uxy, vyy), wy);
-            rz <= q_sub(q_add(uxz, vyz), wz);
+            sx <= q_add(uxx, vyx);
+            sy <= q_add(uxy, vyy);
+            sz <= q_add(uxz, vyz);
+            rx <= q_sub(sx, wx);
+            ry <= q_sub(sy, wy);
+            rz <= q_sub(sz, wz);
         end
     end
 

@@ -34,7 +34,8 @@
 // Timing (rt_light.vh, q16_ops.vh): shadow rays at stage D + L_WI = 97 (kd c_d
 // D = Q_DOT_LAT = 4, the lanes' wi 93); the terms at D + L_LAT = 247 (the lanes 243) enter
 // the queue; the join pops at 248 at the earliest (with shadows off, always), then the sum
-// 1, the choice 1, the packing 1: latency 250 + 1 without shadows.
+// 1, the choice 1, the clamp 1, the packing 1: latency 251 + 1 without shadows. colour
+// and rgb come out together.
 // ce low holds every stage and the join; one pixel per clock.
 // Parameters: LIGHTS 1..8 lanes (point lights built), TB >= 1, TQA, OQA >= 1.
 `default_nettype none
@@ -220,17 +221,19 @@ module rt_shade #(
     end
     reg [95:0]   lk1;
     reg [96:0]   hb1;
-    reg [TB-1:0] tag1, tag2, tag3;
-    reg          v1, v2, v3;
+    reg [TB-1:0] tag1, tag2, tag3, tag4;
+    reg          v1, v2, v3, v4;
     always @(posedge clk) begin
         if (rst) begin
             v1 <= 1'b0;
             v2 <= 1'b0;
             v3 <= 1'b0;
+            v4 <= 1'b0;
         end else if (ce) begin
             v1 <= join_;
             v2 <= v1;
             v3 <= v2;
+            v4 <= v3;
         end
         if (ce) begin
             lk1 <= lk;
@@ -238,28 +241,37 @@ module rt_shade #(
             tag1 <= j_tag;
             tag2 <= tag1;
             tag3 <= tag2;
+            tag4 <= tag3;
         end
     end
 
-    // ---- join + 2: hit or background; join + 3: packing ---------------------------------------
-    always @(posedge clk) if (ce) colour <= hb1[96] ? lk1 : hb1[95:0];
-
-    // floor(clamp(v, 0, 1) * 255): the product is exact, so the byte is (v * 255) >> 16
+    // ---- join + 2: hit or background; join + 3: clamped to [0, 1]; join + 4: the bytes
+    // (one carry chain per clock: the clamp's comparison, then the product)
+    function [31:0] clamp01(input [31:0] v);
+        clamp01 = v[31] ? 32'd0 : (q_lt(Q_ONE, v) ? Q_ONE : v);
+    endfunction
+    // floor(v * 255) of a clamped v: the product is exact, so the byte is (v * 255) >> 16
     // (bits 23:16 of the product; the others are the fraction and zeros)
     /* verilator lint_off UNUSEDSIGNAL */
-    function [7:0] pack(input [31:0] v);
-        reg [31:0] cl;
+    function [7:0] byte255(input [31:0] cl);
         reg [39:0] pr;
         begin
-            cl = v[31] ? 32'd0 : (q_lt(Q_ONE, v) ? Q_ONE : v);
             pr = {8'd0, cl} * 40'd255;
-            pack = pr[23:16];
+            byte255 = pr[23:16];
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
-    always @(posedge clk)
-        if (ce) rgb <= {pack(colour[31:0]), pack(colour[63:32]), pack(colour[95:64])};
-    assign out_valid = v3;
-    assign tag_out = tag3;
+    reg [95:0] c2, c3, cl3;
+    always @(posedge clk) begin
+        if (ce) begin
+            c2 <= hb1[96] ? lk1 : hb1[95:0];
+            c3 <= c2;
+            cl3 <= {clamp01(c2[95:64]), clamp01(c2[63:32]), clamp01(c2[31:0])};
+            colour <= c3;
+            rgb <= {byte255(cl3[31:0]), byte255(cl3[63:32]), byte255(cl3[95:64])};
+        end
+    end
+    assign out_valid = v4;
+    assign tag_out = tag4;
 endmodule
 `default_nettype wire

@@ -23,9 +23,9 @@ const NORM3: u64 = 2 * DOT + RSQRT;
 /// Clocks after `start` before the first ray enters the generator: the products
 /// (W − 1)·K and (H − 1)·K, 16 clocks, and one to negate.
 pub const SETUP: u64 = 17;
-/// The primary-ray generator's latency (`rt_raygen`): the position words, u·x and v·y,
-/// their sum, the normalisation.
-pub const RAYGEN: u64 = 1 + DOT + 1 + NORM3;
+/// The primary-ray generator's latency (`rt_raygen`): the position words (magnitude,
+/// rounding, sign), u·x and v·y, their sum, less w, the normalisation.
+pub const RAYGEN: u64 = 3 + DOT + 1 + 1 + NORM3;
 /// The intersection unit's latency (`rt_isect`, `isect.vh`): the quadrics' datapath
 /// (front, discriminant, root, the quotients' operands, quotients, roots in order,
 /// height), the longest, then the choice of datapath.
@@ -33,9 +33,9 @@ pub const ISECT: u64 = 3 * DOT + SQRT + DIV + 7 + 1;
 /// From a pair entering the transform to its nearest-hit result: the transform (o − t,
 /// then a product), the intersection, the reduction's register (`rt_xform`, `rt_isect`).
 pub const TO_REDUCED: u64 = 1 + DOT + ISECT + 1;
-/// The normal (`rt_normal`): the hit point, the shape's normal, to world space, normalised,
-/// the facing test and the flip.
-pub const NORMAL: u64 = DOT + 1 + 1 + DOT + NORM3 + DOT + 1;
+/// The normal (`rt_normal`): the hit point, its components' magnitudes, the shape's
+/// normal, to world space, normalised, the facing test and the flip.
+pub const NORMAL: u64 = DOT + 1 + 1 + 1 + DOT + NORM3 + DOT + 1;
 /// A light lane's shadow ray (`rt_light.vh`'s `L_WI`): p, to_l, d², 1/√d², ω_i.
 const LANE_WI: u64 = DOT + 1 + 1 + DOT + RSQRT + DOT;
 /// A light lane's term (`L_LAT`): after ω_i, the half vector normalised, n·h and its
@@ -50,8 +50,8 @@ pub const TERMS: u64 = DOT + LANE_TERM;
 /// A shadow pair's way from the unit's input to its pixel's occlusion word: the
 /// transform, the intersection, the word's register.
 pub const TO_OCCLUSION: u64 = 1 + DOT + ISECT + 1;
-/// After the join: the sum, the choice of hit or background, the packing.
-pub const AFTER_JOIN: u64 = 3;
+/// After the join: the sum, the choice of hit or background, the clamp, the packing.
+pub const AFTER_JOIN: u64 = 4;
 
 /// What the core builds with its default parameters (`rt_device`'s: every shape, one
 /// point-light lane beside the ambient light, one sample per pixel, hard shadows): the
@@ -144,18 +144,18 @@ mod tests {
         // the figures the RTL's headers state for Q_DOT_LAT = 4, Q_DIV_LAT = 35
         assert_eq!(
             [RAYGEN, ISECT, NORMAL, SHADOW_RAYS, TERMS],
-            [93, 82, 102, 97, 247]
+            [96, 82, 103, 97, 247]
         );
     }
 
     #[test]
-    fn without_shadows_a_pixel_leaves_441_clocks_after_its_last_pair() {
+    fn without_shadows_a_pixel_leaves_443_clocks_after_its_last_pair() {
         let f = CoreFrame {
             width: 160,
             height: 90,
             objects: 8,
             shadow_lights: 0,
         };
-        assert_eq!(f.cycles(), 1 + 17 + 93 + 14_400 * 8 + 441);
+        assert_eq!(f.cycles(), 1 + 17 + 96 + 14_400 * 8 + 443);
     }
 }
