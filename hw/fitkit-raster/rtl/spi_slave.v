@@ -64,9 +64,13 @@ module spi_slave (
     assign spi_miso   = miso_r & ~spi_cs_n;
 
     always @(posedge clk) begin
+        // CS_n's synchroniser resets to low: a reset while the master holds CS_n low then
+        // sees no falling edge, and the rest of that transaction is no packet (no cs_start,
+        // no byte, no cs_end: the slave is inactive until CS_n has been high). A reset
+        // while CS_n is high shows a rising edge to an inactive slave, which does nothing.
         if (rst) begin
             sck_s  <= 3'b000;
-            cs_s   <= 3'b111;
+            cs_s   <= 3'b000;
             mosi_s <= 2'b00;
         end else begin
             sck_s  <= {sck_s[1:0], spi_sck};

@@ -61,8 +61,9 @@ module tb_spi;
     // Bytes the slave received, by the monitor.
     reg [7:0] got [0:255];
     reg [7:0] got_idx [0:255];
-    integer ngot = 0, nend = 0, partial = 0;
+    integer ngot = 0, nend = 0, partial = 0, nerr = 0;
     always @(posedge clk) begin
+        if (err_valid) nerr <= nerr + 1;
         if (cs_start) ngot <= 0;
         if (rx_valid) begin
             got[ngot] <= rx_byte;
@@ -139,6 +140,37 @@ module tb_spi;
         @(negedge clk) next = 1'b0;
         #1;
         check(!vld && occ == 0, "FIFO empty");
+
+        // Reset while CS_n is low: the rest of that transaction is no packet. The tail
+        // here is a whole clear packet (channel 0x03, D4 80 00 00 00) that would clear the
+        // frame if the slave took the first byte after reset for an address.
+        e = nend;
+        n = nerr;
+        spi_begin;
+        spi_xfer(`FITKIT_ADDR_LINE, rx);
+        spi_xfer(8'h80, rx);
+        spi_xfer(8'h40, rx);
+        @(negedge clk) rst = 1'b1;
+        repeat (3) @(negedge clk);
+        rst = 1'b0;
+        #3;
+        spi_xfer(`FITKIT_ADDR_CLEAR, rx);
+        for (k = 0; k < BYTES1; k = k + 1) spi_xfer(40'hD4_8000_0000 >> (32 - 8 * k), rx);
+        spi_end;
+        check(!vld && occ == 0 && nend == e && ngot == 3 && nerr == n,
+              "reset mid-transaction: its tail is no packet");
+        if (vld || occ != 0 || nend != e)
+            $display("  after the reset: FIFO %0d records (head %h), %0d transaction ends",
+                     occ, dout, nend - e);
+        // ... and the next transaction is whole again.
+        spi_begin;
+        spi_xfer(`FITKIT_ADDR_CLEAR, rx);
+        for (k = 0; k < BYTES1; k = k + 1) spi_xfer(40'hD4_8000_0000 >> (32 - 8 * k), rx);
+        spi_end;
+        check(vld && dout == {A_CLEAR[1:0], 36'hD_4800_0000} && nend == e + 1,
+              "a clear after the reset");
+        @(negedge clk) next = 1'b1;
+        @(negedge clk) next = 1'b0;
 
         $display("tb_spi: %0d passed, %0d failed", passed, failed);
         if (failed != 0) $fatal(1, "tb_spi failed");
