@@ -6,8 +6,9 @@
 // prefetches up to two bytes through fb_writer's read port (one read in flight at a
 // time), so each pixel has a whole SPI byte time (>= 64 clk cycles at f_SCK = f_clk/8)
 // to arrive. A byte the master clocks (its first bit sampled) without the data having
-// arrived is sent as 0 and reported as a read underrun (underrun strobe). A read still in
-// flight when a new transaction starts is dropped on arrival.
+// arrived is sent as 0 and reported as a read underrun (underrun strobe); its byte, when
+// it comes, is dropped, so every later byte is still the one of its own address. A read
+// still in flight when a new transaction starts is dropped on arrival.
 //
 // Ports: the spi_slave's events and chan / chan_valid from spi_decoder in; tx_byte is
 // the byte for the slave while channel 0x30 is selected; rd_* to / from fb_writer.
@@ -42,6 +43,7 @@ module readback (
     reg        pend;         // a read is in flight
     reg        drop;         // ... and belongs to an earlier transaction
     reg        missing;      // the byte loaded last had no data
+    reg [17:0] skip;         // bytes still to come whose slots went out as 0
 
     // Byte indices in the transaction: the last start-address byte, the first pixel.
     localparam [7:0] LAST_ADDR   = `FITKIT_READ_HEADER_BYTES - `FITKIT_READ_TURNAROUND - 1;
@@ -49,7 +51,11 @@ module readback (
 
     wire active = chan_valid & (chan == `FITKIT_ADDR_READ);
     wire pop    = active & tx_load & (byte_index >= FIRST_PIXEL);
-    wire push   = rd_valid & ~drop;
+    wire arrive = rd_valid & ~drop;
+    // a slot sent as 0 now; with it, the bytes to drop (the next arriving is the oldest)
+    wire miss   = pop & (cnt == 2'd0);
+    wire [17:0] owed = skip + {17'd0, miss};
+    wire push   = arrive & (owed == 18'd0);
 
     assign rd_req  = en & ~pend & (cnt != 2'd2);
     assign rd_addr = addr;
@@ -66,6 +72,7 @@ module readback (
             pend    <= 1'b0;
             drop    <= 1'b0;
             missing <= 1'b0;
+            skip    <= 18'd0;
         end else begin
             if (rd_ack) begin
                 pend <= 1'b1;
@@ -78,6 +85,7 @@ module readback (
                 en      <= 1'b0;
                 cnt     <= 2'd0;
                 missing <= 1'b0;
+                skip    <= 18'd0;
                 drop    <= (pend & ~rd_valid) | rd_ack;
             end else begin
                 if (rx_valid && active && rx_index >= 8'd1 && rx_index <= LAST_ADDR) begin
@@ -104,6 +112,7 @@ module readback (
                     default: ;
                 endcase
                 if (pop) missing <= cnt == 2'd0;
+                skip <= arrive && owed != 18'd0 ? owed - 18'd1 : owed;
                 if (active && bit_start && missing) begin
                     underrun <= 1'b1;
                     missing  <= 1'b0;
