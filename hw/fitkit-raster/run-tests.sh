@@ -9,7 +9,8 @@
 # block's folder; build products go to $RTL_BUILD (default target/rtl at the workspace
 # root, beside cargo's output; a relative $RTL_BUILD is taken from the workspace root).
 # Every compile gets -I rtl: the modules and testbenches include the generated map header
-# rtl/fitkit_map.vh.
+# rtl/fitkit_map.vh. Formal: the properties beside the FIFOs (`ifdef FORMAL`), proved
+# with ../shared-tb/prove.sh; a failing proof names its counterexample waveform.
 set -eu
 cd "$(dirname "$0")/../.."
 BUILD=${RTL_BUILD:-target/rtl}
@@ -25,6 +26,22 @@ verilator --lint-only -Wall -Irtl rtl/*.v --top-module fitkit_raster
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top
 verilator --lint-only -Wall -Irtl -GTRI_LANES=8 rtl/*.v --top-module fitkit_raster
 echo "lint: clean"
+
+# formal: the properties beside the FIFOs, proved at two depths each (../shared-tb/prove.sh)
+. ../shared-tb/prove.sh
+prove fitkit_fifo36_d4 fifo36 rtl/fifo36.v -set DEPTH 4
+prove fitkit_fifo36_d8 fifo36 rtl/fifo36.v -set DEPTH 8
+prove fitkit_frag_fifo_a2 frag_fifo rtl/frag_fifo.v -set AW 2 -set W 4
+prove fitkit_frag_fifo_a3 frag_fifo rtl/frag_fifo.v -set AW 3 -set W 4
+# a FIFO whose COMMIT shows one record too many must fail, with its waveform
+sed 's/if (COMMIT) wr_commit <= wr_ptr;/if (COMMIT) wr_commit <= wr_ptr + 1'"'"'b1;/' \
+    rtl/fifo36.v >"$BUILD/fifo36_broken.v"
+if cmp -s rtl/fifo36.v "$BUILD/fifo36_broken.v"; then
+    echo "formal: the breakage did not apply to rtl/fifo36.v"
+    exit 1
+fi
+prove_fails fitkit_fifo36_broken fifo36 "$BUILD/fifo36_broken.v" -set DEPTH 4
+echo "formal: done in $PROVE_SECONDS s"
 
 # testbench, build name, LANES parameter of tb_tri (or -), then the RTL files it needs
 run() {

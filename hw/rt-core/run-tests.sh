@@ -42,29 +42,14 @@ for top in rt_device_pins rt_isect_pins; do
     verilator --lint-only -Wall -Irtl rtl/*.v synth/*.v --top-module "$top"
 done
 echo "lint: clean"
-# formal: the properties beside a module (ifdef FORMAL), proved by Yosys's own SAT solver
-# from a reset in the first step: bounded model check and temporal induction up to 24
-# steps (small instances: the properties do not depend on the width, and on the depth
-# only through its bit count). yosys-smtbmc with Debian's z3 4.8 stalls in step 0 on
-# rt_axil, so the solver inside Yosys does all of them.
-prove() {
-    top=$1
-    shift
-    yosys -p "read_verilog -formal -DFORMAL -Irtl rtl/*.v; chparam $* $top; \
-        prep -top $top; flatten; memory_map; opt -fast; async2sync; dffunmap; \
-        sat -tempinduct -prove-asserts -set-assumes -set-at 1 rst 1 -maxsteps 24" \
-        >"$BUILD/rt_$top.formal.log" 2>&1 || true
-    if ! grep -q "Induction step proven: SUCCESS" "$BUILD/rt_$top.formal.log"; then
-        grep -E "FAIL|ERROR" "$BUILD/rt_$top.formal.log" | head -5
-        echo "formal: $top $* NOT proved (log: $BUILD/rt_$top.formal.log)"
-        exit 1
-    fi
-    echo "formal: $top $* proved (induction)"
-}
-prove rt_fifo -set W 4 -set AW 2
-prove rt_fifo -set W 3 -set AW 1
-prove rt_axil -set AW 4
-prove rt_readback
+# formal: the properties beside a module (ifdef FORMAL), proved at small sizes
+# (../shared-tb/prove.sh: Yosys's own SAT solver, a failing proof names its waveform)
+. ../shared-tb/prove.sh
+prove rt_fifo_w4 rt_fifo 'rtl/*.v' -set W 4 -set AW 2
+prove rt_fifo_w3 rt_fifo 'rtl/*.v' -set W 3 -set AW 1
+prove rt_axil rt_axil 'rtl/*.v' -set AW 4
+prove rt_readback rt_readback 'rtl/*.v'
+echo "formal: done in $PROVE_SECONDS s"
 # Icarus reads the whole core too (its testbench below covers the arithmetic units; the
 # intersection unit's and the frame's differential tests run under Verilator, in rtl-sim/)
 if [ "$SIM" = iverilog ]; then

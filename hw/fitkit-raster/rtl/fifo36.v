@@ -24,7 +24,11 @@
 // (fitkit_map.vh): the host sizes its writes by them.
 `default_nettype none
 `include "fitkit_map.vh"
-module fifo36 (
+module fifo36 #(
+    // records held; the block uses the map's, a proof a small power of two (the
+    // properties hold for any)
+    parameter integer DEPTH = `FITKIT_FIFO_RECORDS
+) (
     input  wire        clk,
     input  wire        rst,
     input  wire [`FITKIT_RECORD_BITS+1:0] DATA_IN,
@@ -36,15 +40,19 @@ module fifo36 (
     output wire        DATA_VLD,
     output wire        FIFO_FREE,
     output wire        room,
-    output wire [$clog2(`FITKIT_FIFO_RECORDS):0] free_count,
-    output wire [$clog2(`FITKIT_FIFO_RECORDS):0] occupancy
+    output wire [$clog2(DEPTH):0] free_count,
+    output wire [$clog2(DEPTH):0] occupancy
 );
     localparam W     = `FITKIT_RECORD_BITS + 2;         // record + tag
-    localparam DEPTH = `FITKIT_FIFO_RECORDS;
     localparam AW    = $clog2(DEPTH);                    // pointers carry one more bit
-    localparam [AW:0] DEPTH_C  = DEPTH;
+    localparam [AW:0] DEPTH_C  = DEPTH[AW:0];
     // Records of the widest packet: what FIFO_FREE promises room for.
     localparam [AW:0] PACKET_C = (`FITKIT_MAX_PACKET_BYTES * 8) / `FITKIT_RECORD_BITS;
+    generate
+        if (DEPTH < 4 || (1 << AW) != DEPTH) begin : bad_parameter
+            fifo36_depth_not_a_power_of_two_of_at_least_4 unsupported();
+        end
+    endgenerate
 
     reg [W-1:0] mem [0:DEPTH-1];
     reg [AW:0]  wr_ptr;     // tentative
@@ -92,5 +100,54 @@ module fifo36 (
             end
         end
     end
+
+`ifdef FORMAL
+    // The contract: COMMIT and DISCARD never come with DATA_WE, nor with each other (the
+    // decoder gives one of them when CS_n rises, after the packet's last record).
+    always @(*) assume (!(DATA_WE && (COMMIT || DISCARD)) && !(COMMIT && DISCARD));
+
+    // From the first reset on:
+    //  - occupancy: committed records never exceed tentative ones, nor those the depth;
+    //    room and FIFO_FREE say what the counts say;
+    //  - commit and discard: only COMMIT moves the reader's end (to the tentative one),
+    //    DISCARD takes the tentative end back to it, a write without room is dropped;
+    //  - data: any record, committed, comes out as written, in order (one record, at
+    //    an arbitrary pointer f_ptr, is followed: every record written there is f_data).
+    reg reset_seen = 1'b0, past_valid = 1'b0;
+    always @(posedge clk) begin
+        past_valid <= 1'b1;
+        if (rst) reset_seen <= 1'b1;
+    end
+    wire [AW:0] f_tent = wr_ptr - rd_ptr;
+    wire [AW:0] f_comm = wr_commit - rd_ptr;
+    (* anyconst *) reg [AW:0]  f_ptr;
+    (* anyconst *) reg [W-1:0] f_data;
+    always @(*) if (do_write && wr_ptr == f_ptr) assume (DATA_IN == f_data);
+    // f_ptr is written and not yet read: in [rd_ptr, wr_ptr)
+    wire        f_held = (f_ptr - rd_ptr) < f_tent;
+    always @(*) begin
+        if (reset_seen) begin
+            assert (f_comm <= f_tent);
+            // in one more bit: the tentative records and the output register's
+            assert ({1'b0, f_tent} + {{(AW+1){1'b0}}, out_valid} <= {1'b0, DEPTH_C});
+            assert (occupancy <= DEPTH_C && free_count == DEPTH_C - occupancy);
+            assert (room == (used_tent != DEPTH_C));
+            assert (FIFO_FREE == (free_count >= PACKET_C));
+            if (f_held) assert (mem[f_ptr[AW-1:0]] == f_data);
+            if (out_valid && rd_ptr - 1'b1 == f_ptr) assert (DATA_OUT == f_data);
+        end
+    end
+    always @(posedge clk) begin
+        if (reset_seen && past_valid && !$past(rst)) begin
+            if ($past(COMMIT)) assert (wr_commit == $past(wr_ptr));
+            else assert (wr_commit == $past(wr_commit));
+            if ($past(DISCARD)) assert (wr_ptr == $past(wr_commit));
+            if ($past(DATA_WE) && !$past(room)) assert (wr_ptr == $past(wr_ptr));
+            // a record is read only once committed
+            if ($past(do_read)) assert ($past(f_comm) != 0);
+        end
+        if (past_valid && $past(rst)) assert (occupancy == 0 && !DATA_VLD && room);
+    end
+`endif
 endmodule
 `default_nettype wire

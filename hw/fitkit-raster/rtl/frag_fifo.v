@@ -45,5 +45,37 @@ module frag_fifo #(
             if (do_r) rp <= rp + 1'b1;
         end
     end
+
+`ifdef FORMAL
+    // From the first reset on: the count (wp - rp) never exceeds the depth, full and
+    // empty say what it says, a write into a full FIFO and a read of an empty one change
+    // nothing, and any entry comes out as written, in order (an arbitrary pointer f_ptr
+    // is followed: every entry written there is f_data).
+    reg reset_seen = 1'b0, past_valid = 1'b0;
+    always @(posedge clk) begin
+        past_valid <= 1'b1;
+        if (rst) reset_seen <= 1'b1;
+    end
+    wire [AW:0] f_count = wp - rp;
+    (* anyconst *) reg [AW:0]  f_ptr;
+    (* anyconst *) reg [W-1:0] f_data;
+    always @(*) if (do_w && wp == f_ptr) assume (din == f_data);
+    always @(*) begin
+        if (reset_seen) begin
+            assert (f_count <= (1 << AW));
+            assert (empty == (f_count == 0));
+            assert (full == (f_count == (1 << AW)));
+            if ((f_ptr - rp) < f_count) assert (mem[f_ptr[AW-1:0]] == f_data);
+            if (!empty && rp == f_ptr) assert (dout == f_data);
+        end
+    end
+    always @(posedge clk) begin
+        if (reset_seen && past_valid && !$past(rst)) begin
+            assert (wp == $past(wp) + ($past(do_w) ? 1'b1 : 1'b0));
+            assert (rp == $past(rp) + ($past(do_r) ? 1'b1 : 1'b0));
+        end
+        if (past_valid && $past(rst)) assert (empty && !full);
+    end
+`endif
 endmodule
 `default_nettype wire
