@@ -27,12 +27,15 @@ verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top
 verilator --lint-only -Wall -Irtl -GTRI_LANES=8 rtl/*.v --top-module fitkit_raster
 echo "lint: clean"
 
-# formal: the properties beside the FIFOs, proved at two depths each (../shared-tb/prove.sh)
+# formal: the properties beside the FIFOs (proved at two depths each), the SPI slave and
+# the address decoder (../shared-tb/prove.sh)
 . ../shared-tb/prove.sh
 prove fitkit_fifo36_d4 fifo36 rtl/fifo36.v -set DEPTH 4
 prove fitkit_fifo36_d8 fifo36 rtl/fifo36.v -set DEPTH 8
 prove fitkit_frag_fifo_a2 frag_fifo rtl/frag_fifo.v -set AW 2 -set W 4
 prove fitkit_frag_fifo_a3 frag_fifo rtl/frag_fifo.v -set AW 3 -set W 4
+prove fitkit_spi_slave spi_slave rtl/spi_slave.v
+prove fitkit_spi_decoder spi_decoder rtl/spi_decoder.v
 # a FIFO whose COMMIT shows one record too many must fail, with its waveform
 sed 's/if (COMMIT) wr_commit <= wr_ptr;/if (COMMIT) wr_commit <= wr_ptr + 1'"'"'b1;/' \
     rtl/fifo36.v >"$BUILD/fifo36_broken.v"
@@ -41,6 +44,22 @@ if cmp -s rtl/fifo36.v "$BUILD/fifo36_broken.v"; then
     exit 1
 fi
 prove_fails fitkit_fifo36_broken fifo36 "$BUILD/fifo36_broken.v" -set DEPTH 4
+# and the slave with the CS_n synchroniser reset to high (the bug that took a reset
+# mid-transaction for a new CS_n fall) must fail its reset property
+sed "s/cs_s   <= 3'b000;/cs_s   <= 3'b111;/" rtl/spi_slave.v >"$BUILD/spi_slave_broken.v"
+if cmp -s rtl/spi_slave.v "$BUILD/spi_slave_broken.v"; then
+    echo "formal: the breakage did not apply to rtl/spi_slave.v"
+    exit 1
+fi
+prove_fails fitkit_spi_slave_broken spi_slave "$BUILD/spi_slave_broken.v"
+# and a decoder that commits a packet one of whose records found the FIFO full
+sed 's/if (!len_ok | (is_rec \& (!pad_ok | !cb_ok | ovr))) begin/if (!len_ok | (is_rec \& (!pad_ok | !cb_ok))) begin/' \
+    rtl/spi_decoder.v >"$BUILD/spi_decoder_broken.v"
+if cmp -s rtl/spi_decoder.v "$BUILD/spi_decoder_broken.v"; then
+    echo "formal: the breakage did not apply to rtl/spi_decoder.v"
+    exit 1
+fi
+prove_fails fitkit_spi_decoder_broken spi_decoder "$BUILD/spi_decoder_broken.v"
 echo "formal: done in $PROVE_SECONDS s"
 
 # testbench, build name, LANES parameter of tb_tri (or -), then the RTL files it needs

@@ -151,5 +151,86 @@ module spi_decoder (
             chan_valid <= 1'b0;
         end
     end
+
+`ifdef FORMAL
+    // The slave's contract (spi_slave proves its side): one event per cycle at most;
+    // bytes and the end only inside a transaction, which begins with cs_start (none
+    // after a reset before one); byte k of a transaction comes with rx_index k.
+    reg        f_in = 1'b0, reset_seen = 1'b0, f_end_d = 1'b0, f_part = 1'b0;
+    reg [8:0]  f_n = 9'd0;   // bytes of the transaction, saturating at 511
+    reg [7:0]  f_chan = 8'd0;
+    reg [1:0]  f_w = 2'd0;
+    always @(*) begin
+        assume (!(cs_start && cs_end) && !(cs_start && rx_valid) && !(cs_end && rx_valid));
+        if (!f_in) assume (!rx_valid && !cs_end);
+        if (f_in) assume (!cs_start);
+        if (rx_valid) assume (rx_index == (f_n > 9'd255 ? 8'd255 : f_n[7:0]));
+    end
+    always @(posedge clk) begin
+        f_end_d <= !rst && cs_end;
+        if (rst) begin
+            reset_seen <= 1'b1;
+            f_in <= 1'b0;
+            f_n <= 9'd0;
+            f_w <= 2'd0;
+        end else begin
+            if (cs_start) begin
+                f_in <= 1'b1;
+                f_n <= 9'd0;
+                f_w <= 2'd0;
+            end
+            if (rx_valid) begin
+                if (f_n == 9'd0) f_chan <= rx_byte;
+                if (f_n != 9'h1FF) f_n <= f_n + 9'd1;
+            end
+            if (fifo_we && f_w != 2'd3) f_w <= f_w + 2'd1;
+            if (cs_end) begin
+                f_in <= 1'b0;
+                f_part <= cs_partial;
+            end
+        end
+    end
+    // what the transaction that just ended was: a record channel's, and whole
+    wire       f_rec = f_n != 9'd0 && f_chan[7:2] == 6'd0;
+    wire       f_two = f_chan == `FITKIT_ADDR_LINE || f_chan == `FITKIT_ADDR_TRIANGLE;
+    wire [8:0] f_bytes = 9'd1 + {1'b0, f_two ? BYTES2 : BYTES1};
+    wire [1:0] f_recs = f_two ? 2'd2 : 2'd1;
+    // records completed by the payload so far
+    wire [2:0] f_done_recs = (nbytes >= BYTES1 ? 3'd1 : 3'd0)
+                           + (is_two && nbytes >= BYTES2 ? 3'd1 : 3'd0);
+    // From the first reset on:
+    //  - a packet reaches the FIFO (COMMIT) only whole: the transaction that just ended was
+    //    a record channel's, had its exact byte count and no partial byte, and every one
+    //    of its records was written;
+    //  - every record channel's transaction ends in exactly one COMMIT or DISCARD, the
+    //    cycle after its end, and nothing else does; neither comes with a write (the
+    //    FIFO's contract, which fifo36's proof assumes);
+    //  - a record is written only on a record channel, at most as many as it has;
+    //  - the block resets (soft_rst) only after an address-only 0x7F transaction.
+    always @(*) begin
+        if (reset_seen) begin
+            if (fifo_commit)
+                assert (f_end_d && f_rec && f_n == f_bytes && !f_part && f_w == f_recs);
+            if (f_end_d && f_rec) assert (fifo_commit != fifo_discard);
+            if (fifo_commit || fifo_discard) assert (f_end_d && f_rec);
+            assert (!(fifo_we && (fifo_commit || fifo_discard)));
+            if (fifo_we) assert (f_in && f_rec);
+            assert (f_w <= f_recs || !f_rec);
+            if (soft_rst)
+                assert (f_end_d && f_chan == `FITKIT_ADDR_RESET && f_n == 9'd1 && !f_part);
+            // the decoder's view agrees with the transaction's
+            if (chan_valid) assert (f_in && f_n != 9'd0 && chan == f_chan);
+            if (f_in && f_n != 9'd0) assert (chan_valid && chan == f_chan);
+            // its count of payload bytes, and the records written of those completed
+            // (the last one's write may be on its way; a refused one sets ovr)
+            if (chan_valid && (is_rec || is_rst))
+                assert (nbytes == (f_n > 9'd256 ? 8'd255 : f_n[7:0] - 8'd1));
+            if (chan_valid && is_rec) begin
+                if (ovr) assert ({1'b0, f_w} + fifo_we <= f_done_recs);
+                else assert ({1'b0, f_w} + fifo_we == f_done_recs);
+            end
+        end
+    end
+`endif
 endmodule
 `default_nettype wire

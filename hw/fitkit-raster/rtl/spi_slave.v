@@ -127,5 +127,34 @@ module spi_slave (
             end
         end
     end
+
+`ifdef FORMAL
+    // A reset at any cycle leaves no partial transaction behind: after a reset no
+    // transaction starts before CS_n has been high (a reset while the master holds CS_n
+    // low is not a new CS_n fall), and until one starts the slave gives no byte, no end
+    // and no transmit strobe. The strobes keep to the slave's state: a transaction starts
+    // as it goes active and ends as it goes inactive, and bytes come while it is active.
+    reg reset_seen = 1'b0, cs_high_seen = 1'b0, idle_since_rst = 1'b0;
+    always @(posedge clk) begin
+        if (rst) begin
+            reset_seen <= 1'b1;
+            cs_high_seen <= 1'b0;
+            idle_since_rst <= 1'b1;
+        end else begin
+            if (spi_cs_n) cs_high_seen <= 1'b1;
+            if (cs_fall) idle_since_rst <= 1'b0;
+        end
+    end
+    always @(*) begin
+        if (reset_seen) begin
+            if (cs_start) assert (cs_high_seen);
+            if (idle_since_rst) assert (!active && !rx_valid && !cs_end && !tx_load && !bit_start);
+            if (cs_end) assert (!active);
+            if (cs_start || rx_valid) assert (active);
+            // the synchroniser holds no high CS_n the pin has not shown since the reset
+            if (!cs_high_seen) assert (cs_s == 3'b000);
+        end
+    end
+`endif
 endmodule
 `default_nettype wire
