@@ -27,8 +27,8 @@ verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top
 verilator --lint-only -Wall -Irtl -GTRI_LANES=8 rtl/*.v --top-module fitkit_raster
 echo "lint: clean"
 
-# formal: the properties beside the FIFOs (proved at two depths each), the SPI slave and
-# the address decoder (../shared-tb/prove.sh)
+# formal: the properties beside the FIFOs (proved at two depths each), the SPI slave, the
+# address decoder and the read-back stream (../shared-tb/prove.sh)
 . ../shared-tb/prove.sh
 prove fitkit_fifo36_d4 fifo36 rtl/fifo36.v -set DEPTH 4
 prove fitkit_fifo36_d8 fifo36 rtl/fifo36.v -set DEPTH 8
@@ -36,6 +36,7 @@ prove fitkit_frag_fifo_a2 frag_fifo rtl/frag_fifo.v -set AW 2 -set W 4
 prove fitkit_frag_fifo_a3 frag_fifo rtl/frag_fifo.v -set AW 3 -set W 4
 prove fitkit_spi_slave spi_slave rtl/spi_slave.v
 prove fitkit_spi_decoder spi_decoder rtl/spi_decoder.v
+prove fitkit_readback readback rtl/readback.v
 # a FIFO whose COMMIT shows one record too many must fail, with its waveform
 sed 's/if (COMMIT) wr_commit <= wr_ptr;/if (COMMIT) wr_commit <= wr_ptr + 1'"'"'b1;/' \
     rtl/fifo36.v >"$BUILD/fifo36_broken.v"
@@ -60,6 +61,14 @@ if cmp -s rtl/spi_decoder.v "$BUILD/spi_decoder_broken.v"; then
     exit 1
 fi
 prove_fails fitkit_spi_decoder_broken spi_decoder "$BUILD/spi_decoder_broken.v"
+# and the read-back that sent a late byte in the next slot (the bug that shifted the stream)
+sed 's/    wire push   = arrive \& (owed == 18.d0);/    wire push   = arrive;/' \
+    rtl/readback.v >"$BUILD/readback_broken.v"
+if cmp -s rtl/readback.v "$BUILD/readback_broken.v"; then
+    echo "formal: the breakage did not apply to rtl/readback.v"
+    exit 1
+fi
+prove_fails fitkit_readback_broken readback "$BUILD/readback_broken.v"
 echo "formal: done in $PROVE_SECONDS s"
 
 # testbench, build name, LANES parameter of tb_tri (or -), then the RTL files it needs

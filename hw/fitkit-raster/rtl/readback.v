@@ -120,5 +120,60 @@ module readback (
             end
         end
     end
+
+`ifdef FORMAL
+    // The stream keeps to its addresses: with any memory (one arbitrary address f_a is
+    // followed, whose reads return f_d), every pixel slot the master clocks sends the byte
+    // of its own address (start + k for slot k) or, when that byte is late, 0 -- never a
+    // neighbour's. The environment: the decoder gives one start address per transaction
+    // and pixel slots only after it; the port acks only what is requested and answers
+    // only the read in flight.
+    reg         reset_seen = 1'b0, f_flight = 1'b0;
+    reg  [17:0] f_flight_addr = 18'd0, f_slot = 18'd0;
+    (* anyconst *) reg [17:0] f_a;
+    (* anyconst *) reg [7:0]  f_d;
+    wire addr_byte = rx_valid && active && rx_index >= 8'd1 && rx_index <= LAST_ADDR;
+    always @(*) begin
+        if (rd_ack) assume (rd_req);
+        if (rd_valid) assume (f_flight && !rd_ack);
+        if (rd_valid && f_flight_addr == f_a) assume (rd_data == f_d);
+        if (pop) assume (en && !cs_start);
+        if (en) assume (!addr_byte);
+    end
+    always @(posedge clk) begin
+        if (rst) begin
+            reset_seen <= 1'b1;
+            f_flight <= 1'b0;
+        end else begin
+            if (rd_ack) begin
+                f_flight <= 1'b1;
+                f_flight_addr <= rd_addr;
+            end else if (rd_valid) begin
+                f_flight <= 1'b0;
+            end
+            if (!cs_start && addr_byte && rx_index == LAST_ADDR) f_slot <= {addr[9:0], rx_byte};
+            else if (pop) f_slot <= f_slot + 18'd1;
+        end
+    end
+    wire [17:0] f_mine = {17'd0, pend && !drop};   // the read in flight is this stream's
+    always @(*) begin
+        if (reset_seen) begin
+            assert (pend == f_flight && cnt <= 2'd2 && (pend || !drop));
+            if (pend && !drop) assert (f_flight_addr == addr - 18'd1);
+            if (!en) assert (!(pend && !drop) && cnt == 2'd0 && skip == 18'd0);
+            if (skip != 18'd0) assert (cnt == 2'd0);
+            // the queue and the read in flight: two bytes at most
+            assert ({1'b0, cnt} + {2'd0, pend && !drop} <= 3'd2);
+            if (en) begin
+                // requested = served + queued + in flight + dropped, in addresses
+                assert (addr + skip == f_slot + {16'd0, cnt} + f_mine);
+                if (cnt != 2'd0 && f_slot == f_a) assert (b0 == f_d);
+                if (cnt == 2'd2 && f_slot + 18'd1 == f_a) assert (b1 == f_d);
+                // the property: a slot sent with data sends its address's byte
+                if (pop && cnt != 2'd0 && f_slot == f_a) assert (tx_byte == f_d);
+            end
+        end
+    end
+`endif
 endmodule
 `default_nettype wire
