@@ -28,7 +28,7 @@ verilator --lint-only -Wall -Irtl -GTRI_LANES=8 rtl/*.v --top-module fitkit_rast
 echo "lint: clean"
 
 # formal: the properties beside the FIFOs (proved at two depths each), the SPI slave, the
-# address decoder and the read-back stream (../shared-tb/prove.sh)
+# address decoder, the read-back stream and the kept error (../shared-tb/prove.sh)
 . ../shared-tb/prove.sh
 prove fitkit_fifo36_d4 fifo36 rtl/fifo36.v -set DEPTH 4
 prove fitkit_fifo36_d8 fifo36 rtl/fifo36.v -set DEPTH 8
@@ -37,6 +37,7 @@ prove fitkit_frag_fifo_a3 frag_fifo rtl/frag_fifo.v -set AW 3 -set W 4
 prove fitkit_spi_slave spi_slave rtl/spi_slave.v
 prove fitkit_spi_decoder spi_decoder rtl/spi_decoder.v
 prove fitkit_readback readback rtl/readback.v
+prove fitkit_status status rtl/status.v
 # a FIFO whose COMMIT shows one record too many must fail, with its waveform
 sed 's/if (COMMIT) wr_commit <= wr_ptr;/if (COMMIT) wr_commit <= wr_ptr + 1'"'"'b1;/' \
     rtl/fifo36.v >"$BUILD/fifo36_broken.v"

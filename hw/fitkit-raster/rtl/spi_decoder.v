@@ -218,6 +218,8 @@ module spi_decoder (
             assert (f_w <= f_recs || !f_rec);
             if (soft_rst)
                 assert (f_end_d && f_chan == `FITKIT_ADDR_RESET && f_n == 9'd1 && !f_part);
+            // an error report names an error (status.v's proof assumes it)
+            if (err_valid) assert (err_code != {`FITKIT_ERR_BITS{1'b0}});
             // the decoder's view agrees with the transaction's
             if (chan_valid) assert (f_in && f_n != 9'd0 && chan == f_chan);
             if (f_in && f_n != 9'd0) assert (chan_valid && chan == f_chan);

@@ -120,5 +120,26 @@ module status (
             if (snap) snapshot <= block;
         end
     end
+
+`ifdef FORMAL
+    // The first error is kept until a reset: once the flag is up, its code, channel and
+    // packet index never change but by rst; the code is not 0 exactly while the flag is
+    // up; and an error comes up only from a decoder error or an underrun.
+    reg reset_seen = 1'b0, past_valid = 1'b0;
+    always @(posedge clk) begin
+        past_valid <= 1'b1;
+        if (rst) reset_seen <= 1'b1;
+    end
+    always @(*) if (reset_seen) assert (err == (err_code != {`FITKIT_ERR_BITS{1'b0}}));
+    always @(*) assume (!dec_err || dec_code != {`FITKIT_ERR_BITS{1'b0}});
+    always @(posedge clk) begin
+        if (reset_seen && past_valid && !$past(rst)) begin
+            if ($past(err))
+                assert (err && err_code == $past(err_code) && err_chan == $past(err_chan)
+                        && err_pkt == $past(err_pkt));
+            if (err && !$past(err)) assert ($past(dec_err) || $past(underrun));
+        end
+    end
+`endif
 endmodule
 `default_nettype wire
