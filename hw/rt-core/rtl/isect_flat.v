@@ -119,7 +119,8 @@ module isect_flat #(
     dly #(.W(1), .N(2 * D + 1)) d_plane_l (.clk(clk), .rst(rst), .ce(ce), .d(plane_q), .q(plane_l));
     dly #(.W(1), .N(D - 1)) d_square_l (.clk(clk), .rst(rst), .ce(ce), .d(square_x), .q(square_l));
     dly #(.W(32), .N(2 * D + 1)) d_t_l (.clk(clk), .rst(rst), .ce(ce), .d(t_q1), .q(t_l));
-    dly #(.W(SB), .N(2 * D + 2)) d_shape_l (.clk(clk), .rst(rst), .ce(ce), .d(shape_q), .q(shape_l));
+    dly #(.W(SB), .N(2 * D + 2)) d_shape_l (.clk(clk), .rst(rst), .ce(ce),
+        .d(shape_q), .q(shape_l));
 
     always @(posedge clk) if (ce) begin
         case (shape_l)

@@ -108,7 +108,8 @@ module isect_quadric #(
             q16_dot #(.TERMS(3), .ROUND(1)) u_h (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({dz, dy, dx}), .b({oz, oy, ox}), .out_valid(), .y(h_p), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_oo (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({oz, oy, ox}), .b({oz, oy, ox}), .out_valid(), .y(oo_p), .sat());
+                .in_valid(1'b1), .a({oz, oy, ox}), .b({oz, oy, ox}),
+                .out_valid(), .y(oo_p), .sat());
             // d x o, each component one rounding (cross2)
             q16_dot #(.TERMS(2), .ROUND(1)) u_x0 (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({q_neg(dz), dy}), .b({oy, oz}), .out_valid(), .y(x0), .sat());
@@ -200,7 +201,8 @@ module isect_quadric #(
             q16_dot #(.TERMS(1), .ROUND(0)) u_dzz (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a(dz), .b(dz), .out_valid(), .y(dzz_p), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_h (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({dz, ndy, dx}), .b({oz, py, ox}), .out_valid(), .y(h_p), .sat());
+                .in_valid(1'b1), .a({dz, ndy, dx}), .b({oz, py, ox}),
+                .out_valid(), .y(h_p), .sat());
             // -p_y as 1 - o_y: the same word for every o_y (both clip only at o_y = -2^31,
             // to 2^31 - 1), one saturating operation instead of two
             q16_dot #(.TERMS(3), .ROUND(1)) u_c (.clk(clk), .rst(rst), .ce(ce),
@@ -213,7 +215,8 @@ module isect_quadric #(
             q16_dot #(.TERMS(2), .ROUND(1)) u_xz (.clk(clk), .rst(rst), .ce(ce),
                 .in_valid(1'b1), .a({ndz, dx}), .b({ox, oz}), .out_valid(), .y(xz_p), .sat());
             q16_dot #(.TERMS(3), .ROUND(1)) u_disc (.clk(clk), .rst(rst), .ce(ce),
-                .in_valid(1'b1), .a({q_neg(xz_p), yz_p, xy_p}), .b({xz_p, yz_p, xy_p}), .out_valid(),
+                .in_valid(1'b1), .a({q_neg(xz_p), yz_p, xy_p}), .b({xz_p, yz_p, xy_p}),
+                .out_valid(),
                 .y(disc_p), .sat());
             reg [31:0] s1, z1, h1, c1, a_f, h_f, c_f, disc;
             always @(posedge clk) if (ce) begin

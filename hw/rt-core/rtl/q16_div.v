@@ -14,7 +14,7 @@
 // result clipped or b = 0 (the model counts both as saturations).
 //
 // Ports: a, b signed Q16.16; in_valid / out_valid; ce low holds the pipeline.
-// Timing: latency Q_DIV_LAT = 35 (q16_ops.vh: operands, their magnitudes, 32 quotient
+// Timing: latency Q_DIV_LAT = 35 (q16_lat.vh: operands, their magnitudes, 32 quotient
 // bits, sign and clamp), one operand pair per clock. The operands are registered as they
 // come so that the caller's operand logic (a saturating negation or difference) and the
 // magnitudes' negation and comparison are not one clock at 100 MHz.

@@ -24,7 +24,7 @@
 // Ports
 //   a, b: TERMS words each, term k in bits [32k+31 : 32k], two's complement Q16.16.
 //   in_valid / out_valid: a result per accepted operand set; ce low holds the pipeline.
-// Timing: latency Q_DOT_LAT = 4 (q16_ops.vh: operands, partial products, term products,
+// Timing: latency Q_DOT_LAT = 4 (q16_lat.vh: operands, partial products, term products,
 // sum / round / clamp), one operand set per clock.
 // Parameters: TERMS 1..4, ROUND 0 or 1 (others stop elaboration).
 `default_nettype none

@@ -26,7 +26,7 @@
 // (position), colour, kdcd (k_d c_d), kscs (k_s c_s), e (exponent); tag (TB bits
 // alongside); in_valid / out_valid; term; p (stage L_P), wi and extent = dist (stage
 // L_WI). ce low holds every stage.
-// Timing, with D = Q_DOT_LAT = 4 (q16_ops.vh): p at L_P = D + 1 = 5, wi at
+// Timing, with D = Q_DOT_LAT = 4 (q16_lat.vh): p at L_P = D + 1 = 5, wi at
 // L_WI = 2 + 3 D + 79 = 93 (to_l 1, dist2 D, rsqrt 79, wi D), the term at
 // LATENCY = 243 (then the highlight's normalise 1 + Q_NORM3_LAT, n.h D + 1, power 10 D,
 // norm D, kscs D, sum 1, colour D, g D); one hit per clock.
@@ -245,7 +245,8 @@ module rt_light #(
         end
     end
     wire [95:0] col_brdf;
-    dly #(.W(96), .N(L_BRDF - L_FS)) u_col_brdf (.clk(clk), .rst(rst), .ce(ce), .d(col_fs), .q(col_brdf));
+    dly #(.W(96), .N(L_BRDF - L_FS)) u_col_brdf (.clk(clk), .rst(rst), .ce(ce),
+        .d(col_fs), .q(col_brdf));
 
     // ---- brdf * colour; LATENCY: * g -----------------------------------------
     wire [95:0] bc;

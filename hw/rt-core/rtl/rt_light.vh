@@ -1,7 +1,7 @@
 // rt_light.vh -- rt_light's schedule: the stage at which each of its values is registered,
 // counted from its input. Included inside rt_light and inside rt_shade, which meets the
 // lanes' outputs (p, wi and dist, the term) at these stages, so the schedule has one home.
-// Needs q16_ops.vh included before it.
+// Needs q16_lat.vh (or q16_ops.vh, which includes it) before it.
 
 // not every includer names every stage
 /* verilator lint_off UNUSEDPARAM */

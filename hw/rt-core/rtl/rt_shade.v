@@ -31,7 +31,7 @@
 // occ; out_valid with colour (the Q16.16 sum before packing), rgb (R in bits 23:16) and
 // tag_out. A queue that overflows or underflows is a schedule error: rt_fifo stops the
 // simulation.
-// Timing (rt_light.vh, q16_ops.vh): shadow rays at stage D + L_WI = 97 (kd c_d
+// Timing (rt_light.vh, q16_lat.vh): shadow rays at stage D + L_WI = 97 (kd c_d
 // D = Q_DOT_LAT = 4, the lanes' wi 93); the terms at D + L_LAT = 247 (the lanes 243) enter
 // the queue; the join pops at 248 at the earliest (with shadows off, always), then the sum
 // 1, the choice 1, the clamp 1, the packing 1: latency 251 + 1 without shadows. colour
@@ -134,7 +134,7 @@ module rt_shade #(
     wire [96*LIGHTS-1:0] colours_l = lane_in[LIGHTS +: 96*LIGHTS];
     wire [LIGHTS-1:0]    lit_l = lane_in[LIGHTS-1:0];
 
-    // ---- D + 1 to D + LANE: each light's term --------------------------------------------------------
+    // ---- D + 1 to D + LANE: each light's term -----------------------------------------------
     wire [96*LIGHTS-1:0] terms, ps;
     genvar l;
     generate
@@ -181,7 +181,7 @@ module rt_shade #(
     dly #(.W(1), .N(D + WI), .RESET(1)) u_sh_valid (.clk(clk), .rst(rst), .ce(ce),
         .d(in_valid && shadows), .q(sh_valid));
 
-    // ---- D + LANE: the pixel waits for its occlusion word; both queues in pixel order ---------------
+    // ---- D + LANE: the pixel waits for its occlusion word; both queues in pixel order -------
     wire         v_q;
     dly #(.W(1), .N(D + LANE), .RESET(1)) u_v_q (.clk(clk), .rst(rst), .ce(ce), .d(in_valid),
         .q(v_q));
