@@ -15,6 +15,8 @@ fn main() {
         sim: vec![manifest.join("../sim")],
         shim: manifest.join("csrc/shim.cpp"),
         lib: "fitkit_rtl",
+        // a failing differential case writes its waveform (Rtl::trace_to)
+        trace: true,
     }
     .build();
 }

@@ -14,6 +14,7 @@ fn main() {
         sim: vec![manifest.join("../sim")],
         shim: manifest.join("csrc/shim.cpp"),
         lib: "rt_core_rtl",
+        trace: false,
     }
     .build();
 }

@@ -36,6 +36,10 @@ pub struct Model<'a> {
     pub shim: PathBuf,
     /// The static library's name.
     pub lib: &'a str,
+    /// Build the model able to write a VCD (Verilator's `--trace`), for a shim that opens
+    /// one when a case fails; a model never asked for one pays only Verilator's activity
+    /// flags.
+    pub trace: bool,
 }
 
 impl Model<'_> {
@@ -88,6 +92,11 @@ impl Model<'_> {
                     "--x-initial",
                     "unique",
                 ])
+                .args(if self.trace {
+                    &["--trace"][..]
+                } else {
+                    &[][..]
+                })
                 .args(["--top-module", top, "-Wno-fatal", "--Mdir"])
                 .arg(mdir)
                 // The modules include headers that sit beside them (a generated map), so a
@@ -118,7 +127,7 @@ impl Model<'_> {
             .debug(false)
             .warnings(false)
             .cargo_warnings(false)
-            .define("VM_TRACE", "0")
+            .define("VM_TRACE", if self.trace { "1" } else { "0" })
             .includes(&mdirs)
             .include(&include)
             .include(include.join("vltstd"))
@@ -129,6 +138,9 @@ impl Model<'_> {
             "verilated_dpi.cpp",
         ] {
             build.file(include.join(runtime));
+        }
+        if self.trace {
+            build.file(include.join("verilated_vcd_c.cpp"));
         }
         for mdir in &mdirs {
             let mut generated: Vec<PathBuf> = fs::read_dir(mdir)

@@ -10,6 +10,7 @@
 #include "Vfitkit_sim_top.h"
 #include "verilated.h"
 #include "verilated_syms.h"
+#include "verilated_vcd_c.h"
 
 namespace {
 constexpr size_t kRamBytes = size_t{1} << 18;
@@ -35,6 +36,9 @@ struct FitkitRtl {
     std::unique_ptr<VerilatedContext> ctx;
     std::unique_ptr<Vfitkit_sim_top> top;
     uint8_t* ram = nullptr;
+    // The waveform, once a failing case asks for one; each tick is two time steps.
+    std::unique_ptr<VerilatedVcdC> vcd;
+    uint64_t time = 0;
 };
 
 static void apply(FitkitRtl* m, uint32_t in) {
@@ -75,12 +79,20 @@ static uint8_t* find_ram(VerilatedContext* ctx) {
 extern "C" {
 
 // A model in reset-released idle state, or null when no RAM is visible (`*no_ram` set)
-// or construction failed.
-FitkitRtl* fitkit_rtl_new(int* no_ram) {
+// or construction failed. `seed` 0 starts every register and memory at 0; any other seed
+// starts them at random values drawn from it (Verilated with --x-initial unique), so a
+// test can show that nothing uninitialised reaches an output.
+FitkitRtl* fitkit_rtl_new(int* no_ram, uint64_t seed) {
     *no_ram = 0;
     auto* m = new (std::nothrow) FitkitRtl;
     if (!m) return nullptr;
     m->ctx = std::make_unique<VerilatedContext>();
+    if (seed != 0) {
+        m->ctx->randReset(2);
+        m->ctx->randSeed(static_cast<int>(seed & 0x7fffffff));
+    }
+    // tracing must be allowed before the model exists; it costs nothing until opened
+    m->ctx->traceEverOn(true);
     m->top = std::make_unique<Vfitkit_sim_top>(m->ctx.get(), "fitkit_sim_top");
     m->ram = find_ram(m->ctx.get());
     if (!m->ram) {
@@ -96,8 +108,21 @@ FitkitRtl* fitkit_rtl_new(int* no_ram) {
 
 void fitkit_rtl_free(FitkitRtl* m) {
     if (!m) return;
+    if (m->vcd) m->vcd->close();
     m->top->final();
     delete m;
+}
+
+// Starts a VCD of every signal at `path` from the next tick on; 0 when it cannot be
+// opened (or one is already open).
+int fitkit_rtl_trace(FitkitRtl* m, const char* path) {
+    if (m->vcd) return 0;
+    auto vcd = std::make_unique<VerilatedVcdC>();
+    m->top->trace(vcd.get(), 99);
+    vcd->open(path);
+    if (!vcd->isOpen()) return 0;
+    m->vcd = std::move(vcd);
+    return 1;
 }
 
 // Applies `in`, lets combinational logic settle, and returns the outputs.
@@ -117,8 +142,11 @@ uint32_t fitkit_rtl_tick(FitkitRtl* m, uint32_t in) {
     }
     m->top->clk = 1;
     m->top->eval();
+    if (m->vcd) m->vcd->dump(m->time);
     m->top->clk = 0;
     m->top->eval();
+    if (m->vcd) m->vcd->dump(m->time + 1);
+    m->time += 2;
     return outputs(m);
 }
 

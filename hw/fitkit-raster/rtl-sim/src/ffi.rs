@@ -27,7 +27,8 @@ mod sys {
     use super::FitkitRtl;
 
     extern "C" {
-        pub fn fitkit_rtl_new(no_ram: *mut i32) -> *mut FitkitRtl;
+        pub fn fitkit_rtl_new(no_ram: *mut i32, seed: u64) -> *mut FitkitRtl;
+        pub fn fitkit_rtl_trace(m: *mut FitkitRtl, path: *const std::ffi::c_char) -> i32;
         pub fn fitkit_rtl_free(m: *mut FitkitRtl);
         pub fn fitkit_rtl_tick(m: *mut FitkitRtl, inputs: u32) -> u32;
         pub fn fitkit_rtl_ram(m: *const FitkitRtl, len: *mut usize) -> *const u8;
@@ -35,15 +36,21 @@ mod sys {
 }
 
 #[cfg(verilated)]
-pub(crate) fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
+pub(crate) fn new(seed: u64) -> Result<NonNull<FitkitRtl>, RtlError> {
     let mut no_ram = 0i32;
     // SAFETY: the shim writes `no_ram` and returns a fresh model or null.
-    let p = unsafe { sys::fitkit_rtl_new(&mut no_ram) };
+    let p = unsafe { sys::fitkit_rtl_new(&mut no_ram, seed) };
     match NonNull::new(p) {
         Some(m) => Ok(m),
         None if no_ram != 0 => Err(RtlError::NoRam),
         None => Err(RtlError::Construct),
     }
+}
+
+#[cfg(verilated)]
+pub(crate) fn trace(m: NonNull<FitkitRtl>, path: &std::ffi::CStr) -> bool {
+    // SAFETY: `m` is live; the shim copies the path before returning.
+    unsafe { sys::fitkit_rtl_trace(m.as_ptr(), path.as_ptr()) != 0 }
 }
 
 #[cfg(verilated)]
@@ -71,7 +78,7 @@ pub(crate) fn ram<'a>(m: NonNull<FitkitRtl>) -> &'a [u8] {
 }
 
 #[cfg(not(verilated))]
-pub(crate) fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
+pub(crate) fn new(_: u64) -> Result<NonNull<FitkitRtl>, RtlError> {
     match env!("VERILATED_MISSING") {
         "verilator" => Err(RtlError::NoVerilator),
         _ => Err(RtlError::NoRtl),
@@ -81,6 +88,11 @@ pub(crate) fn new() -> Result<NonNull<FitkitRtl>, RtlError> {
 // Without a model no `Rtl` is ever constructed, so these are never called.
 #[cfg(not(verilated))]
 pub(crate) fn free(_: NonNull<FitkitRtl>) {}
+
+#[cfg(not(verilated))]
+pub(crate) fn trace(_: NonNull<FitkitRtl>, _: &std::ffi::CStr) -> bool {
+    false
+}
 
 #[cfg(not(verilated))]
 pub(crate) fn tick(_: NonNull<FitkitRtl>, _: u32) -> u32 {

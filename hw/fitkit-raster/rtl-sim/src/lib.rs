@@ -64,6 +64,9 @@ pub enum RtlError {
         /// The bound, in cycles.
         bound: u64,
     },
+    /// A waveform could not be started at the path.
+    #[error("cannot write a waveform to {0} (a path with a NUL, a folder that cannot be written, or one already open)")]
+    Trace(String),
     /// A pixel outside the RAM's 512 × 512 grid.
     #[error("pixel ({x}, {y}) outside the 512 x 512 framebuffer RAM")]
     Outside {
@@ -88,6 +91,17 @@ pub enum MemWait {
         /// Cycles with `mem_wait` high per 256, on average.
         duty: u8,
     },
+    /// Storms: `mem_wait` held high for a random run of 1 to `max_high` cycles, then low
+    /// for 1 to `max_low`, from a seeded generator. Long holds fill the fragment FIFO and
+    /// stall every unit behind it, which per-cycle noise never does.
+    Bursts {
+        /// Generator seed (0 is replaced by a fixed non-zero value).
+        seed: u64,
+        /// Longest run with `mem_wait` high.
+        max_high: u32,
+        /// Longest run with `mem_wait` low.
+        max_low: u32,
+    },
 }
 
 /// The Verilated `fitkit_sim_top`: the block, its framebuffer RAM and the clock.
@@ -98,6 +112,10 @@ pub struct Rtl {
     cycle: u64,
     mem_wait: MemWait,
     rng: u64,
+    /// Cycles left in the current `MemWait::Bursts` run, and whether it is high.
+    burst: (u32, bool),
+    /// Cycles `[from, to)` during which `rst` is driven high by [`Rtl::pulse_reset_at`].
+    reset_window: Option<(u64, u64)>,
 }
 
 impl std::fmt::Debug for Rtl {
@@ -114,7 +132,15 @@ impl std::fmt::Debug for Rtl {
 impl Rtl {
     /// A model after [`Rtl::reset`], with `spi_cs_n` high and `mem_wait` off.
     pub fn new() -> Result<Self, RtlError> {
-        let model = ffi::new()?;
+        Self::with_x_seed(0)
+    }
+
+    /// As [`Rtl::new`], every register and memory (the framebuffer RAM too) starting at
+    /// random values drawn from `seed` instead of 0 (the model is Verilated with
+    /// `--x-initial unique`): what a reset leaves undefined then differs from seed to
+    /// seed, so equal results across seeds show no X reaches an output.
+    pub fn with_x_seed(seed: u64) -> Result<Self, RtlError> {
+        let model = ffi::new(seed)?;
         let mut rtl = Self {
             model,
             inputs: ffi::IN_CS_N,
@@ -122,9 +148,35 @@ impl Rtl {
             cycle: 0,
             mem_wait: MemWait::Off,
             rng: 0,
+            burst: (0, false),
+            reset_window: None,
         };
         rtl.reset();
         Ok(rtl)
+    }
+
+    /// Starts a VCD of every signal at `path` from the next cycle on (a failing case
+    /// replays into one, so the message can name its waveform).
+    pub fn trace_to(&mut self, path: &std::path::Path) -> Result<(), RtlError> {
+        let name = path.to_string_lossy().into_owned();
+        let c = std::ffi::CString::new(name.clone()).map_err(|_| RtlError::Trace(name.clone()))?;
+        if ffi::trace(self.model, &c) {
+            Ok(())
+        } else {
+            Err(RtlError::Trace(name))
+        }
+    }
+
+    /// Drives `rst` high for `cycles` cycles from cycle `at` on, whatever the SPI master
+    /// is doing at the time: a reset in the middle of a transaction, a drawing or a
+    /// read-back, as a board's reset button or a brown-out gives one.
+    pub fn pulse_reset_at(&mut self, at: u64, cycles: u64) {
+        self.reset_window = Some((at, at + cycles));
+    }
+
+    /// Whether the pulse of [`Rtl::pulse_reset_at`] is over (false while none is set).
+    pub fn reset_pulsed(&self) -> bool {
+        self.reset_window.is_some_and(|(_, to)| self.cycle >= to)
     }
 
     /// The model behind a shared handle, for [`RtlSpi`] and [`RtlDelay`].
@@ -147,7 +199,14 @@ impl Rtl {
     /// then a rising and a falling edge.
     pub fn tick(&mut self) {
         let wait = self.next_mem_wait();
-        let inputs = (self.inputs & !ffi::IN_MEM_WAIT) | if wait { ffi::IN_MEM_WAIT } else { 0 };
+        let mut inputs =
+            (self.inputs & !ffi::IN_MEM_WAIT) | if wait { ffi::IN_MEM_WAIT } else { 0 };
+        if self
+            .reset_window
+            .is_some_and(|(from, to)| (from..to).contains(&self.cycle))
+        {
+            inputs |= ffi::IN_RST;
+        }
         self.outputs = ffi::tick(self.model, inputs);
         self.cycle += 1;
     }
@@ -197,7 +256,8 @@ impl Rtl {
     /// Sets what `mem_wait` does from the next cycle on.
     pub fn set_mem_wait(&mut self, mode: MemWait) {
         self.mem_wait = mode;
-        if let MemWait::Random { seed, .. } = mode {
+        self.burst = (0, false);
+        if let MemWait::Random { seed, .. } | MemWait::Bursts { seed, .. } = mode {
             self.rng = if seed == 0 {
                 0x9E37_79B9_7F4A_7C15
             } else {
@@ -276,17 +336,31 @@ impl Rtl {
         }
     }
 
+    /// The next draw of the xorshift64 generator: cheap, and the same sequence on every
+    /// platform.
+    fn draw(&mut self) -> u64 {
+        let mut x = self.rng;
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        self.rng = x;
+        x
+    }
+
     fn next_mem_wait(&mut self) -> bool {
         match self.mem_wait {
             MemWait::Off => false,
-            MemWait::Random { duty, .. } => {
-                // xorshift64: cheap, and the same sequence on every platform.
-                let mut x = self.rng;
-                x ^= x << 13;
-                x ^= x >> 7;
-                x ^= x << 17;
-                self.rng = x;
-                ((x >> 32) as u8) < duty
+            MemWait::Random { duty, .. } => ((self.draw() >> 32) as u8) < duty,
+            MemWait::Bursts {
+                max_high, max_low, ..
+            } => {
+                if self.burst.0 == 0 {
+                    let high = !self.burst.1;
+                    let max = u64::from(if high { max_high } else { max_low }.max(1));
+                    self.burst = ((self.draw() % max) as u32 + 1, high);
+                }
+                self.burst.0 -= 1;
+                self.burst.1
             }
         }
     }

@@ -26,6 +26,13 @@ pub struct SpiConfig {
     pub cs_high: u32,
     /// The block's clock, for `DelayNs` (an `Operation::DelayNs` or [`RtlDelay`]).
     pub clk_hz: u32,
+    /// Up to this many clock cycles added at random to every SCK half period (high and
+    /// low drawn apart, so the duty cycle wanders too), to the CS_n-to-first-edge and
+    /// last-edge-to-CS_n holds and to the CS-high time: a real MCU's SPI is never as even
+    /// as a fixed divider, and the synchroniser must not care. 0: the fixed timing.
+    pub jitter: u32,
+    /// Seed of the jitter's generator, so a failing case replays exactly.
+    pub jitter_seed: u64,
 }
 
 impl Default for SpiConfig {
@@ -35,6 +42,8 @@ impl Default for SpiConfig {
             half_period: MIN_HALF_PERIOD,
             cs_high: MIN_CS_HIGH,
             clk_hz: 50_000_000,
+            jitter: 0,
+            jitter_seed: 0,
         }
     }
 }
@@ -91,6 +100,8 @@ pub struct RtlSpi {
     rtl: SharedRtl,
     config: SpiConfig,
     bits: u64,
+    /// The jitter's xorshift state.
+    rng: u64,
 }
 
 impl RtlSpi {
@@ -101,7 +112,20 @@ impl RtlSpi {
             rtl,
             config,
             bits: 0,
+            rng: config.jitter_seed | 1,
         })
+    }
+
+    /// `base` cycles plus the jitter's next draw in `0..=jitter`.
+    fn jittered(&mut self, base: u32) -> u64 {
+        let j = u64::from(self.config.jitter);
+        if j == 0 {
+            return u64::from(base);
+        }
+        self.rng ^= self.rng << 13;
+        self.rng ^= self.rng >> 7;
+        self.rng ^= self.rng << 17;
+        u64::from(base) + self.rng % (j + 1)
     }
 
     /// The timing in use.
@@ -114,17 +138,43 @@ impl RtlSpi {
         self.bits
     }
 
+    /// One transaction that shifts out only the first `bits` bits of `bytes` (MSB first)
+    /// and then raises CS_n: a master that gives up mid-byte or mid-record, which the
+    /// block must discard whole. Returns an error only as `transaction` does.
+    pub fn write_bits(&mut self, bytes: &[u8], bits: usize) -> Result<(), SpiError> {
+        let shared = self.rtl.clone();
+        let mut rtl = shared.try_borrow_mut().map_err(|_| SpiError::Shared)?;
+        rtl.set_sck(false);
+        rtl.set_cs_n(false);
+        let half = self.config.half_period;
+        for k in 0..bits.min(bytes.len() * 8) {
+            rtl.set_mosi(bytes[k / 8] >> (7 - k % 8) & 1 != 0);
+            rtl.run(self.jittered(half));
+            rtl.set_sck(true);
+            rtl.run(self.jittered(half));
+            rtl.set_sck(false);
+            self.bits += 1;
+        }
+        let hold = self.jittered(half);
+        rtl.run(hold);
+        rtl.set_mosi(false);
+        rtl.set_cs_n(true);
+        let high = self.jittered(self.config.cs_high);
+        rtl.run(high);
+        Ok(())
+    }
+
     /// One byte out, one in: per bit MOSI is set, SCK rises after a half period and MISO
     /// is sampled at that edge, SCK falls after another.
     fn byte(&mut self, rtl: &mut Rtl, out: u8) -> u8 {
-        let half = u64::from(self.config.half_period);
+        let half = self.config.half_period;
         let mut got = 0u8;
         for bit in (0..8).rev() {
             rtl.set_mosi(out >> bit & 1 != 0);
-            rtl.run(half);
+            rtl.run(self.jittered(half));
             rtl.set_sck(true);
             got = got << 1 | u8::from(rtl.miso());
-            rtl.run(half);
+            rtl.run(self.jittered(half));
             rtl.set_sck(false);
         }
         self.bits += 8;
@@ -174,10 +224,12 @@ impl SpiDevice<u8> for RtlSpi {
             }
         }
         // Hold after the last falling edge, then CS high for the contract's minimum.
-        rtl.run(u64::from(self.config.half_period));
+        let hold = self.jittered(self.config.half_period);
+        rtl.run(hold);
         rtl.set_mosi(false);
         rtl.set_cs_n(true);
-        rtl.run(u64::from(self.config.cs_high));
+        let high = self.jittered(self.config.cs_high);
+        rtl.run(high);
         Ok(())
     }
 }

@@ -45,8 +45,15 @@ pub fn rgb332(c: Rgb) -> u8 {
 }
 
 /// A fresh RTL; a missing model is a failure with `Rtl::new`'s message, never a skip.
+/// While a failing case replays (`replay`), it writes the case's waveform.
 pub fn rtl() -> SharedRtl {
-    Rtl::shared().unwrap_or_else(|e| panic!("{e}"))
+    crate::replay::traced(Rtl::shared().unwrap_or_else(|e| panic!("{e}")))
+}
+
+/// As [`rtl`], every register and memory starting at random values drawn from `seed`.
+pub fn rtl_x(seed: u64) -> SharedRtl {
+    let r = Rtl::with_x_seed(seed).unwrap_or_else(|e| panic!("{e}"));
+    crate::replay::traced(std::rc::Rc::new(std::cell::RefCell::new(r)))
 }
 
 impl Pair {
@@ -57,9 +64,19 @@ impl Pair {
 
     /// As [`Pair::new`] with `mem_wait` driven as `wait`.
     pub fn with(setup: RasterSetup, wait: MemWait) -> Self {
-        let rtl = rtl();
+        Self::with_spi(setup, wait, SpiConfig::default())
+    }
+
+    /// As [`Pair::with`], the SPI master timed by `config`.
+    pub fn with_spi(setup: RasterSetup, wait: MemWait, config: SpiConfig) -> Self {
+        Self::on(rtl(), setup, wait, config)
+    }
+
+    /// As [`Pair::with_spi`] on a given RTL (one whose registers start at random values,
+    /// say).
+    pub fn on(rtl: SharedRtl, setup: RasterSetup, wait: MemWait, config: SpiConfig) -> Self {
         rtl.borrow_mut().set_mem_wait(wait);
-        let spi = RtlSpi::new(rtl.clone(), SpiConfig::default()).expect("default SPI config");
+        let spi = RtlSpi::new(rtl.clone(), config).expect("SPI config within the contract");
         let mut pair = Self {
             rtl,
             spi,
@@ -67,7 +84,16 @@ impl Pair {
             setup,
             last: Default::default(),
         };
-        pair.model.raster_setup(&setup).expect("model set-up");
+        pair.restart();
+        pair
+    }
+
+    /// A fresh model, and the set-up into both: what a controller does after the block
+    /// was reset. The RTL must then behave as a fresh block, whatever it was doing.
+    pub fn restart(&mut self) {
+        let setup = self.setup;
+        self.model = Device::new(&FITKIT);
+        self.model.raster_setup(&setup).expect("model set-up");
         let record = wire::Setup {
             width: setup.width,
             height: setup.height,
@@ -76,11 +102,10 @@ impl Pair {
         }
         .record()
         .expect("set-up in range");
-        pair.write_packet(wire::ADDR_SETUP, &[record]);
-        let s = pair.finish();
+        self.write_packet(wire::ADDR_SETUP, &[record]);
+        let s = self.finish();
         assert!(s.error.is_none(), "set-up {setup:?}: {s:?}");
-        pair.last = (Counters::from(s), pair.model_counters());
-        pair
+        self.last = (Counters::from(s), self.model_counters());
     }
 
     /// Sends `cmd` to both, waits for the RTL, and checks the frames are equal; returns
@@ -238,7 +263,7 @@ pub struct Counters {
 }
 
 impl Counters {
-    fn minus(&self, o: &Self) -> Self {
+    pub fn minus(&self, o: &Self) -> Self {
         Self {
             packets: self.packets - o.packets,
             fragments: self.fragments - o.fragments,

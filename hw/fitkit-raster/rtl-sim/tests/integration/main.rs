@@ -7,6 +7,7 @@
 mod cases;
 mod draw;
 mod harness;
+mod replay;
 mod tally;
 
 mod bad_input;
@@ -18,5 +19,6 @@ mod lines;
 mod mem_wait;
 mod mesh;
 mod spi;
+mod stimulus;
 mod stuck;
 mod triangles;
