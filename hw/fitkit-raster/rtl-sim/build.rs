@@ -9,7 +9,8 @@ fn main() {
     let manifest = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("set by cargo"));
     verilate::Model {
         // the sim top the RTL provides (docs/rtl.md, "Simulating the RTL from Rust")
-        tops: &["fitkit_sim_top"],
+        // the seed's build and the one testing eight pixels per cycle (TRI_LANES = 8)
+        tops: &["fitkit_sim_top", "fitkit_sim_top8"],
         rtl: manifest.join("../rtl"),
         rtl_override: "FPGFX_RTL_DIR",
         sim: vec![manifest.join("../sim")],

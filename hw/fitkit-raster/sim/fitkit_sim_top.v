@@ -5,8 +5,11 @@
 // memory port's wait input (tests toggle it to exercise the stall path); bd_addr /
 // bd_data read the RAM without a clock (the backdoor; sim_ram's `mem` is also
 // `verilator public`).
+// Parameters: TRI_LANES as fitkit_raster (fitkit_sim_top8 builds it with 8).
 `default_nettype none
-module fitkit_sim_top (
+module fitkit_sim_top #(
+    parameter TRI_LANES = 1
+) (
     input  wire        clk,
     input  wire        rst,
     input  wire        spi_sck,
@@ -23,7 +26,7 @@ module fitkit_sim_top (
     wire [7:0]  mem_wdata, mem_rdata;
     wire        mem_we, mem_re;
 
-    fitkit_raster u_dut (
+    fitkit_raster #(.TRI_LANES(TRI_LANES)) u_dut (
         .clk(clk), .rst(rst), .spi_sck(spi_sck), .spi_cs_n(spi_cs_n), .spi_mosi(spi_mosi),
         .spi_miso(spi_miso), .fifo_free(fifo_free), .busy(busy), .mem_addr(mem_addr),
         .mem_wdata(mem_wdata), .mem_we(mem_we), .mem_re(mem_re), .mem_rdata(mem_rdata),

@@ -100,6 +100,9 @@ pub enum RasterError {
         /// Texels of texture memory ([`TEXTURE_WORDS`]).
         words: usize,
     },
+    /// A triangle unit width the RTL does not build (its `TRI_LANES`).
+    #[error("triangle lanes {0}: the triangle unit builds 1, 2, 4 or 8")]
+    TriLanes(u32),
 }
 
 /// Texels of texture memory in the model.
@@ -114,6 +117,21 @@ pub struct Raster {
     texture: Vec<u32>,
     stats: Stats,
     hw: hw::Model,
+    /// Pixel tests per cycle of the RTL's triangle unit (its `TRI_LANES`), for the
+    /// bounding-box traversal's cycle count.
+    tri_lanes: u32,
+}
+
+/// The cycles a bounding-box walk testing `lanes` pixels of a row per step spends on a
+/// covered span `[a, b)` beyond one per step: the RTL's triangle unit hands the covered
+/// pixels of a step to the one-pixel-wide fragment FIFO one per cycle, so a step costs
+/// max(1, covered) cycles. `x0` is the box's left column, where the steps start.
+fn lane_extra(a: u32, b: u32, x0: u32, lanes: u32) -> u64 {
+    if b <= a {
+        return 0;
+    }
+    let steps = (b - 1 - x0) / lanes - (a - x0) / lanes + 1;
+    u64::from(b - a - steps)
 }
 
 fn check_point(p: &Point, field: &'static str) -> Result<(), RasterError> {
@@ -147,6 +165,7 @@ impl Raster {
             texture: vec![0; TEXTURE_WORDS],
             stats: Stats::default(),
             hw: hw::Model::default(),
+            tri_lanes: 1,
         };
         // The set-up is one FIFO record, then a clear of the frame at one pixel per cycle:
         // the block is busy for it (the RTL's status counts it as clear cycles), though it
@@ -156,6 +175,19 @@ impl Raster {
             .hw
             .command(&mut raster.stats, hw::Unit::Clear, 1, area, 0, 1);
         Ok(raster)
+    }
+
+    /// Models an RTL triangle unit that tests `lanes` pixels of a row per cycle (the
+    /// FITkit block's `TRI_LANES`: 1, 2, 4 or 8). With the bounding-box traversal a
+    /// triangle then costs 4 + Σ over its box's rows and their ⌈width / lanes⌉ steps of
+    /// max(1, covered pixels): the fragments still leave one per cycle. Other traversals
+    /// and the pixels are unchanged.
+    pub fn set_tri_lanes(&mut self, lanes: u32) -> Result<(), RasterError> {
+        if !matches!(lanes, 1 | 2 | 4 | 8) {
+            return Err(RasterError::TriLanes(lanes));
+        }
+        self.tri_lanes = lanes;
+        Ok(())
     }
 
     /// The framebuffer (read-back).
@@ -362,10 +394,13 @@ impl Raster {
         };
         let mut c = TravCounters::default();
         let trav = self.setup.traversal;
+        let (bx0, lanes) = (s.bbox[0], self.tri_lanes);
+        let mut extra = 0u64;
         match (t.shade, t.z, t.tex) {
             (Shade::Flat(col), None, None) => {
                 let fb = &mut self.fb;
                 tri::traverse(&s, trav, &mut c, &mut |y, x0, x1| {
+                    extra += lane_extra(x0, x1, bx0, lanes);
                     fb.fill_span(y, x0, x1, col)
                 });
             }
@@ -373,6 +408,7 @@ impl Raster {
                 let sh = Shader::new(t, &s, &self.texture);
                 let fb = &mut self.fb;
                 tri::traverse(&s, trav, &mut c, &mut |y, x0, x1| {
+                    extra += lane_extra(x0, x1, bx0, lanes);
                     for x in x0..x1 {
                         sh.fragment(fb, &s, x, y);
                     }
@@ -381,6 +417,11 @@ impl Raster {
         }
         self.stats.pixel_tests += c.pixel_tests;
         self.stats.block_tests += c.block_tests;
+        if trav == Traversal::BoundingBox && lanes > 1 {
+            let [x0, y0, x1, y1] = s.bbox;
+            let steps = u64::from(y1 - y0) * u64::from((x1 - x0).div_ceil(lanes));
+            return Ok(hw::SETUP_CYCLES + steps + extra);
+        }
         let lanes = if trav == Traversal::Simd8 { 8 } else { 1 };
         Ok(hw::SETUP_CYCLES
             + c.block_tests
@@ -578,4 +619,32 @@ impl<'a> Shader<'a> {
 #[inline]
 fn weights(s: &TriSetup, x: u32, y: u32) -> [u128; 3] {
     s.edges.map(|e| e.raw(x as i64, y as i64).max(0) as u128)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_step_costs_its_covered_pixels_or_one() {
+        // one lane: every pixel its own step, nothing beyond one per step
+        assert_eq!(lane_extra(3, 11, 0, 1), 0);
+        // eight lanes from column 0: [3, 8) is 5 pixels in one step, [8, 11) 3 in the next
+        assert_eq!(lane_extra(3, 11, 0, 8), 4 + 2);
+        // steps start at the box's left column
+        assert_eq!(lane_extra(5, 13, 5, 8), 7);
+        assert_eq!(lane_extra(4, 4, 0, 8), 0);
+        let setup = RasterSetup {
+            width: 8,
+            height: 8,
+            subpixel_bits: 0,
+            background: Rgb::new(0, 0, 0),
+            aa: Default::default(),
+            cull: Default::default(),
+            traversal: Traversal::BoundingBox,
+        };
+        let mut r = Raster::new(8, 8, &setup).expect("raster");
+        assert_eq!(r.set_tri_lanes(3), Err(RasterError::TriLanes(3)));
+        assert_eq!(r.set_tri_lanes(8), Ok(()));
+    }
 }

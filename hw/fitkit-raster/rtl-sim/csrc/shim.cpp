@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "Vfitkit_sim_top.h"
+#include "Vfitkit_sim_top8.h"
 #include "verilated.h"
 #include "verilated_syms.h"
 #include "verilated_vcd_c.h"
@@ -32,29 +33,47 @@ enum : uint32_t {
 };
 }  // namespace
 
+// One of the Verilated builds (TRI_LANES = 1 or 8) behind one interface: both have the
+// same pins, and the Rust side picks the build when it makes the model.
+struct Top {
+    virtual ~Top() = default;
+    virtual void apply(uint32_t in) = 0;
+    virtual uint32_t outputs() const = 0;
+    virtual void set_clk(bool high) = 0;
+    virtual void eval() = 0;
+    virtual void trace(VerilatedVcdC* vcd) = 0;
+    virtual void final() = 0;
+};
+
+template <class V>
+struct TopOf final : Top {
+    std::unique_ptr<V> v;
+    TopOf(VerilatedContext* ctx, const char* name) : v(std::make_unique<V>(ctx, name)) {}
+    void apply(uint32_t in) override {
+        v->rst = (in & IN_RST) != 0;
+        v->spi_sck = (in & IN_SCK) != 0;
+        v->spi_cs_n = (in & IN_CS_N) != 0;
+        v->spi_mosi = (in & IN_MOSI) != 0;
+        v->mem_wait = (in & IN_MEM_WAIT) != 0;
+    }
+    uint32_t outputs() const override {
+        return (v->spi_miso ? OUT_MISO : 0) | (v->fifo_free ? OUT_FIFO_FREE : 0) |
+               (v->busy ? OUT_BUSY : 0);
+    }
+    void set_clk(bool high) override { v->clk = high; }
+    void eval() override { v->eval(); }
+    void trace(VerilatedVcdC* vcd) override { v->trace(vcd, 99); }
+    void final() override { v->final(); }
+};
+
 struct FitkitRtl {
     std::unique_ptr<VerilatedContext> ctx;
-    std::unique_ptr<Vfitkit_sim_top> top;
+    std::unique_ptr<Top> top;
     uint8_t* ram = nullptr;
     // The waveform, once a failing case asks for one; each tick is two time steps.
     std::unique_ptr<VerilatedVcdC> vcd;
     uint64_t time = 0;
 };
-
-static void apply(FitkitRtl* m, uint32_t in) {
-    Vfitkit_sim_top& t = *m->top;
-    t.rst = (in & IN_RST) != 0;
-    t.spi_sck = (in & IN_SCK) != 0;
-    t.spi_cs_n = (in & IN_CS_N) != 0;
-    t.spi_mosi = (in & IN_MOSI) != 0;
-    t.mem_wait = (in & IN_MEM_WAIT) != 0;
-}
-
-static uint32_t outputs(const FitkitRtl* m) {
-    const Vfitkit_sim_top& t = *m->top;
-    return (t.spi_miso ? OUT_MISO : 0) | (t.fifo_free ? OUT_FIFO_FREE : 0) |
-           (t.busy ? OUT_BUSY : 0);
-}
 
 // The one public unpacked array of 2^18 bytes: the sim top's framebuffer RAM.
 static uint8_t* find_ram(VerilatedContext* ctx) {
@@ -82,7 +101,9 @@ extern "C" {
 // or construction failed. `seed` 0 starts every register and memory at 0; any other seed
 // starts them at random values drawn from it (Verilated with --x-initial unique), so a
 // test can show that nothing uninitialised reaches an output.
-FitkitRtl* fitkit_rtl_new(int* no_ram, uint64_t seed) {
+// `lanes` picks the build: 1 (fitkit_sim_top) or 8 (fitkit_sim_top8); any other value
+// gives null without `*no_ram`.
+FitkitRtl* fitkit_rtl_new(int* no_ram, uint64_t seed, uint32_t lanes) {
     *no_ram = 0;
     auto* m = new (std::nothrow) FitkitRtl;
     if (!m) return nullptr;
@@ -93,15 +114,22 @@ FitkitRtl* fitkit_rtl_new(int* no_ram, uint64_t seed) {
     }
     // tracing must be allowed before the model exists; it costs nothing until opened
     m->ctx->traceEverOn(true);
-    m->top = std::make_unique<Vfitkit_sim_top>(m->ctx.get(), "fitkit_sim_top");
+    if (lanes == 1) {
+        m->top = std::make_unique<TopOf<Vfitkit_sim_top>>(m->ctx.get(), "fitkit_sim_top");
+    } else if (lanes == 8) {
+        m->top = std::make_unique<TopOf<Vfitkit_sim_top8>>(m->ctx.get(), "fitkit_sim_top8");
+    } else {
+        delete m;
+        return nullptr;
+    }
     m->ram = find_ram(m->ctx.get());
     if (!m->ram) {
         *no_ram = 1;
         delete m;
         return nullptr;
     }
-    m->top->clk = 0;
-    apply(m, IN_CS_N);
+    m->top->set_clk(false);
+    m->top->apply(IN_CS_N);
     m->top->eval();
     return m;
 }
@@ -118,7 +146,7 @@ void fitkit_rtl_free(FitkitRtl* m) {
 int fitkit_rtl_trace(FitkitRtl* m, const char* path) {
     if (m->vcd) return 0;
     auto vcd = std::make_unique<VerilatedVcdC>();
-    m->top->trace(vcd.get(), 99);
+    m->top->trace(vcd.get());
     vcd->open(path);
     if (!vcd->isOpen()) return 0;
     m->vcd = std::move(vcd);
@@ -127,27 +155,27 @@ int fitkit_rtl_trace(FitkitRtl* m, const char* path) {
 
 // Applies `in`, lets combinational logic settle, and returns the outputs.
 uint32_t fitkit_rtl_set(FitkitRtl* m, uint32_t in) {
-    apply(m, in);
+    m->top->apply(in);
     m->top->eval();
-    return outputs(m);
+    return m->top->outputs();
 }
 
 // One clock cycle with `in` held (rising edge, then falling edge); returns the outputs
 // after it. A gated clock leaves the model untouched.
 uint32_t fitkit_rtl_tick(FitkitRtl* m, uint32_t in) {
-    apply(m, in);
+    m->top->apply(in);
     if (in & IN_CLOCK_GATED) {
         m->top->eval();
-        return outputs(m);
+        return m->top->outputs();
     }
-    m->top->clk = 1;
+    m->top->set_clk(true);
     m->top->eval();
     if (m->vcd) m->vcd->dump(m->time);
-    m->top->clk = 0;
+    m->top->set_clk(false);
     m->top->eval();
     if (m->vcd) m->vcd->dump(m->time + 1);
     m->time += 2;
-    return outputs(m);
+    return m->top->outputs();
 }
 
 const uint8_t* fitkit_rtl_ram(const FitkitRtl* m, size_t* len) {

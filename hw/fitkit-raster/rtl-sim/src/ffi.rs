@@ -27,7 +27,7 @@ mod sys {
     use super::FitkitRtl;
 
     extern "C" {
-        pub fn fitkit_rtl_new(no_ram: *mut i32, seed: u64) -> *mut FitkitRtl;
+        pub fn fitkit_rtl_new(no_ram: *mut i32, seed: u64, lanes: u32) -> *mut FitkitRtl;
         pub fn fitkit_rtl_trace(m: *mut FitkitRtl, path: *const std::ffi::c_char) -> i32;
         pub fn fitkit_rtl_free(m: *mut FitkitRtl);
         pub fn fitkit_rtl_tick(m: *mut FitkitRtl, inputs: u32) -> u32;
@@ -36,10 +36,13 @@ mod sys {
 }
 
 #[cfg(verilated)]
-pub(crate) fn new(seed: u64) -> Result<NonNull<FitkitRtl>, RtlError> {
+pub(crate) fn new(seed: u64, lanes: u32) -> Result<NonNull<FitkitRtl>, RtlError> {
+    if !crate::BUILT_TRI_LANES.contains(&lanes) {
+        return Err(RtlError::TriLanes(lanes));
+    }
     let mut no_ram = 0i32;
     // SAFETY: the shim writes `no_ram` and returns a fresh model or null.
-    let p = unsafe { sys::fitkit_rtl_new(&mut no_ram, seed) };
+    let p = unsafe { sys::fitkit_rtl_new(&mut no_ram, seed, lanes) };
     match NonNull::new(p) {
         Some(m) => Ok(m),
         None if no_ram != 0 => Err(RtlError::NoRam),
@@ -78,7 +81,7 @@ pub(crate) fn ram<'a>(m: NonNull<FitkitRtl>) -> &'a [u8] {
 }
 
 #[cfg(not(verilated))]
-pub(crate) fn new(_: u64) -> Result<NonNull<FitkitRtl>, RtlError> {
+pub(crate) fn new(_: u64, _: u32) -> Result<NonNull<FitkitRtl>, RtlError> {
     match env!("VERILATED_MISSING") {
         "verilator" => Err(RtlError::NoVerilator),
         _ => Err(RtlError::NoRtl),

@@ -35,6 +35,10 @@ pub const RAM_STRIDE: u32 = 512;
 /// few cycles also flush the SPI synchronisers.
 pub const RESET_CYCLES: u64 = 4;
 
+/// The `TRI_LANES` builds of the block the crate Verilates: the seed's one pixel test per
+/// cycle, and eight.
+pub const BUILT_TRI_LANES: [u32; 2] = [1, 8];
+
 /// The model shared between the SPI device, the delay and the test that owns them.
 pub type SharedRtl = Rc<RefCell<Rtl>>;
 
@@ -64,6 +68,9 @@ pub enum RtlError {
         /// The bound, in cycles.
         bound: u64,
     },
+    /// No build of the block with this `TRI_LANES` is Verilated ([`BUILT_TRI_LANES`]).
+    #[error("no Verilated build with TRI_LANES = {0} (built: 1 and 8)")]
+    TriLanes(u32),
     /// A waveform could not be started at the path.
     #[error("cannot write a waveform to {0} (a path with a NUL, a folder that cannot be written, or one already open)")]
     Trace(String),
@@ -140,7 +147,17 @@ impl Rtl {
     /// `--x-initial unique`): what a reset leaves undefined then differs from seed to
     /// seed, so equal results across seeds show no X reaches an output.
     pub fn with_x_seed(seed: u64) -> Result<Self, RtlError> {
-        let model = ffi::new(seed)?;
+        Self::build(seed, 1)
+    }
+
+    /// As [`Rtl::new`], the block built with `TRI_LANES` = `lanes` (one of
+    /// [`BUILT_TRI_LANES`]).
+    pub fn with_tri_lanes(lanes: u32) -> Result<Self, RtlError> {
+        Self::build(0, lanes)
+    }
+
+    fn build(seed: u64, lanes: u32) -> Result<Self, RtlError> {
+        let model = ffi::new(seed, lanes)?;
         let mut rtl = Self {
             model,
             inputs: ffi::IN_CS_N,

@@ -26,10 +26,15 @@ impl Class<'_> {
     /// Runs every case, recording counter differences in `tally` (pixels are asserted
     /// as they come).
     pub fn run(&self, tally: &mut Tally) {
+        self.run_lanes(tally, 1);
+    }
+
+    /// As [`Class::run`] on the block built with `TRI_LANES` = `lanes`.
+    pub fn run_lanes(&self, tally: &mut Tally, lanes: u32) {
         let mut rng = cases::rng(self.seed);
         for f in 0..self.frames {
             let setup = (self.frame)(&mut rng);
-            let mut pair = Pair::new(setup);
+            let mut pair = Pair::with_lanes(setup, lanes);
             for k in 0..self.per_frame {
                 let (cmd, cb) = (self.cmd)(&mut rng, &setup);
                 let case = format!("{} seed {} frame {f} cmd {k}", self.name, self.seed);

@@ -22,6 +22,8 @@ pub struct Pair {
     pub spi: RtlSpi,
     pub model: Device,
     pub setup: RasterSetup,
+    /// The triangle unit's pixel tests per cycle on both sides (the RTL's `TRI_LANES`).
+    tri_lanes: u32,
     /// Both sides' counters after the last [`Pair::step`] (or the set-up).
     last: (Counters, Counters),
 }
@@ -75,6 +77,24 @@ impl Pair {
     /// As [`Pair::with_spi`] on a given RTL (one whose registers start at random values,
     /// say).
     pub fn on(rtl: SharedRtl, setup: RasterSetup, wait: MemWait, config: SpiConfig) -> Self {
+        Self::make(rtl, setup, wait, config, 1)
+    }
+
+    /// As [`Pair::new`] on the block built with `TRI_LANES` = `lanes`, the model's
+    /// triangle cycles counted for the same width.
+    pub fn with_lanes(setup: RasterSetup, lanes: u32) -> Self {
+        let rtl = Rtl::with_tri_lanes(lanes).unwrap_or_else(|e| panic!("{e}"));
+        let rtl = crate::replay::traced(std::rc::Rc::new(std::cell::RefCell::new(rtl)));
+        Self::make(rtl, setup, MemWait::Off, SpiConfig::default(), lanes)
+    }
+
+    fn make(
+        rtl: SharedRtl,
+        setup: RasterSetup,
+        wait: MemWait,
+        config: SpiConfig,
+        tri_lanes: u32,
+    ) -> Self {
         rtl.borrow_mut().set_mem_wait(wait);
         let spi = RtlSpi::new(rtl.clone(), config).expect("SPI config within the contract");
         let mut pair = Self {
@@ -82,6 +102,7 @@ impl Pair {
             spi,
             model: Device::new(&FITKIT),
             setup,
+            tri_lanes,
             last: Default::default(),
         };
         pair.restart();
@@ -94,6 +115,11 @@ impl Pair {
         let setup = self.setup;
         self.model = Device::new(&FITKIT);
         self.model.raster_setup(&setup).expect("model set-up");
+        self.model
+            .raster_mut()
+            .expect("set up")
+            .set_tri_lanes(self.tri_lanes)
+            .expect("a built TRI_LANES");
         let record = wire::Setup {
             width: setup.width,
             height: setup.height,

@@ -11,6 +11,18 @@ use crate::tally::Tally;
 
 #[test]
 fn triangles_match_the_model() {
+    every_class(1);
+}
+
+/// The same triangles on the block testing eight pixels of a row per cycle: pixels
+/// equal, cycles as the model counts a step (max(1, covered pixels)).
+#[test]
+fn triangles_match_the_model_with_eight_lanes() {
+    every_class(8);
+}
+
+/// Every class of triangles through the block built with `TRI_LANES` = `lanes`.
+fn every_class(lanes: u32) {
     let mut t = Tally::default();
     Class {
         name: "triangle random",
@@ -27,7 +39,7 @@ fn triangles_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_lanes(&mut t, lanes);
     Class {
         name: "triangle tiny (<= 2 px)",
         seed: 0x22,
@@ -44,7 +56,7 @@ fn triangles_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_lanes(&mut t, lanes);
     Class {
         name: "triangle sliver",
         seed: 0x23,
@@ -60,7 +72,7 @@ fn triangles_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_lanes(&mut t, lanes);
     Class {
         name: "triangle edges through pixel centres",
         seed: 0x24,
@@ -75,7 +87,7 @@ fn triangles_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_lanes(&mut t, lanes);
     Class {
         name: "triangle viewport limits 0 and 511",
         seed: 0x25,
@@ -91,7 +103,7 @@ fn triangles_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_lanes(&mut t, lanes);
     Class {
         name: "triangle partly outside 320x240",
         seed: 0x26,
@@ -110,7 +122,7 @@ fn triangles_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_lanes(&mut t, lanes);
     Class {
         name: "triangle culled by winding",
         seed: 0x27,
@@ -128,7 +140,7 @@ fn triangles_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_lanes(&mut t, lanes);
     assert!(t.cases() >= 1_300, "{} triangle cases", t.cases());
     t.assert_exact();
 }

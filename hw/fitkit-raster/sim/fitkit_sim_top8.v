@@ -1,0 +1,26 @@
+// fitkit_sim_top8 -- fitkit_sim_top with the triangle unit testing eight pixels of a row
+// per cycle (TRI_LANES = 8, seed 000's parallel evaluation): a second Verilated model in
+// the bridge crate, so the differential tests drive that build through the same pins.
+//
+// Ports and timing: as fitkit_sim_top.
+`default_nettype none
+module fitkit_sim_top8 (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        spi_sck,
+    input  wire        spi_cs_n,
+    input  wire        spi_mosi,
+    output wire        spi_miso,
+    output wire        fifo_free,
+    output wire        busy,
+    input  wire        mem_wait,
+    input  wire [17:0] bd_addr,
+    output wire [7:0]  bd_data
+);
+    fitkit_sim_top #(.TRI_LANES(8)) u_top (
+        .clk(clk), .rst(rst), .spi_sck(spi_sck), .spi_cs_n(spi_cs_n), .spi_mosi(spi_mosi),
+        .spi_miso(spi_miso), .fifo_free(fifo_free), .busy(busy), .mem_wait(mem_wait),
+        .bd_addr(bd_addr), .bd_data(bd_data)
+    );
+endmodule
+`default_nettype wire
