@@ -19,6 +19,47 @@ pub const SETUP_CYCLES: u64 = 4;
 /// the RTL's line unit spends them (docs/rtl.md).
 pub const LINE_SETUP_CYCLES: u64 = 1;
 
+/// The cycles a unit of the RTL is busy for a command when the memory holds its wait
+/// input high on the cycles `wait` marks (index 0: the unit's first cycle; past its end,
+/// never). The unit spends `setup` cycles that emit nothing, then one step per entry of
+/// `steps`: `true` hands a fragment to the fragment FIFO ([`FRAG_FIFO_DEPTH`] entries)
+/// and waits while it is full, `false` emits nothing and never waits. Behind the FIFO the
+/// writer holds one memory request: it takes the FIFO's head whenever its request is
+/// empty or accepted, and the memory accepts a request on every cycle its wait is low.
+/// The FIFO starts empty and the writer idle, as after every command the RTL finishes.
+/// This is how the RTL's line, clear and triangle units stall (docs/rtl.md), so with the
+/// memory's wait pattern the model's cycles are the RTL's.
+pub fn stalled_cycles(setup: u64, steps: impl IntoIterator<Item = bool>, wait: &[bool]) -> u64 {
+    let held = |t: u64| usize::try_from(t).ok().and_then(|i| wait.get(i)) == Some(&true);
+    let mut steps = steps.into_iter().peekable();
+    let (mut t, mut queued, mut request) = (0u64, 0u64, false);
+    loop {
+        let full = queued == FRAG_FIFO_DEPTH;
+        let mut push = false;
+        if t >= setup {
+            match steps.peek() {
+                None => return t,
+                Some(&emits) if emits && full => {}
+                Some(&emits) => {
+                    push = emits;
+                    steps.next();
+                }
+            }
+        }
+        let accept = request && !held(t);
+        let take = !request || accept;
+        let pop = take && queued > 0;
+        if take {
+            request = pop;
+        }
+        queued = queued + u64::from(push) - u64::from(pop);
+        t += 1;
+        if t >= setup && steps.peek().is_none() {
+            return t;
+        }
+    }
+}
+
 /// Which block a command ran on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Unit {

@@ -120,6 +120,9 @@ pub struct Raster {
     /// Pixel tests per cycle of the RTL's triangle unit (its `TRI_LANES`), for the
     /// bounding-box traversal's cycle count.
     tri_lanes: u32,
+    /// The memory's wait input from the next command's first unit cycle on, when the
+    /// cycles are to include the RTL's stalls ([`Raster::set_mem_wait`]).
+    mem_wait: Option<Vec<bool>>,
 }
 
 /// The cycles a bounding-box walk testing `lanes` pixels of a row per step spends on a
@@ -132,6 +135,34 @@ fn lane_extra(a: u32, b: u32, x0: u32, lanes: u32) -> u64 {
     }
     let steps = (b - 1 - x0) / lanes - (a - x0) / lanes + 1;
     u64::from(b - a - steps)
+}
+
+/// The bounding-box walk of a triangle unit testing `lanes` pixels of a row per step, as
+/// the steps [`hw::stalled_cycles`] takes: a step with no covered pixel is one step that
+/// emits nothing, one with k covered pixels is k steps that each emit (the fragments
+/// leave one per cycle). `spans` holds each covered row's `(y, x0, x1)`, top to bottom.
+fn box_steps(
+    bbox: [u32; 4],
+    lanes: u32,
+    spans: &[(u32, u32, u32)],
+) -> impl Iterator<Item = bool> + '_ {
+    let [x0, y0, x1, y1] = bbox;
+    let mut next = spans.iter().peekable();
+    (y0..y1).flat_map(move |y| {
+        let span = match next.peek() {
+            Some(&&(sy, a, b)) if sy == y => {
+                next.next();
+                (a, b)
+            }
+            _ => (0, 0),
+        };
+        (x0..x1).step_by(lanes as usize).flat_map(move |sx| {
+            let end = (sx + lanes).min(x1);
+            let covered = span.1.min(end).saturating_sub(span.0.max(sx));
+            let n = covered.max(1) as usize;
+            std::iter::repeat_n(covered > 0, n)
+        })
+    })
 }
 
 fn check_point(p: &Point, field: &'static str) -> Result<(), RasterError> {
@@ -166,6 +197,7 @@ impl Raster {
             stats: Stats::default(),
             hw: hw::Model::default(),
             tri_lanes: 1,
+            mem_wait: None,
         };
         // The set-up is one FIFO record, then a clear of the frame at one pixel per cycle:
         // the block is busy for it (the RTL's status counts it as clear cycles), though it
@@ -188,6 +220,15 @@ impl Raster {
         }
         self.tri_lanes = lanes;
         Ok(())
+    }
+
+    /// Makes the next line, clear and bounding-box triangle count the cycles the RTL's
+    /// unit stalls when its memory holds the wait input high: `wait[i]` is the memory's
+    /// wait on the command's i-th unit cycle (the memory's behaviour is the board's, so
+    /// the caller supplies it: a test records it from the simulated memory). Used once;
+    /// `None` clears it.
+    pub fn set_mem_wait(&mut self, wait: Option<Vec<bool>>) {
+        self.mem_wait = wait;
     }
 
     /// The framebuffer (read-back).
@@ -262,19 +303,25 @@ impl Raster {
         let (unit, busy) = match cmd {
             RasterCmd::Clear(c) => {
                 self.fb.clear(*c);
-                (
-                    hw::Unit::Clear,
-                    self.fb.width() as u64 * self.fb.height() as u64,
-                )
+                let area = self.fb.width() as u64 * self.fb.height() as u64;
+                let busy = match self.mem_wait.take() {
+                    Some(w) => hw::stalled_cycles(0, (0..area).map(|_| true), &w),
+                    None => area,
+                };
+                (hw::Unit::Clear, busy)
             }
             RasterCmd::Triangle(t) => (hw::Unit::Triangle, self.triangle(t)?),
             RasterCmd::Line(l) => {
                 check_point(&l.from, "line.from")?;
                 check_point(&l.to, "line.to")?;
-                (
-                    hw::Unit::Line,
-                    hw::LINE_SETUP_CYCLES + line::draw(&mut self.fb, l, bits),
-                )
+                let pixels = line::draw(&mut self.fb, l, bits);
+                let busy = match self.mem_wait.take() {
+                    Some(w) => {
+                        hw::stalled_cycles(hw::LINE_SETUP_CYCLES, (0..pixels).map(|_| true), &w)
+                    }
+                    None => hw::LINE_SETUP_CYCLES + pixels,
+                };
+                (hw::Unit::Line, busy)
             }
             RasterCmd::Circle(c) => {
                 check_point(&c.center, "circle.center")?;
@@ -334,6 +381,8 @@ impl Raster {
                 (hw::Unit::Triangle, busy)
             }
         };
+        // a wait pattern is for one command, whichever unit ran it (or none)
+        self.mem_wait = None;
         let frags = self.fb.fragments() - before;
         self.stats.fragments += frags;
         let records = if counted { records(cmd, bits) } else { 0 };
@@ -396,11 +445,18 @@ impl Raster {
         let trav = self.setup.traversal;
         let (bx0, lanes) = (s.bbox[0], self.tri_lanes);
         let mut extra = 0u64;
+        let wait = self.mem_wait.take();
+        // the covered span of each box row, when the stalls need the walk's schedule
+        let mut spans: Vec<(u32, u32, u32)> = Vec::new();
+        let keep = wait.is_some() && trav == Traversal::BoundingBox;
         match (t.shade, t.z, t.tex) {
             (Shade::Flat(col), None, None) => {
                 let fb = &mut self.fb;
                 tri::traverse(&s, trav, &mut c, &mut |y, x0, x1| {
                     extra += lane_extra(x0, x1, bx0, lanes);
+                    if keep {
+                        spans.push((y, x0, x1));
+                    }
                     fb.fill_span(y, x0, x1, col)
                 });
             }
@@ -409,11 +465,19 @@ impl Raster {
                 let fb = &mut self.fb;
                 tri::traverse(&s, trav, &mut c, &mut |y, x0, x1| {
                     extra += lane_extra(x0, x1, bx0, lanes);
+                    if keep {
+                        spans.push((y, x0, x1));
+                    }
                     for x in x0..x1 {
                         sh.fragment(fb, &s, x, y);
                     }
                 });
             }
+        }
+        if let (true, Some(w)) = (keep, wait) {
+            self.stats.pixel_tests += c.pixel_tests;
+            let steps = box_steps(s.bbox, lanes, &spans);
+            return Ok(hw::stalled_cycles(hw::SETUP_CYCLES, steps, &w));
         }
         self.stats.pixel_tests += c.pixel_tests;
         self.stats.block_tests += c.block_tests;

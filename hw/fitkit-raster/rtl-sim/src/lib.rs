@@ -123,6 +123,8 @@ pub struct Rtl {
     burst: (u32, bool),
     /// Cycles `[from, to)` during which `rst` is driven high by [`Rtl::pulse_reset_at`].
     reset_window: Option<(u64, u64)>,
+    /// `mem_wait` of every cycle since [`Rtl::record_mem_wait`], and the cycle it started.
+    wait_log: Option<(u64, Vec<bool>)>,
 }
 
 impl std::fmt::Debug for Rtl {
@@ -167,6 +169,7 @@ impl Rtl {
             rng: 0,
             burst: (0, false),
             reset_window: None,
+            wait_log: None,
         };
         rtl.reset();
         Ok(rtl)
@@ -182,6 +185,26 @@ impl Rtl {
         } else {
             Err(RtlError::Trace(name))
         }
+    }
+
+    /// Records `mem_wait` on every cycle from now on (what the memory did, for a model that
+    /// counts the stalls it caused).
+    pub fn record_mem_wait(&mut self) {
+        self.wait_log = Some((self.cycle, Vec::new()));
+    }
+
+    /// `mem_wait` on the cycles `[from, to)` as recorded (cycles outside the recording
+    /// read as low).
+    pub fn mem_wait_between(&self, from: u64, to: u64) -> Vec<bool> {
+        (from..to)
+            .map(|c| {
+                self.wait_log.as_ref().is_some_and(|(start, log)| {
+                    c.checked_sub(*start)
+                        .and_then(|i| log.get(usize::try_from(i).ok()?))
+                        == Some(&true)
+                })
+            })
+            .collect()
     }
 
     /// Drives `rst` high for `cycles` cycles from cycle `at` on, whatever the SPI master
@@ -223,6 +246,9 @@ impl Rtl {
             .is_some_and(|(from, to)| (from..to).contains(&self.cycle))
         {
             inputs |= ffi::IN_RST;
+        }
+        if let Some((_, log)) = &mut self.wait_log {
+            log.push(wait);
         }
         self.outputs = ffi::tick(self.model, inputs);
         self.cycle += 1;

@@ -102,6 +102,8 @@ pub struct RtlSpi {
     bits: u64,
     /// The jitter's xorshift state.
     rng: u64,
+    /// The cycle CS_n last rose (the end of the last transaction).
+    cs_rise: u64,
 }
 
 impl RtlSpi {
@@ -113,6 +115,7 @@ impl RtlSpi {
             config,
             bits: 0,
             rng: config.jitter_seed | 1,
+            cs_rise: 0,
         })
     }
 
@@ -131,6 +134,12 @@ impl RtlSpi {
     /// The timing in use.
     pub fn config(&self) -> SpiConfig {
         self.config
+    }
+
+    /// The block's cycle at which CS_n last rose: where the block's decoder commits the
+    /// last packet, a fixed number of cycles before its unit starts (docs/rtl.md).
+    pub fn last_cs_rise(&self) -> u64 {
+        self.cs_rise
     }
 
     /// Bits shifted (each one both out on MOSI and in from MISO) since construction.
@@ -159,6 +168,7 @@ impl RtlSpi {
         rtl.run(hold);
         rtl.set_mosi(false);
         rtl.set_cs_n(true);
+        self.cs_rise = rtl.cycle();
         let high = self.jittered(self.config.cs_high);
         rtl.run(high);
         Ok(())
@@ -228,6 +238,7 @@ impl SpiDevice<u8> for RtlSpi {
         rtl.run(hold);
         rtl.set_mosi(false);
         rtl.set_cs_n(true);
+        self.cs_rise = rtl.cycle();
         let high = self.jittered(self.config.cs_high);
         rtl.run(high);
         Ok(())

@@ -13,6 +13,18 @@ use sim_target::Device;
 /// box is 262 144 cycles, a full FIFO of them far more, but the cases queue few).
 pub const WAIT_BOUND: u64 = 20_000_000;
 
+/// Cycles from the CS_n rise that ends a packet to its unit's first cycle, when the
+/// block was idle: the synchroniser and the decoder's commit, the FIFO's read and the
+/// executor's dispatch take 9 for a one-record packet (a clear); a two-record packet
+/// (a line, a triangle) reads its second record and passes the executor's DRAW state, 2
+/// more (docs/rtl.md).
+pub fn unit_start(cmd: &RasterCmd) -> u64 {
+    match cmd {
+        RasterCmd::Clear(_) => 9,
+        _ => 11,
+    }
+}
+
 /// The model's traversal whose cycle accounting the RTL's triangle unit follows.
 pub const MODEL_TRAVERSAL: Traversal = Traversal::BoundingBox;
 
@@ -154,6 +166,31 @@ impl Pair {
         };
         self.last = now;
         step
+    }
+
+    /// As [`Pair::step`], the model told what the memory did: the command runs on the RTL
+    /// first, then the model counts its unit's stalls from the `mem_wait` the RTL's memory
+    /// drove from the unit's first cycle ([`unit_start`] cycles after CS_n rose) on.
+    /// The RTL must be recording `mem_wait` ([`fitkit_rtl_sim::Rtl::record_mem_wait`]).
+    pub fn step_stalled(&mut self, case: &str, cmd: &RasterCmd) -> Step {
+        let (channel, records) = self.pack(cmd, false);
+        self.write_packet(channel, &records);
+        let start = self.spi.last_cs_rise() + unit_start(cmd);
+        self.rtl
+            .borrow_mut()
+            .wait_idle(WAIT_BOUND)
+            .unwrap_or_else(|e| panic!("{case}: {e}"));
+        let now = self.rtl.borrow().cycle();
+        let wait = self.rtl.borrow().mem_wait_between(start, now);
+        self.model
+            .raster_mut()
+            .expect("set up")
+            .set_mem_wait(Some(wait));
+        self.model
+            .push_packet(channel, &records)
+            .expect("model FIFO");
+        self.model.drain().expect("model runs the command");
+        self.settle(&format!("{case}: {cmd:?}"))
     }
 
     /// Waits for FIFO_FREE, then writes the packet of `records` to `address`.

@@ -1,6 +1,8 @@
-//! `mem_wait` toggling: the memory refuses requests on a seeded pseudo-random pattern,
-//! switched on and off between commands. Pixels and fragment counts must not change;
-//! cycles only grow (the units stall on a full fragment FIFO).
+//! `mem_wait` toggling: the memory refuses requests on a seeded pseudo-random pattern or
+//! in storms of long holds, switched on and off between commands. Pixels and fragment
+//! counts must not change, and every unit's cycles equal the model's once the model is
+//! told what the memory did (`Raster::set_mem_wait`: the units stall on a full fragment
+//! FIFO).
 
 use fitkit_rtl_sim::MemWait;
 use protocol::raster::Cull;
@@ -9,41 +11,68 @@ use rand::Rng;
 use crate::cases;
 use crate::harness::{self, Pair};
 
+/// One block under `wait`, `TRI_LANES` = `lanes`: 40 commands, pixels and every counter
+/// exact.
+fn stalls_are_counted(seed: u64, wait: MemWait, lanes: u32) {
+    let mut rng = cases::rng(seed);
+    let bg = cases::color(&mut rng);
+    let setup = harness::setup(64, 48, bg, Cull::None);
+    let mut pair = Pair::with_lanes(setup, lanes);
+    pair.rtl.borrow_mut().record_mem_wait();
+    for n in 0..40 {
+        let c = cases::color_except(&mut rng, bg);
+        let cmd = match rng.gen_range(0..4) {
+            0 => cases::line(
+                cases::point(&mut rng, 63, 47),
+                cases::point(&mut rng, 63, 47),
+                c,
+            ),
+            1 => protocol::raster::RasterCmd::Clear(c),
+            _ => cases::triangle([(); 3].map(|_| cases::point(&mut rng, 63, 47)), c),
+        };
+        // Every third command runs with the memory always ready.
+        let on = n % 3 != 2;
+        pair.rtl
+            .borrow_mut()
+            .set_mem_wait(if on { wait } else { MemWait::Off });
+        let case = format!("{wait:?} lanes {lanes} (on: {on}) cmd {n}");
+        let step = pair.step_stalled(&case, &cmd);
+        assert_eq!(step.rtl, step.model, "{case}: {cmd:?}: counters");
+    }
+}
+
 #[test]
-fn stalls_change_no_pixel() {
-    let mut rng = cases::rng(0x61);
+fn stalls_are_counted_exactly() {
     for (k, duty) in [32u8, 128, 224].into_iter().enumerate() {
-        let bg = cases::color(&mut rng);
-        let setup = harness::setup(64, 48, bg, Cull::None);
         let wait = MemWait::Random {
             seed: 0x6100 + k as u64,
             duty,
         };
-        let mut pair = Pair::with(setup, wait);
-        for n in 0..40 {
-            let c = cases::color_except(&mut rng, bg);
-            let cmd = match rng.gen_range(0..4) {
-                0 => cases::line(
-                    cases::point(&mut rng, 63, 47),
-                    cases::point(&mut rng, 63, 47),
-                    c,
-                ),
-                1 => protocol::raster::RasterCmd::Clear(c),
-                _ => cases::triangle([(); 3].map(|_| cases::point(&mut rng, 63, 47)), c),
-            };
-            // Every third command runs with the memory always ready.
-            let on = n % 3 != 2;
-            pair.rtl
-                .borrow_mut()
-                .set_mem_wait(if on { wait } else { MemWait::Off });
-            let case = format!("mem_wait duty {duty}/256 (on: {on}) cmd {n}");
-            let step = pair.step(&case, &cmd, false);
-            assert_eq!(step.rtl.fragments, step.model.fragments, "{case}: {cmd:?}");
-            let (r, m) = (step.rtl, step.model);
-            assert!(
-                r.line >= m.line && r.triangle >= m.triangle && r.clear >= m.clear,
-                "{case}: {cmd:?}: stalls made a unit faster: rtl {r:?} model {m:?}"
-            );
-        }
+        replay_case(&format!("mem-wait-duty-{duty}"), 0x61 + k as u64, wait, 1);
     }
+    let storm = MemWait::Bursts {
+        seed: 0x6200,
+        max_high: 300,
+        max_low: 60,
+    };
+    replay_case("mem-wait-storm", 0x62, storm, 1);
+}
+
+#[test]
+fn stalls_are_counted_exactly_with_eight_lanes() {
+    let wait = MemWait::Random {
+        seed: 0x6300,
+        duty: 160,
+    };
+    replay_case("mem-wait-lanes-8", 0x63, wait, 8);
+    let storm = MemWait::Bursts {
+        seed: 0x6400,
+        max_high: 40,
+        max_low: 40,
+    };
+    replay_case("mem-wait-storm-lanes-8", 0x64, storm, 8);
+}
+
+fn replay_case(name: &str, seed: u64, wait: MemWait, lanes: u32) {
+    crate::replay::with_waveform(name, || stalls_are_counted(seed, wait, lanes));
 }
