@@ -3,10 +3,12 @@
 //! margins a run may move them by before it fails.
 //!
 //! Margins, and why (docs/synthesis.md says the same to a user):
-//! - LUTs and flip-flops may grow by [`AREA_MARGIN`] (2 %): Yosys is deterministic for a
-//!   given source, so a figure moves only when the RTL does, and 2 % lets a small fix land
-//!   without touching the baseline while a unit that doubles, or a pipeline that adds a
-//!   few hundred registers, fails.
+//! - LUTs and flip-flops may grow by [`AREA_MARGIN`] (5 %): Yosys is deterministic for a
+//!   given source, so a figure moves only when the RTL does, but mapping moves it by more
+//!   than the change itself (a nine-line change to the FITkit read-back moved the Gowin
+//!   LUTs by +3.3 % and the ECP5's by −2.6 %); 5 % lets such a fix land without touching
+//!   the baseline while a unit that doubles, or a pipeline that adds a few hundred
+//!   registers to a small block, fails.
 //! - Block RAMs and DSPs may not grow at all: they are few and coarse, and one more is a
 //!   design decision, taken by updating the baseline.
 //! - A design that fitted its part must still fit.
@@ -25,7 +27,7 @@ use anyhow::{Context, Result};
 use crate::synth::Record;
 
 /// How much LUTs and flip-flops may grow, as a fraction.
-pub const AREA_MARGIN: f64 = 0.02;
+pub const AREA_MARGIN: f64 = 0.05;
 /// How much the median Fmax may fall, as a fraction.
 pub const FMAX_MARGIN: f64 = 0.08;
 
@@ -186,7 +188,7 @@ mod tests {
     #[test]
     fn figures_within_the_margins_pass_and_beyond_them_fail() {
         let base = [rec(1000, 500, 7, 0, Some(60.0))];
-        assert!(compare(&base, &[rec(1020, 510, 7, 0, Some(55.3))])
+        assert!(compare(&base, &[rec(1050, 525, 7, 0, Some(55.3))])
             .regressions
             .is_empty());
         // doubled LUTs, one more EBR, a halved Fmax: each one a regression
@@ -194,7 +196,7 @@ mod tests {
         assert_eq!(v.regressions.len(), 1, "{:?}", v.regressions);
         assert!(v.regressions[0].contains("LUT 2000 > 1000"));
         assert_eq!(
-            compare(&base, &[rec(1021, 500, 7, 0, Some(60.0))])
+            compare(&base, &[rec(1051, 500, 7, 0, Some(60.0))])
                 .regressions
                 .len(),
             1
@@ -223,6 +225,7 @@ mod tests {
         assert!(compare(&base, &[other]).regressions[0].contains("--update-baseline"));
         // a better figure passes and is named
         let v = compare(&base, &[rec(900, 500, 7, 0, Some(70.0))]);
+        assert!(v.report.contains("LUT 900 < 1000"), "{}", v.report);
         assert!(v.regressions.is_empty());
         assert!(v.report.contains("better"), "{}", v.report);
     }

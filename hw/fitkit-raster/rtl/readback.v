@@ -52,10 +52,13 @@ module readback (
     wire active = chan_valid & (chan == `FITKIT_ADDR_READ);
     wire pop    = active & tx_load & (byte_index >= FIRST_PIXEL);
     wire arrive = rd_valid & ~drop;
-    // a slot sent as 0 now; with it, the bytes to drop (the next arriving is the oldest)
+    // a slot sent as 0 now; with it, the bytes to drop (the next arriving is the oldest).
+    // An arriving byte is kept only when nothing is owed: no earlier slot went out as 0
+    // and this one does not. Tested on `skip` itself, not on skip + miss, so the add
+    // stays off the path from the slave's byte strobe to the queue's enables.
     wire miss   = pop & (cnt == 2'd0);
-    wire [17:0] owed = skip + {17'd0, miss};
-    wire push   = arrive & (owed == 18'd0);
+    wire none_owed = (skip == 18'd0) & ~miss;
+    wire push   = arrive & none_owed;
 
     assign rd_req  = en & ~pend & (cnt != 2'd2);
     assign rd_addr = addr;
@@ -112,7 +115,9 @@ module readback (
                     default: ;
                 endcase
                 if (pop) missing <= cnt == 2'd0;
-                skip <= arrive && owed != 18'd0 ? owed - 18'd1 : owed;
+                // skip + miss, less the byte dropped now (none when nothing was owed)
+                if (!none_owed)
+                    skip <= skip + {17'd0, miss} - {17'd0, arrive};
                 if (active && bit_start && missing) begin
                     underrun <= 1'b1;
                     missing  <= 1'b0;
