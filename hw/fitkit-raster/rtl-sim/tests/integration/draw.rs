@@ -30,18 +30,40 @@ impl Class<'_> {
     }
 
     /// As [`Class::run`] on the block built with `TRI_LANES` = `lanes`.
+    /// A frame whose pixels differ is replayed into a waveform the failure names
+    /// (`replay`); counter differences are collected in `tally` and reported together.
     pub fn run_lanes(&self, tally: &mut Tally, lanes: u32) {
         let mut rng = cases::rng(self.seed);
         for f in 0..self.frames {
-            let setup = (self.frame)(&mut rng);
-            let mut pair = Pair::with_lanes(setup, lanes);
-            for k in 0..self.per_frame {
-                let (cmd, cb) = (self.cmd)(&mut rng, &setup);
-                let case = format!("{} seed {} frame {f} cmd {k}", self.name, self.seed);
-                let step = pair.step(&case, &cmd, cb);
-                let case = || format!("{case}: {setup:?} {cmd:?} cb={cb}");
-                tally.add(self.name, case, &step);
+            // each frame from its own generator state, so a replay draws the same frame
+            let start = rng.clone();
+            let steps = std::cell::RefCell::new(Vec::new());
+            let after = std::cell::RefCell::new(None);
+            let name = format!(
+                "{}-seed{}-frame{f}-lanes{lanes}",
+                self.name.replace(' ', "-"),
+                self.seed
+            );
+            crate::replay::with_waveform(&name, || {
+                let mut rng = start.clone();
+                steps.borrow_mut().clear();
+                let setup = (self.frame)(&mut rng);
+                let mut pair = Pair::with_lanes(setup, lanes);
+                for k in 0..self.per_frame {
+                    let (cmd, cb) = (self.cmd)(&mut rng, &setup);
+                    let case = format!("{} seed {} frame {f} cmd {k}", self.name, self.seed);
+                    let step = pair.step(&case, &cmd, cb);
+                    steps
+                        .borrow_mut()
+                        .push((format!("{case}: {setup:?} {cmd:?} cb={cb}"), step));
+                }
+                // the generator as the frame left it, for the next frame
+                *after.borrow_mut() = Some(rng);
+            });
+            for (case, step) in steps.into_inner() {
+                tally.add(self.name, || case, &step);
             }
+            rng = after.into_inner().expect("the frame ran");
         }
     }
 }
