@@ -647,13 +647,13 @@ pub fn ensure_yowasp(root: &Path, program: &str) -> Result<PathBuf> {
     Ok(path)
 }
 
-/// The program behind `tool` (installing a PyPI one), and the directory it must run in
-/// (a yowasp program sees only that one, so its files are named relative to it).
+/// The program behind `tool`, installing a PyPI one first. A yowasp program sees only
+/// the directory it runs in, so the flow names every file relative to it.
 fn program(root: &Path, tool: Pnr) -> Result<String> {
     match tool {
         Pnr::Debian(p) => Ok(p.to_string()),
         Pnr::Yowasp(p) => Ok(ensure_yowasp(root, p)?.to_string_lossy().into_owned()),
-        Pnr::None => bail!("no program"),
+        Pnr::None => bail!("the family has no open tool for this step (resources only)"),
     }
 }
 
