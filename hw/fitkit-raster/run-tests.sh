@@ -98,9 +98,9 @@ run() {
 run tb_spi tb_spi - rtl/spi_slave.v rtl/spi_decoder.v rtl/fifo36.v
 run tb_fifo tb_fifo - rtl/fifo36.v rtl/frag_fifo.v
 run tb_line tb_line - rtl/line_unit.v
-run tb_tri tb_tri - rtl/tri_unit.v
+run tb_tri tb_tri - rtl/tri_unit.v rtl/tri_lane.v rtl/mul_seq.v
 echo "tb_tri with LANES = 8:"
-run tb_tri tb_tri8 8 rtl/tri_unit.v
+run tb_tri tb_tri8 8 rtl/tri_unit.v rtl/tri_lane.v rtl/mul_seq.v
 run tb_cmd_exec tb_cmd_exec - rtl/cmd_exec.v
 run tb_clear tb_clear - rtl/clear_unit.v
 run tb_fb_writer tb_fb_writer - rtl/fb_writer.v

@@ -28,8 +28,10 @@ module clear_unit (
 );
     reg [8:0] x, y, xm, ym;
     reg [7:0] col;
+    reg       xe, ye;        // x == xm, y == ym: registers, so done and the clock
+                             // enables are one LUT after frag_ready
 
-    wire last = (x == xm) & (y == ym);
+    wire last = xe & ye;
 
     assign frag_valid = busy;
     assign frag_x     = x;
@@ -45,6 +47,8 @@ module clear_unit (
             xm   <= 9'd0;
             ym   <= 9'd0;
             col  <= 8'd0;
+            xe   <= 1'b0;
+            ye   <= 1'b0;
         end else if (!busy) begin
             if (start) begin
                 busy <= 1'b1;
@@ -52,15 +56,20 @@ module clear_unit (
                 y    <= 9'd0;
                 xm   <= wm1;
                 ym   <= hm1;
+                xe   <= wm1 == 9'd0;
+                ye   <= hm1 == 9'd0;
                 col  <= color;
             end
         end else if (frag_ready) begin
-            if (x == xm) begin
-                x <= 9'd0;
-                y <= y + 9'd1;
-                if (y == ym) busy <= 1'b0;
+            if (xe) begin
+                x  <= 9'd0;
+                xe <= xm == 9'd0;
+                y  <= y + 9'd1;
+                ye <= y + 9'd1 == ym;
+                if (ye) busy <= 1'b0;
             end else begin
-                x <= x + 9'd1;
+                x  <= x + 9'd1;
+                xe <= x + 9'd1 == xm;
             end
         end
     end

@@ -16,7 +16,9 @@
 // and any_done (that, or a set-up finished) to the status block; busy: a packet is
 // being executed.
 // Timing (not counted in any unit's busy cycles): 2 cycles to pop a 1-record packet and
-// 3 for a 2-record one from a primed FIFO, 1 to start each unit (the CB clear too);
+// 3 for a 2-record one from a primed FIFO, 1 to start each unit (the CB clear too), 1
+// after a line's or triangle's done strobe (registered here: the strobe depends on the
+// fragment FIFO's room, and this FSM's enables are a tree of every state's condition);
 // a set-up adds the drain wait and 1 cycle to latch.
 // The tags are the record channels' addresses and the power-on frame is the map's side
 // (fitkit_map.vh).
@@ -63,6 +65,7 @@ module cmd_exec (
     reg [35:0] r0;
     reg [35:9] r1;       // record 1 without the padding bits
     reg [7:0]  bg;
+    reg        drawn;    // a line or triangle unit's done, one cycle late
 
     assign FIFO_NEXT = DATA_VLD & ((state == IDLE) | (state == GET1));
     assign packet    = {r0[34:0], r1[35:9]};
@@ -75,6 +78,7 @@ module cmd_exec (
         tri_start  <= 1'b0;
         pkt_done   <= 1'b0;
         any_done   <= 1'b0;
+        drawn      <= ~rst & (line_done | tri_done);
         if (rst) begin
             state      <= IDLE;
             tag        <= 2'd0;
@@ -139,7 +143,7 @@ module cmd_exec (
                     tri_start  <= tag == T_TRI;
                     state      <= WAIT_DRAW;
                 end
-                WAIT_DRAW: if (line_done | tri_done) begin
+                WAIT_DRAW: if (drawn) begin
                     pkt_done <= 1'b1;
                     any_done <= 1'b1;
                     state    <= IDLE;

@@ -76,14 +76,15 @@ module fb_writer (
                     req_w    <= 1'b0;
                     req_cnt  <= 1'b0;
                     req_addr <= rd_addr;
-                end else if (!frag_empty && in_fr) begin
-                    req_v    <= 1'b1;
+                end else begin
+                    // the fragment is taken whatever its place and only req_v waits on
+                    // the frame test, so no comparison lies between the FIFO's block
+                    // RAM and the request register's enables
+                    req_v    <= ~frag_empty & in_fr;
                     req_w    <= 1'b1;
                     req_cnt  <= frag_dout[26];
                     req_addr <= {fy, fx};
                     req_data <= frag_dout[25:18];
-                end else begin
-                    req_v <= 1'b0;
                 end
             end
         end

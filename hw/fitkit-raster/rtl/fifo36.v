@@ -60,12 +60,15 @@ module fifo36 #(
     reg [AW:0]  rd_ptr;     // next RAM word to read
     reg         out_valid;
     reg [W-1:0] out_data;
+    // Records held, the output register's included: tentative and committed. Kept as
+    // counters beside the pointers, so room and the flags are a comparison of a register
+    // (no pointer difference in the path to DATA_WE's enables).
+    reg [AW:0]  used_tent, used_comm;
 
-    wire [AW:0] used_tent = (wr_ptr - rd_ptr) + {{AW{1'b0}}, out_valid};
-    wire [AW:0] used_comm = (wr_commit - rd_ptr) + {{AW{1'b0}}, out_valid};
     wire        do_write  = DATA_WE & room;
     wire        avail     = wr_commit != rd_ptr;
     wire        do_read   = avail & (~out_valid | FIFO_NEXT);
+    wire        take      = FIFO_NEXT & out_valid;   // a record leaves
 
     assign room       = used_tent != DEPTH_C;
     assign occupancy  = used_comm;
@@ -88,7 +91,15 @@ module fifo36 #(
             wr_commit <= {(AW+1){1'b0}};
             rd_ptr    <= {(AW+1){1'b0}};
             out_valid <= 1'b0;
+            used_tent <= {(AW+1){1'b0}};
+            used_comm <= {(AW+1){1'b0}};
         end else begin
+            // the counts follow the pointers: a write adds a tentative record, COMMIT
+            // makes the tentative ones committed, DISCARD drops them, a take removes one
+            if (DISCARD) used_tent <= used_comm - {{AW{1'b0}}, take};
+            else used_tent <= used_tent + {{AW{1'b0}}, do_write} - {{AW{1'b0}}, take};
+            if (COMMIT) used_comm <= used_tent - {{AW{1'b0}}, take};
+            else used_comm <= used_comm - {{AW{1'b0}}, take};
             if (DISCARD) wr_ptr <= wr_commit;
             else if (do_write) wr_ptr <= wr_ptr + 1'b1;
             if (COMMIT) wr_commit <= wr_ptr;
@@ -120,6 +131,11 @@ module fifo36 #(
     end
     wire [AW:0] f_tent = wr_ptr - rd_ptr;
     wire [AW:0] f_comm = wr_commit - rd_ptr;
+    // the counters are the pointers' differences (with the output register's record)
+    always @(*) if (reset_seen) begin
+        assert (used_tent == f_tent + {{AW{1'b0}}, out_valid});
+        assert (used_comm == f_comm + {{AW{1'b0}}, out_valid});
+    end
     (* anyconst *) reg [AW:0]  f_ptr;
     (* anyconst *) reg [W-1:0] f_data;
     always @(*) if (do_write && wr_ptr == f_ptr) assume (DATA_IN == f_data);

@@ -49,15 +49,17 @@ module fitkit_raster #(
     wire        fifo_room;
     spi_decoder u_dec (
         .clk(clk), .rst(rst), .cs_start(cs_start), .cs_end(cs_end), .cs_partial(cs_partial),
-        .rx_valid(rx_valid), .rx_byte(rx_byte), .rx_index(rx_index), .fifo_room(fifo_room),
+        .rx_valid(rx_valid), .rx_byte(rx_byte), .fifo_room(fifo_room),
         .chan(chan), .chan_valid(chan_valid), .fifo_din(fifo_din), .fifo_we(fifo_we),
         .fifo_commit(fifo_commit), .fifo_discard(fifo_discard), .err_valid(dec_err),
         .err_code(dec_code), .err_chan(dec_chan), .soft_rst(soft_rst), .snap(snap)
     );
 
+    // The core's reset: rst or the SPI reset, a cycle late, from one flip-flop (it reaches
+    // most of the block's flip-flops; a LUT there put every reset path a level deeper).
     reg core_rst;
     always @(posedge clk) core_rst <= rst | soft_rst;
-    wire crst = rst | core_rst;
+    wire crst = core_rst;
 
     // Input FIFO and the executor.
     wire [37:0] data_out;
@@ -151,9 +153,17 @@ module fitkit_raster #(
         .byte_index(byte_index), .tx_byte(st_byte)
     );
 
+    // The channel selects, registered: the channel is known from the address byte on,
+    // at least 3 cycles before the first tx_load of a transaction (docs/rtl.md, SPI
+    // framing), and the selects' compare stays off the path into the slave's shift register.
+    reg sel_status, sel_read;
+    always @(posedge clk) begin
+        sel_status <= ~rst & chan_valid & (chan == `FITKIT_ADDR_STATUS);
+        sel_read   <= ~rst & chan_valid & (chan == `FITKIT_ADDR_READ);
+    end
     always @* begin
-        if (chan_valid && chan == `FITKIT_ADDR_STATUS) tx_byte = st_byte;
-        else if (chan_valid && chan == `FITKIT_ADDR_READ) tx_byte = rb_byte;
+        if (sel_status) tx_byte = st_byte;
+        else if (sel_read) tx_byte = rb_byte;
         else tx_byte = 8'd0;
     end
 endmodule

@@ -7,7 +7,9 @@
 //
 // Ports: din / we, full; dout / empty / re. Parameters: W bits per entry, AW log2 depth.
 // Timing: an entry written in cycle t is visible at dout in cycle t + 1; one write and
-// one read per cycle.
+// one read per cycle. full and empty are registers (kept beside the pointers from the
+// cycle's write and read), so a producer's clock enable and the reader's choice start at
+// a flip-flop, not at a comparison of the pointers.
 `default_nettype none
 module frag_fifo #(
     parameter W  = 27,
@@ -22,14 +24,25 @@ module frag_fifo #(
     output wire         empty,
     input  wire         re
 );
+    generate
+        if (AW < 1 || W < 1) begin : bad_parameter
+            frag_fifo_needs_at_least_2_entries_of_1_bit unsupported();
+        end
+    endgenerate
+
     reg [W-1:0] mem [0:(1<<AW)-1];
     reg [AW:0]  wp, rp;
+    reg         full_r, empty_r;
 
-    wire do_w = we & ~full;
-    wire do_r = re & ~empty;
+    wire do_w = we & ~full_r;
+    wire do_r = re & ~empty_r;
+    // entries held: one short of full, or one
+    wire [AW:0] count  = wp - rp;
+    wire        nearly = count == (1 << AW) - 1;
+    wire        single = count == 1;
 
-    assign empty = wp == rp;
-    assign full  = (wp[AW-1:0] == rp[AW-1:0]) & (wp[AW] != rp[AW]);
+    assign empty = empty_r;
+    assign full  = full_r;
     assign dout  = mem[rp[AW-1:0]];
 
     always @(posedge clk) begin
@@ -38,11 +51,17 @@ module frag_fifo #(
 
     always @(posedge clk) begin
         if (rst) begin
-            wp <= {(AW+1){1'b0}};
-            rp <= {(AW+1){1'b0}};
+            wp      <= {(AW+1){1'b0}};
+            rp      <= {(AW+1){1'b0}};
+            full_r  <= 1'b0;
+            empty_r <= 1'b1;
         end else begin
             if (do_w) wp <= wp + 1'b1;
             if (do_r) rp <= rp + 1'b1;
+            if (do_w != do_r) begin
+                full_r  <= do_w & nearly;
+                empty_r <= do_r & single;
+            end
         end
     end
 

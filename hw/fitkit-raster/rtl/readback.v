@@ -44,25 +44,35 @@ module readback (
     reg        drop;         // ... and belongs to an earlier transaction
     reg        missing;      // the byte loaded last had no data
     reg [17:0] skip;         // bytes still to come whose slots went out as 0
+    reg        owed;         // skip != 0, as a flip-flop for the queue's enables
 
     // Byte indices in the transaction: the last start-address byte, the first pixel.
     localparam [7:0] LAST_ADDR   = `FITKIT_READ_HEADER_BYTES - `FITKIT_READ_TURNAROUND - 1;
     localparam [7:0] FIRST_PIXEL = `FITKIT_READ_HEADER_BYTES;
 
-    wire active = chan_valid & (chan == `FITKIT_ADDR_READ);
-    wire pop    = active & tx_load & (byte_index >= FIRST_PIXEL);
+    // registered: the channel is known bytes before a pixel slot, and byte_index changes
+    // on a byte's last rising SCK edge, at least 4 clock cycles before the tx_load of the
+    // next byte (docs/rtl.md, SPI framing), so one cycle late is early enough
+    reg active, pix;
+    always @(posedge clk) begin
+        active <= ~rst & chan_valid & (chan == `FITKIT_ADDR_READ);
+        pix    <= ~rst & (byte_index >= FIRST_PIXEL);
+    end
+    wire pop    = active & tx_load & pix;
     wire arrive = rd_valid & ~drop;
     // a slot sent as 0 now; with it, the bytes to drop (the next arriving is the oldest).
     // An arriving byte is kept only when nothing is owed: no earlier slot went out as 0
     // and this one does not. Tested on `skip` itself, not on skip + miss, so the add
     // stays off the path from the slave's byte strobe to the queue's enables.
     wire miss   = pop & (cnt == 2'd0);
-    wire none_owed = (skip == 18'd0) & ~miss;
+    wire none_owed = ~owed & ~miss;
     wire push   = arrive & none_owed;
+    wire [17:0] skip_up = skip + 18'd1;
+    wire [17:0] skip_dn = skip - 18'd1;
 
     assign rd_req  = en & ~pend & (cnt != 2'd2);
     assign rd_addr = addr;
-    assign tx_byte = (byte_index >= FIRST_PIXEL && cnt != 2'd0) ? b0 : 8'd0;
+    assign tx_byte = (pix && cnt != 2'd0) ? b0 : 8'd0;
 
     always @(posedge clk) begin
         underrun <= 1'b0;
@@ -76,6 +86,7 @@ module readback (
             drop    <= 1'b0;
             missing <= 1'b0;
             skip    <= 18'd0;
+            owed    <= 1'b0;
         end else begin
             if (rd_ack) begin
                 pend <= 1'b1;
@@ -89,6 +100,7 @@ module readback (
                 cnt     <= 2'd0;
                 missing <= 1'b0;
                 skip    <= 18'd0;
+                owed    <= 1'b0;
                 drop    <= (pend & ~rd_valid) | rd_ack;
             end else begin
                 if (rx_valid && active && rx_index >= 8'd1 && rx_index <= LAST_ADDR) begin
@@ -115,9 +127,15 @@ module readback (
                     default: ;
                 endcase
                 if (pop) missing <= cnt == 2'd0;
-                // skip + miss, less the byte dropped now (none when nothing was owed)
-                if (!none_owed)
-                    skip <= skip + {17'd0, miss} - {17'd0, arrive};
+                // skip + miss, less the byte dropped now (none when nothing was owed); the
+                // sums are taken from registers and chosen by miss and arrive, so the
+                // slave's strobe reaches skip through no carry chain
+                if (!none_owed) begin
+                    skip <= (miss == arrive) ? skip : miss ? skip_up : skip_dn;
+                    // whether the new count is not 0, from the old one's value
+                    owed <= (miss == arrive) ? owed : miss ? (skip_up != 18'd0)
+                                                           : (skip != 18'd1);
+                end
                 if (active && bit_start && missing) begin
                     underrun <= 1'b1;
                     missing  <= 1'b0;
@@ -167,6 +185,7 @@ module readback (
             if (pend && !drop) assert (f_flight_addr == addr - 18'd1);
             if (!en) assert (!(pend && !drop) && cnt == 2'd0 && skip == 18'd0);
             if (skip != 18'd0) assert (cnt == 2'd0);
+            assert (owed == (skip != 18'd0));
             // the queue and the read in flight: two bytes at most
             assert ({1'b0, cnt} + {2'd0, pend && !drop} <= 3'd2);
             if (en) begin

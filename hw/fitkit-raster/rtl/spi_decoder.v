@@ -34,7 +34,6 @@ module spi_decoder (
     input  wire        cs_partial,
     input  wire        rx_valid,
     input  wire [7:0]  rx_byte,
-    input  wire [7:0]  rx_index,
     input  wire        fifo_room,
     output reg  [7:0]  chan,
     output reg         chan_valid,
@@ -62,11 +61,13 @@ module spi_decoder (
     reg        ovr;
 
     // The record channels are the addresses 0..3 (set-up, line, triangle, clear): their
-    // low two bits are the FIFO tag.
-    wire is_rec  = chan_valid & (chan[7:2] == 6'd0);
-    wire is_two  = chan_valid
-                 & ((chan == `FITKIT_ADDR_LINE) | (chan == `FITKIT_ADDR_TRIANGLE));
-    wire is_rst  = chan_valid & (chan == `FITKIT_ADDR_RESET);
+    // low two bits are the FIFO tag. The channel's kind is kept in flags, set with chan
+    // from the address byte, so a payload byte's enables start at flip-flops; first: the
+    // next byte is the address.
+    reg  rec_c, two_c, rst_c, first;
+    wire is_rec  = chan_valid & rec_c;
+    wire is_two  = chan_valid & two_c;
+    wire is_rst  = chan_valid & rst_c;
     wire known   = (rx_byte[7:2] == 6'd0) | (rx_byte == `FITKIT_ADDR_STATUS)
                  | (rx_byte == `FITKIT_ADDR_READ) | (rx_byte == `FITKIT_ADDR_RESET);
 
@@ -97,6 +98,10 @@ module spi_decoder (
         if (rst) begin
             chan       <= 8'd0;
             chan_valid <= 1'b0;
+            rec_c      <= 1'b0;
+            two_c      <= 1'b0;
+            rst_c      <= 1'b0;
+            first      <= 1'b1;
             acc        <= 40'd0;
             nbytes     <= 8'd0;
             ovr        <= 1'b0;
@@ -105,13 +110,18 @@ module spi_decoder (
             err_chan   <= 8'd0;
         end else if (cs_start) begin
             chan_valid <= 1'b0;
+            first      <= 1'b1;
             acc        <= 40'd0;
             nbytes     <= 8'd0;
             ovr        <= 1'b0;
         end else if (rx_valid) begin
-            if (rx_index == 8'd0) begin
+            first <= 1'b0;
+            if (first) begin
                 chan       <= rx_byte;
                 chan_valid <= 1'b1;
+                rec_c      <= rx_byte[7:2] == 6'd0;
+                two_c      <= (rx_byte == `FITKIT_ADDR_LINE) | (rx_byte == `FITKIT_ADDR_TRIANGLE);
+                rst_c      <= rx_byte == `FITKIT_ADDR_RESET;
                 snap       <= rx_byte == `FITKIT_ADDR_STATUS;
                 if (!known) begin
                     err_valid <= 1'b1;
@@ -155,7 +165,7 @@ module spi_decoder (
 `ifdef FORMAL
     // The slave's contract (spi_slave proves its side): one event per cycle at most;
     // bytes and the end only inside a transaction, which begins with cs_start (none
-    // after a reset before one); byte k of a transaction comes with rx_index k.
+    // after a reset before one).
     reg        f_in = 1'b0, reset_seen = 1'b0, f_end_d = 1'b0, f_part = 1'b0;
     reg [8:0]  f_n = 9'd0;   // bytes of the transaction, saturating at 511
     reg [7:0]  f_chan = 8'd0;
@@ -164,7 +174,11 @@ module spi_decoder (
         assume (!(cs_start && cs_end) && !(cs_start && rx_valid) && !(cs_end && rx_valid));
         if (!f_in) assume (!rx_valid && !cs_end);
         if (f_in) assume (!cs_start);
-        if (rx_valid) assume (rx_index == (f_n > 9'd255 ? 8'd255 : f_n[7:0]));
+        // the address byte is the transaction's first; the kind flags are the channel's
+        if (reset_seen && f_in) assert (first == (f_n == 9'd0));
+        if (reset_seen && chan_valid) assert (rec_c == (chan[7:2] == 6'd0)
+            && two_c == ((chan == `FITKIT_ADDR_LINE) | (chan == `FITKIT_ADDR_TRIANGLE))
+            && rst_c == (chan == `FITKIT_ADDR_RESET));
     end
     always @(posedge clk) begin
         f_end_d <= !rst && cs_end;

@@ -49,6 +49,7 @@ module spi_slave (
     reg [2:0] bitcnt;
     reg [6:0] rx_sh;
     reg [7:0] nbytes;
+    reg       nnz;         // nbytes != 0, kept as a flip-flop for tx_load
     reg [6:0] tx_sh;
     reg       miso_r;
 
@@ -59,7 +60,7 @@ module spi_slave (
     wire run      = active & ~cs_fall & ~cs_rise;
 
     assign byte_index = nbytes;
-    assign tx_load    = run & sck_fall & (bitcnt == 3'd0) & (nbytes != 8'd0);
+    assign tx_load    = run & sck_fall & (bitcnt == 3'd0) & nnz;
     assign bit_start  = run & sck_rise & (bitcnt == 3'd0);
     assign spi_miso   = miso_r & ~spi_cs_n;
 
@@ -88,6 +89,7 @@ module spi_slave (
             bitcnt     <= 3'd0;
             rx_sh      <= 7'd0;
             nbytes     <= 8'd0;
+            nnz        <= 1'b0;
             tx_sh      <= 7'd0;
             miso_r     <= 1'b0;
             cs_partial <= 1'b0;
@@ -97,6 +99,7 @@ module spi_slave (
             active   <= 1'b1;
             bitcnt   <= 3'd0;
             nbytes   <= 8'd0;
+            nnz      <= 1'b0;
             tx_sh    <= 7'd0;
             miso_r   <= 1'b0;
             cs_start <= 1'b1;
@@ -114,6 +117,7 @@ module spi_slave (
                     rx_byte  <= {rx_sh, mosi_s[1]};
                     rx_index <= nbytes;
                     if (nbytes != 8'hFF) nbytes <= nbytes + 8'd1;
+                    nnz <= 1'b1;
                 end
             end
             if (sck_fall) begin
@@ -153,6 +157,7 @@ module spi_slave (
             if (cs_start || rx_valid) assert (active);
             // the synchroniser holds no high CS_n the pin has not shown since the reset
             if (!cs_high_seen) assert (cs_s == 3'b000);
+            assert (nnz == (nbytes != 8'd0));
         end
     end
 `endif

@@ -86,9 +86,21 @@ module status (
         block[TOP - 8 * `FITKIT_STATUS_FIFO_MAX_PAIRS -: 8]  = occ_half;
     end
 
-    wire [KW-1:0] k = byte_index[KW-1:0] - 1'b1;
-    assign tx_byte = (byte_index >= 8'd1 && byte_index <= LAST_BYTE)
-                   ? snapshot[TOP - {k, 3'd0} -: 8] : 8'd0;
+    // The byte for the slave, registered: byte_index changes on a byte's last rising SCK
+    // edge, at least 4 cycles before the next byte's tx_load (docs/rtl.md, SPI framing),
+    // and the snapshot is taken with the address byte, so a cycle late is in time.
+    // Byte index i (1 .. BYTES) selects snapshot byte i - 1, by a mux on the index itself.
+    reg  [7:0] pick;
+    reg  [7:0] tx_r;
+    integer    i;
+    always @* begin
+        pick = 8'd0;
+        for (i = 1; i <= BYTES; i = i + 1)
+            if (byte_index[KW-1:0] == i[KW-1:0]) pick = snapshot[TOP - 8 * (i - 1) -: 8];
+    end
+    always @(posedge clk)
+        tx_r <= (!rst && byte_index >= 8'd1 && byte_index <= LAST_BYTE) ? pick : 8'd0;
+    assign tx_byte = tx_r;
 
     always @(posedge clk) begin
         if (rst) begin

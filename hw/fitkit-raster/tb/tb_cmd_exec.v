@@ -15,7 +15,8 @@
 //                      such cycle q, width - 1 / height - 1 / cull latched from then,
 //                      clr_start with the background at q + 2;
 //   every packet       done (pkt_done and any_done; any_done alone for a set-up) the
-//                      cycle after its last unit's done strobe; busy from p + 1 to then;
+//                      cycle after its last unit's done strobe (two cycles after a line's
+//                      or triangle's, which cmd_exec registers); busy from p + 1 to then;
 //                      no other start, cnt_clr or done strobe in between; the next
 //                      packet popped in that same cycle when it is already queued;
 //                      setup_done rises with a set-up's done and stays until rst.
@@ -328,7 +329,7 @@ module tb_cmd_exec;
                             if (pk_kind[i] == 1 ? !l_ls[s] : !l_ts[s]) fail(i, s, "unit not started");
                             if (l_pkt[s] != pk_bits[i][70:9]) fail(i, s, "packet bits");
                             d = find(pk_kind[i] == 1 ? 2 : 3, s + 1, lim);
-                            e = d + 1;
+                            e = d + 2;
                             if (d < 0 || !l_ad[e] || !l_pd[e]) fail(i, d, "draw done");
                             if (pk_kind[i] == 1) nls = 1; else nts = 1;
                         end

@@ -4,7 +4,7 @@
 // point with the smaller major coordinate) puts pixel k at minor offset
 // floor((2k dn + dm) / 2dm), which is what p1 = 2dn - dm with "p >= 0 steps" gives. Checks
 // per line: the unit emits exactly the reference's pixel set, each pixel once; busy lasts
-// max(|dx|, |dy|) + 2 cycles plus the cycles a fragment waited on frag_ready (toggled at
+// 3 set-up cycles + max(|dx|, |dy|) + 1 plus the cycles a fragment waited on frag_ready (toggled at
 // random); done comes once. Cases: all octants and the diagonals, reversed end points,
 // zero length, the frame's corners, random lines. Prints "N passed, M failed".
 `default_nettype none
@@ -12,6 +12,7 @@
 `include "fitkit_map.vh"
 module tb_line;
     localparam integer SIDE = `FITKIT_FRAME_SIDE;   // the frame the coordinates address
+    localparam integer SETUP = 3;                    // line_unit's set-up cycles
     reg clk = 1'b0;
     reg rst = 1'b1;
     always #5 clk = ~clk;
@@ -84,12 +85,12 @@ module tb_line;
                 if (mark[list[k]] != 2'd2) bad = bad + 1;
                 mark[list[k]] = 2'd0;
             end
-            if (bad == 0 && got == nref && dones == 1 && cycles - stalls == dm + 2)
+            if (bad == 0 && got == nref && dones == 1 && cycles - stalls == SETUP + dm + 1)
                 passed = passed + 1;
             else begin
                 failed = failed + 1;
                 $display("FAIL line (%0d,%0d)-(%0d,%0d): %0d bad, %0d/%0d pixels, %0d cycles (%0d stalled, want %0d), %0d done",
-                         ax, ay, bx, by, bad, got, nref, cycles, stalls, dm + 2, dones);
+                         ax, ay, bx, by, bad, got, nref, cycles, stalls, SETUP + dm + 1, dones);
             end
         end
     endtask

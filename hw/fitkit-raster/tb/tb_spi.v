@@ -43,7 +43,7 @@ module tb_spi;
     reg         next = 1'b0;
     spi_decoder dec (
         .clk(clk), .rst(rst), .cs_start(cs_start), .cs_end(cs_end), .cs_partial(cs_partial),
-        .rx_valid(rx_valid), .rx_byte(rx_byte), .rx_index(rx_index), .fifo_room(room),
+        .rx_valid(rx_valid), .rx_byte(rx_byte), .fifo_room(room),
         .chan(chan), .chan_valid(chan_valid), .fifo_din(fdin), .fifo_we(fwe),
         .fifo_commit(fcommit), .fifo_discard(fdiscard), .err_valid(err_valid),
         .err_code(err_code), .err_chan(err_chan), .soft_rst(soft_rst), .snap(snap)

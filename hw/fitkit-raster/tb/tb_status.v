@@ -7,7 +7,8 @@
 // big-endian. Every input is driven at random every cycle; after a snap the whole block
 // is read back over several cycles through byte_index while the counters keep moving,
 // so a byte that was not captured with the others shows. Checks: every byte of every
-// snapshot, 0 at byte_index 0 and past the block; scripted cases for the first error
+// snapshot (tx_byte a cycle after its byte_index: it is registered), 0 at byte_index 0
+// and past the block; scripted cases for the first error
 // (kept until rst; later errors, a set-up and cnt_clr do not touch it), a decoder error
 // beating an underrun in the same cycle, an underrun's own code and channel, the packet
 // index (commits before the error, the error's own cycle excluded, 16 bits wrapping),
@@ -186,6 +187,7 @@ module tb_status;
             snap = 1'b0;
             for (k = 0; k <= BYTES + 2; k = k + 1) begin
                 byte_index = k;
+                @(posedge clk);   // tx_byte is registered: the byte of the last cycle's index
                 #1;
                 want = (k >= 1 && k <= BYTES) ? exp_byte(k - 1) : 8'd0;
                 if (tx_byte !== want) begin
@@ -198,6 +200,7 @@ module tb_status;
                 if (($unsigned($random) % 2) == 0) @(negedge clk);
             end
             byte_index = 8'd255;
+            @(posedge clk);
             #1;
             if (tx_byte !== 8'd0) e_bytes = e_bytes + 1;
             nsnaps = nsnaps + 1;
@@ -336,6 +339,7 @@ module tb_status;
         check(s_line != 0 && s_clr != 0 && s_last != 0, "a snap with cnt_clr: the old counts");
         for (k = 0; k <= BYTES + 2; k = k + 1) begin
             byte_index = k;
+            @(posedge clk);
             #1;
             if (tx_byte !== ((k >= 1 && k <= BYTES) ? exp_byte(k - 1) : 8'd0))
                 e_bytes = e_bytes + 1;

@@ -20,6 +20,8 @@
 `include "fitkit_map.vh"
 module tb_top;
     parameter HALF = 50;           // SCK half period: 5 clk cycles (f_SCK = f_clk / 10)
+    // the units' set-up cycles (line_unit's and tri_unit's Timing, TRI_LANES = 1)
+    localparam integer LINE_SETUP = 3, TRI_SETUP = 16, TRI_REJECT = 13;
     parameter CS_GAP = 4 * HALF; // CS_n high after each transaction
     // Addresses, codes, the status layout and packet lengths are the generated map's, as
     // the host uses them.
@@ -91,7 +93,7 @@ module tb_top;
                 if (xmaj) ref_put(m0 + k, n0 + sn * nk, c);
                 else ref_put(n0 + sn * nk, m0 + k, c);
             end
-            r_line = r_line + dm + 2;
+            r_line = r_line + LINE_SETUP + dm + 1;
         end
     endtask
 
@@ -110,9 +112,9 @@ module tb_top;
             if (maxy > fh) maxy = fh;
             bw = maxx - minx; bh = maxy - miny;
             if (area == 0 || (cw && (fcull & 1)) || (!cw && (fcull & 2)) || bw <= 0 || bh <= 0)
-                r_tri = r_tri + 4;
+                r_tri = r_tri + TRI_REJECT;
             else begin
-                r_tri = r_tri + 4 + bw * bh;
+                r_tri = r_tri + TRI_SETUP + bw * bh;
                 px[0] = 2 * x0; py[0] = 2 * y0;
                 px[1] = cw ? 2 * x2 : 2 * x1; py[1] = cw ? 2 * y2 : 2 * y1;
                 px[2] = cw ? 2 * x1 : 2 * x2; py[2] = cw ? 2 * y1 : 2 * y2;

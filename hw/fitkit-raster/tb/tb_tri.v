@@ -6,9 +6,10 @@
 // on top-left edges) and pixel (i, j) covered iff a i + b j + c >= 0 for all three -- the
 // model's form, not the unit's halved incremental one -- tested at every pixel of the
 // vertices' bounding box within the frame. Checks per triangle: the same pixel set, each
-// pixel once, colour, busy = 4 + clipped box area (4 when degenerate, culled or off the
-// frame) plus frag_ready stalls, done once. With LANES > 1 (tri_unit's parameter) a step
-// of LANES pixels costs max(1, covered pixels) cycles instead. Cases: both windings,
+// pixel once, colour, busy = 16 + clipped box area (13 when degenerate, culled or off
+// the frame) plus frag_ready stalls, done once. With LANES > 1 (tri_unit's parameter) the
+// set-up is 16 + log2 LANES and a step of LANES pixels costs max(1, covered pixels)
+// cycles instead of one per pixel. Cases: both windings,
 // horizontal and vertical edges, edges through pixel centres, degenerate (points,
 // collinear), culling both ways, triangles hanging off the frame, 512 x 512 frames,
 // random triangles, and a jittered
@@ -19,6 +20,9 @@
 `include "fitkit_map.vh"
 module tb_tri;
     parameter LANES = 1;           // tri_unit's pixels per cycle (1, 2, 4, 8)
+    // the unit's set-up cycles and those of a rejected triangle (tri_unit's Timing)
+    localparam integer SETUP  = 16 + ((LANES == 8) ? 3 : (LANES == 4) ? 2 : (LANES == 2) ? 1 : 0);
+    localparam integer REJECT = 13;
     localparam integer SIDE = `FITKIT_FRAME_SIDE;   // the frame the coordinates address
     reg clk = 1'b0;
     reg rst = 1'b1;
@@ -65,9 +69,9 @@ module tb_tri;
             bw = maxx - minx; bh = maxy - miny;
             nref = 0;
             if (area == 0 || (cw && cull[0]) || (!cw && cull[1]) || bw <= 0 || bh <= 0)
-                want = 4;
+                want = REJECT;
             else begin
-                want = 4 + bw * bh;
+                want = SETUP + bw * bh;
                 px[0] = 2 * x0; py[0] = 2 * y0;
                 px[1] = cw ? 2 * x2 : 2 * x1; py[1] = cw ? 2 * y2 : 2 * y1;
                 px[2] = cw ? 2 * x1 : 2 * x2; py[2] = cw ? 2 * y1 : 2 * y2;
@@ -89,7 +93,7 @@ module tb_tri;
                         end
                 // LANES pixels per step; a step takes one cycle per covered pixel, at least 1.
                 if (LANES > 1) begin
-                    want = 4;
+                    want = SETUP;
                     for (j = miny; j < maxy; j = j + 1)
                         for (i = minx; i < maxx; i = i + LANES) begin
                             f = 0;

@@ -12,12 +12,21 @@ pub const RECORD_BITS: u32 = protocol::fitkit_spi::RECORD_BITS;
 pub const FRAG_FIFO_DEPTH: u64 = 16;
 /// Clock of seed 000's line block, used for the board-time estimate.
 pub const CLOCK_HZ: f64 = 142e6;
-/// Cycles of a triangle's set-up (edge functions and bounding box), as the RTL's
-/// triangle unit spends them (docs/rtl.md).
-pub const SETUP_CYCLES: u64 = 4;
-/// Cycles of a line's set-up (the Bresenham decision variable) before its first pixel, as
-/// the RTL's line unit spends them (docs/rtl.md).
-pub const LINE_SETUP_CYCLES: u64 = 1;
+/// Cycles of a triangle's set-up before its first traversal step, as the RTL's triangle
+/// unit spends them with `lanes` pixels per step (docs/rtl.md): one to take the box's
+/// offsets, ten more for the edge products one multiplier bit per clock, two for the
+/// orientation and the edge values, `log2 lanes + 1` to give each lane its columns and
+/// the row below, and two to fill the queue in front of the fragment stream.
+pub fn tri_setup_cycles(lanes: u32) -> u64 {
+    16 + u64::from(lanes.max(1).ilog2())
+}
+/// Cycles of a triangle the RTL's unit draws nothing of (degenerate, culled or off the
+/// frame): its set-up up to the orientation, whatever the lanes.
+pub const TRI_REJECT_CYCLES: u64 = 13;
+/// Cycles of a line's set-up (the deltas' magnitudes, the major axis, the Bresenham
+/// decision variable) before its first pixel, as the RTL's line unit spends them
+/// (docs/rtl.md).
+pub const LINE_SETUP_CYCLES: u64 = 3;
 
 /// The cycles a unit of the RTL is busy for a command when the memory holds its wait
 /// input high on the cycles `wait` marks (index 0: the unit's first cycle; past its end,

@@ -436,10 +436,10 @@ impl Raster {
                 },
             );
             self.stats.pixel_tests += n;
-            return Ok(hw::SETUP_CYCLES + n);
+            return Ok(hw::tri_setup_cycles(1) + n);
         }
         let Some(s) = tri::setup(&t.v, bits, w, h, self.setup.cull) else {
-            return Ok(hw::SETUP_CYCLES);
+            return Ok(hw::TRI_REJECT_CYCLES);
         };
         let mut c = TravCounters::default();
         let trav = self.setup.traversal;
@@ -477,17 +477,17 @@ impl Raster {
         if let (true, Some(w)) = (keep, wait) {
             self.stats.pixel_tests += c.pixel_tests;
             let steps = box_steps(s.bbox, lanes, &spans);
-            return Ok(hw::stalled_cycles(hw::SETUP_CYCLES, steps, &w));
+            return Ok(hw::stalled_cycles(hw::tri_setup_cycles(lanes), steps, &w));
         }
         self.stats.pixel_tests += c.pixel_tests;
         self.stats.block_tests += c.block_tests;
         if trav == Traversal::BoundingBox && lanes > 1 {
             let [x0, y0, x1, y1] = s.bbox;
             let steps = u64::from(y1 - y0) * u64::from((x1 - x0).div_ceil(lanes));
-            return Ok(hw::SETUP_CYCLES + steps + extra);
+            return Ok(hw::tri_setup_cycles(lanes) + steps + extra);
         }
         let lanes = if trav == Traversal::Simd8 { 8 } else { 1 };
-        Ok(hw::SETUP_CYCLES
+        Ok(hw::tri_setup_cycles(1)
             + c.block_tests
             + c.wide_steps
             + (c.pixel_tests + c.accepted).div_ceil(lanes))
