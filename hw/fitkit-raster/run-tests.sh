@@ -5,7 +5,9 @@
 # Lint: verilator --lint-only -Wall on the synthesizable files (rtl/) with fitkit_raster as
 # top, and again with the simulation top (sim/). Testbenches: Icarus (iverilog -g2012) when
 # it is installed, else Verilator's --binary --timing build of the same files
-# (RTL_SIM=iverilog or RTL_SIM=verilator forces one). Paths below are relative to this
+# (RTL_SIM=iverilog or RTL_SIM=verilator forces one; ../shared-tb/tb.sh: a failing bench
+# is run again into a waveform its failure line names, and a broken copy of the SPI slave
+# must fail that way). Paths below are relative to this
 # block's folder; build products go to $RTL_BUILD (default target/rtl at the workspace
 # root, beside cargo's output; a relative $RTL_BUILD is taken from the workspace root).
 # Every compile gets -I rtl: the modules and testbenches include the generated map header
@@ -74,27 +76,10 @@ fi
 prove_fails fitkit_readback_broken readback "$BUILD/readback_broken.v"
 echo "formal: done in $PROVE_SECONDS s"
 
-# testbench, build name, LANES parameter of tb_tri (or -), then the RTL files it needs
-run() {
-    tb=$1
-    name=$2
-    lanes=$3
-    shift 3
-    if [ "$SIM" = iverilog ]; then
-        [ "$lanes" = - ] || set -- -P "$tb.LANES=$lanes" "$@"
-        iverilog -g2012 -I tb -I ../shared-tb -I rtl -s "$tb" -o "$BUILD/$name.vvp" "tb/$tb.v" "$@"
-        # vvp exits 0 after $fatal; the testbench's summary line decides.
-        vvp -n "$BUILD/$name.vvp" | tee "$BUILD/$name.log"
-    else
-        [ "$lanes" = - ] || set -- -GLANES="$lanes" "$@"
-        verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style -Itb -I../shared-tb -Irtl \
-            --top-module "$tb" "tb/$tb.v" "$@" -Mdir "$BUILD/$name" -o "$tb" \
-            -MAKEFLAGS "OPT_FAST=-O0 OPT_SLOW=-O0 OPT_GLOBAL=-O0" >"$BUILD/$name.build.log"
-        "$BUILD/$name/$tb" | tee "$BUILD/$name.log"
-    fi
-    grep -q ", 0 failed$" "$BUILD/$name.log"
-}
-
+# testbenches (../shared-tb/tb.sh): testbench, build name, LANES parameter of tb_tri (or
+# -), then the RTL files it needs; a failing bench is rerun into a waveform the failure
+# line names
+. ../shared-tb/tb.sh
 run tb_spi tb_spi - rtl/spi_slave.v rtl/spi_decoder.v rtl/fifo36.v
 run tb_fifo tb_fifo - rtl/fifo36.v rtl/frag_fifo.v
 run tb_line tb_line - rtl/line_unit.v
@@ -116,4 +101,13 @@ else
 fi
 test "$(grep -cv '^//' "$BUILD/smoke-frame.hex")" -eq 262144
 echo "tb_top file mode: frame dumped"
+
+# a slave that takes every byte's last bit as 0 must fail tb_spi, naming its waveform
+sed 's/rx_byte  <= {rx_sh, mosi_s\[1\]};/rx_byte  <= {rx_sh, 1'"'"'b0};/' \
+    rtl/spi_slave.v >"$BUILD/spi_slave_tb_broken.v"
+if cmp -s rtl/spi_slave.v "$BUILD/spi_slave_tb_broken.v"; then
+    echo "testbench: the breakage did not apply to rtl/spi_slave.v"
+    exit 1
+fi
+run_fails tb_spi tb_spi_broken - "$BUILD/spi_slave_tb_broken.v" rtl/spi_decoder.v rtl/fifo36.v
 echo "rtl: all testbenches passed"

@@ -4,11 +4,12 @@
 #
 # Lint: verilator --lint-only -Wall on the synthesisable files (rtl/) with each unit as
 # top, with the simulation top (sim/) and with the place-and-route wrapper (synth/).
-# Testbenches: Icarus (iverilog -g2012) when it
-# is installed, else Verilator's --binary --timing build (RTL_SIM=iverilog or
-# RTL_SIM=verilator forces one). Paths below are relative to this block's folder; build
-# products go to $RTL_BUILD (default target/rtl at the workspace root; a relative
-# $RTL_BUILD is taken from the workspace root). The differential tests against the golden
+# Testbenches: Icarus (iverilog -g2012) when it is installed, else Verilator's --binary
+# --timing build (RTL_SIM=iverilog or RTL_SIM=verilator forces one; ../shared-tb/tb.sh: a
+# failing bench is run again into a waveform its failure line names, and a broken divider
+# must fail that way). Paths below are relative to this block's folder; build products go
+# to $RTL_BUILD (default target/rtl at the workspace root; a relative $RTL_BUILD is taken
+# from the workspace root). The differential tests against the golden
 # model are the bridge crate's (rtl-sim/, cargo test -p rt-core-rtl-sim).
 set -eu
 cd "$(dirname "$0")/../.."
@@ -58,22 +59,19 @@ if [ "$SIM" = iverilog ]; then
     echo "icarus: rt_cast and rt_device elaborate"
 fi
 
-# testbench, then the files it needs besides rtl/
-run() {
-    tb=$1
-    shift
-    if [ "$SIM" = iverilog ]; then
-        iverilog -g2012 -I ../shared-tb -I rtl -s "$tb" -o "$BUILD/rt_$tb.vvp" "tb/$tb.v" rtl/*.v "$@"
-        # vvp exits 0 after $fatal; the testbench's summary line decides.
-        vvp -n "$BUILD/rt_$tb.vvp" | tee "$BUILD/rt_$tb.log"
-    else
-        verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style -I../shared-tb -Irtl \
-            --top-module "$tb" "tb/$tb.v" rtl/*.v "$@" -Mdir "$BUILD/rt_$tb" -o "$tb" \
-            -MAKEFLAGS "OPT_FAST=-O0 OPT_SLOW=-O0 OPT_GLOBAL=-O0" >"$BUILD/rt_$tb.build.log"
-        "$BUILD/rt_$tb/$tb" | tee "$BUILD/rt_$tb.log"
-    fi
-    grep -q ", 0 failed$" "$BUILD/rt_$tb.log"
-}
-
-run tb_units sim/rt_math_top.v
+# testbenches (../shared-tb/tb.sh): testbench, build name, a parameter (or -), then the
+# files it needs; a failing bench is rerun into a waveform the failure line names
+. ../shared-tb/tb.sh
+run tb_units rt_tb_units - rtl/*.v sim/rt_math_top.v
+# a divider that sets every quotient's last bit must fail tb_units (200 operand sets),
+# naming its waveform
+mkdir -p "$BUILD/rt_div_broken"
+cp rtl/*.v "$BUILD/rt_div_broken/"
+sed "s/y <= u1\[2\] ? 32'd0 - q1 : q1;/y <= (u1[2] ? 32'd0 - q1 : q1) | 32'd1;/" rtl/q16_div.v \
+    >"$BUILD/rt_div_broken/q16_div.v"
+if cmp -s rtl/q16_div.v "$BUILD/rt_div_broken/q16_div.v"; then
+    echo "testbench: the breakage did not apply to rtl/q16_div.v"
+    exit 1
+fi
+run_fails tb_units rt_tb_units_broken N=200 "$BUILD"/rt_div_broken/*.v sim/rt_math_top.v
 echo "rt-core: all testbenches passed"

@@ -29,7 +29,8 @@ module tb_fifo;
         .FIFO_FREE(ffree), .room(room), .free_count(free_count), .occupancy(occ)
     );
 
-    integer passed = 0, failed = 0, errors = 0;
+    `include "check.vh"
+    integer errors = 0;
     reg [37:0] q [0:4095];
     integer head = 0, tail = 0;     // committed model queue [head, tail)
     integer tent = 0;               // records written since the last commit
