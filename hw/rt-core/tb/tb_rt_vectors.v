@@ -10,7 +10,9 @@
 //
 // Usage (Icarus): iverilog -g2012 -I hw/rt-core/rtl -I hw/shared-tb -s tb_rt_vectors
 //   -o tb.vvp hw/rt-core/tb/tb_rt_vectors.v hw/rt-core/rtl/*.v; vvp -n tb.vvp +vec=DIR
-// Prints "TB_RT_CORE PASS: <checks> checks, <cycles> cycles, <held> held" (RT_CYCLES,
+//   (+vcd=PATH as well: every signal's waveform to PATH, check.vh)
+// Prints "tb_rt_vectors: N passed, M failed" (check.vh's counters), then
+// "TB_RT_CORE PASS: <checks> checks, <cycles> cycles, <held> held" (RT_CYCLES,
 // the frame's clocks as the device counted them, and the clocks the memory held the
 // core) or "TB_RT_CORE FAIL ..."; a write answered SLVERR,
 // a handshake that never comes and a frame that does not finish within its bound fail,
@@ -178,15 +180,18 @@ module tb_rt_vectors;
     endfunction
 
     reg [8*512-1:0] dir, path;
-    integer w, h, n, i, fails, checks, cycles, bound, fd, nwrites, polls;
+    // the counters `passed` and `failed`, and the waveform +vcd=PATH asks for
+    `include "check.vh"
+    integer w, h, n, i, cycles, bound, fd, nwrites, polls;
     reg [31:0] depth, nx, ny, nz, ctrl, hi;
 
-    task check(input [8*16-1:0] what, input integer pix, input [31:0] got, input [31:0] want);
+    task check_word(input [8*16-1:0] what, input integer pix, input [31:0] got,
+                    input [31:0] want);
         begin
-            checks = checks + 1;
-            if (got !== want) begin
-                fails = fails + 1;
-                if (fails <= 10)
+            if (got === want) passed = passed + 1;
+            else begin
+                failed = failed + 1;
+                if (failed <= 10)
                     $display("pixel (%0d, %0d) %0s: core %h, model %h", pix % w, pix / w, what,
                         got, want);
             end
@@ -200,24 +205,24 @@ module tb_rt_vectors;
         if (!rst && mem_valid && !mem_ready) held = held + 1;
         if (!rst && mem_valid && mem_ready) begin
             if (mem_index != n) begin
-                fails = fails + 1;
+                failed = failed + 1;
                 $display("pixel %0d came as record %0d", n, mem_index);
             end
             if (!mem_aovs) begin
-                fails = fails + 1;
+                failed = failed + 1;
                 $display("pixel %0d: the frame did not take AOVS", n);
             end
             got_rgb[n] = mem_rgb;
-            check("colour", n, {8'd0, mem_rgb}, {8'd0, exp_rgb[n]});
-            check("kcu116", n, {16'd0, mem_kcu116}, {16'd0, exp_kcu[n]});
+            check_word("colour", n, {8'd0, mem_rgb}, {8'd0, exp_rgb[n]});
+            check_word("kcu116", n, {16'd0, mem_kcu116}, {16'd0, exp_kcu[n]});
             depth = mem_obj != 8'hff ? q16_to_f32(mem_t) : 32'h7f80_0000;
-            check("depth", n, depth, exp_depth[n]);
+            check_word("depth", n, depth, exp_depth[n]);
             nx = mem_obj != 8'hff ? q16_to_f32(mem_n[31:0]) : 32'd0;
             ny = mem_obj != 8'hff ? q16_to_f32(mem_n[63:32]) : 32'd0;
             nz = mem_obj != 8'hff ? q16_to_f32(mem_n[95:64]) : 32'd0;
-            check("normal x", n, nx, exp_normal[3 * n]);
-            check("normal y", n, ny, exp_normal[3 * n + 1]);
-            check("normal z", n, nz, exp_normal[3 * n + 2]);
+            check_word("normal x", n, nx, exp_normal[3 * n]);
+            check_word("normal y", n, ny, exp_normal[3 * n + 1]);
+            check_word("normal z", n, nz, exp_normal[3 * n + 2]);
             n = n + 1;
         end
     end
@@ -248,8 +253,6 @@ module tb_rt_vectors;
         nwrites = `RT_AXI_SCENE_WORDS + 3;
         $sformat(path, "%0s/axi_writes.hex", dir);
         $readmemh(path, writes, 0, nwrites - 1);
-        fails = 0;
-        checks = 0;
         n = 0;
         repeat (4) @(posedge clk);
         rst <= 1'b0;
@@ -269,7 +272,7 @@ module tb_rt_vectors;
         axi_read(`RT_AXI_SYS_RT_CYCLES, cycles);
         axi_read(`RT_AXI_SYS_RT_CYCLES + 4, hi);
         if (n != w * h) begin
-            fails = fails + 1;
+            failed = failed + 1;
             $display("%0d pixels, expected %0d", n, w * h);
         end
         $sformat(path, "%0s/actual_rgb888.hex", dir);
@@ -277,12 +280,13 @@ module tb_rt_vectors;
         $fdisplay(fd, "// fpgfx framebuffer %0dx%0d rgb888", w, h);
         for (i = 0; i < n; i = i + 1) $fdisplay(fd, "%h", got_rgb[i]);
         $fclose(fd);
-        if (fails == 0)
-            $display("TB_RT_CORE PASS: %0d checks, %0d cycles, %0d held", checks, cycles,
+        $display("tb_rt_vectors: %0d passed, %0d failed", passed, failed);
+        if (failed == 0)
+            $display("TB_RT_CORE PASS: %0d checks, %0d cycles, %0d held", passed, cycles,
                 held);
         else
-            $display("TB_RT_CORE FAIL: %0d of %0d checks failed, %0d cycles", fails, checks,
-                cycles);
+            $display("TB_RT_CORE FAIL: %0d of %0d checks failed, %0d cycles", failed,
+                passed + failed, cycles);
         $finish;
     end
 endmodule
