@@ -1,7 +1,9 @@
 // The C ABI over the Verilated core: `rt_math_top` (every arithmetic unit side by side),
 // `rt_isect` (the intersection unit), `rt_cast` (the frame core) and `rt_device` (the
 // core behind its AXI4-Lite slave), each one call per clock cycle (inputs in, outputs
-// out), so the Rust side pays one FFI crossing per cycle.
+// out), so the Rust side pays one FFI crossing per cycle. Built with VM_TRACE (the crate's
+// `trace` feature), a model can also write a VCD of every signal, for the replay of a
+// failing differential case; without it `rt_*_trace` refuses.
 
 #include <cstdint>
 #include <memory>
@@ -11,12 +13,23 @@
 #include "Vrt_isect.h"
 #include "Vrt_math_top.h"
 #include "verilated.h"
+#if VM_TRACE
+#include "verilated_vcd_c.h"
+#endif
 
-// One Verilated top with its own context.
+// One Verilated top with its own context, and its waveform once one is asked for (each
+// clock is two time steps: low, then high).
 template <typename V>
 struct Model {
     std::unique_ptr<VerilatedContext> ctx;
     std::unique_ptr<V> top;
+    uint64_t time = 0;
+#if VM_TRACE
+    std::unique_ptr<VerilatedVcdC> vcd;
+    ~Model() {
+        if (vcd) vcd->close();
+    }
+#endif
 };
 
 struct RtMath : Model<Vrt_math_top> {};
@@ -24,12 +37,53 @@ struct RtIsect : Model<Vrt_isect> {};
 struct RtCast : Model<Vrt_cast> {};
 struct RtDevice : Model<Vrt_device> {};
 
+// Frees a model. Verilator's scopes unregister from the thread's current context (the one
+// made last on the thread), not from their own: with another model made and freed since,
+// that pointer dangles and the free hangs on its mutex, so the model's own is made current.
+template <typename M>
+static void destroy(M* m) {
+    if (!m) return;
+    Verilated::threadContextp(m->ctx.get());
+    delete m;
+}
+
+// The waveform's next time step, after an eval.
+template <typename M>
+static void dump(M* m) {
+#if VM_TRACE
+    if (m->vcd) m->vcd->dump(m->time);
+#endif
+    m->time++;
+}
+
 template <typename M>
 static void edge(M* m) {
     m->top->clk = 0;
     m->top->eval();
+    dump(m);
     m->top->clk = 1;
     m->top->eval();
+    dump(m);
+}
+
+// Starts a VCD of every signal at `path` from the next clock on; 0 when the model is built
+// without tracing, one is already open, or the file cannot be opened.
+template <typename M>
+static int trace(M* m, const char* path) {
+#if VM_TRACE
+    if (m->vcd) return 0;
+    Verilated::threadContextp(m->ctx.get());
+    auto vcd = std::make_unique<VerilatedVcdC>();
+    m->top->trace(vcd.get(), 99);
+    vcd->open(path);
+    if (!vcd->isOpen()) return 0;
+    m->vcd = std::move(vcd);
+    return 1;
+#else
+    (void)m;
+    (void)path;
+    return 0;
+#endif
 }
 
 // A model after 4 cycles of reset with its other inputs idle (`idle` sets them), or null
@@ -41,6 +95,10 @@ static M* make(Idle idle, uint64_t seed = 0) {
     auto* m = new (std::nothrow) M;
     if (!m) return nullptr;
     m->ctx = std::make_unique<VerilatedContext>();
+#if VM_TRACE
+    // tracing must be allowed before the model exists; it costs nothing until opened
+    m->ctx->traceEverOn(true);
+#endif
     if (seed != 0) {
         m->ctx->randReset(2);
         m->ctx->randSeed(static_cast<int>(seed & 0x7fffffff));
@@ -64,7 +122,9 @@ extern "C" {
 
 RtMath* rt_math_new() { return make<RtMath, Vrt_math_top>(no_input<Vrt_math_top>); }
 
-void rt_math_free(RtMath* m) { delete m; }
+void rt_math_free(RtMath* m) { destroy(m); }
+
+int rt_math_trace(RtMath* m, const char* path) { return trace(m, path); }
 
 // in: valid, a0, a1, a2, b0, b1, b2, ce. out: for mul, mul_rn, dot2, dot3, div, sqrt,
 // rsqrt, to_f32 in that order, (valid, y, sat) after the rising edge (sqrt's and to_f32's
@@ -91,7 +151,9 @@ void rt_math_cycle(RtMath* m, const uint32_t* in, uint32_t* out) {
 
 RtIsect* rt_isect_new() { return make<RtIsect, Vrt_isect>(no_input<Vrt_isect>); }
 
-void rt_isect_free(RtIsect* m) { delete m; }
+void rt_isect_free(RtIsect* m) { destroy(m); }
+
+int rt_isect_trace(RtIsect* m, const char* path) { return trace(m, path); }
 
 // in: valid, shape, ox, oy, oz, dx, dy, dz, tmin, tmax, tag, ce. out: valid, hit, t,
 // unsupported, tag after the rising edge.
@@ -127,7 +189,9 @@ RtCast* rt_cast_new(uint64_t seed) {
         seed);
 }
 
-void rt_cast_free(RtCast* m) { delete m; }
+void rt_cast_free(RtCast* m) { destroy(m); }
+
+int rt_cast_trace(RtCast* m, const char* path) { return trace(m, path); }
 
 // One clock. in: cfg_we, cfg_addr, cfg_data, start, hold. out: busy, done, err,
 // pix_valid, pix_x, pix_y, pix_hit, pix_obj, pix_t, pix_n x, y, z, pix_rgb, pix_kcu116
@@ -171,7 +235,9 @@ RtDevice* rt_device_new() {
     });
 }
 
-void rt_device_free(RtDevice* m) { delete m; }
+void rt_device_free(RtDevice* m) { destroy(m); }
+
+int rt_device_trace(RtDevice* m, const char* path) { return trace(m, path); }
 
 // One clock. in: awvalid, awaddr, wvalid, wdata, wstrb, bready, arvalid, araddr, rready,
 // mem_ready, rd_ready, rd_resp, rd_rgb, rd_obj, rd_t, rd_n x, y, z. out, sampled before
@@ -200,6 +266,7 @@ void rt_device_cycle(RtDevice* m, const uint32_t* in, uint32_t* out) {
     t.rd_n[2] = in[17];
     t.clk = 0;
     t.eval();
+    dump(m);
     const uint32_t o[21] = {
         t.s_axi_awready, t.s_axi_wready, t.s_axi_bvalid, t.s_axi_bresp, t.s_axi_arready,
         t.s_axi_rvalid,  t.s_axi_rdata,  t.s_axi_rresp,  t.irq,         t.mem_valid,
@@ -210,6 +277,7 @@ void rt_device_cycle(RtDevice* m, const uint32_t* in, uint32_t* out) {
     for (int i = 0; i < 21; i++) out[i] = o[i];
     t.clk = 1;
     t.eval();
+    dump(m);
 }
 
 }  // extern "C"

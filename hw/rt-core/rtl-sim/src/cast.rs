@@ -158,6 +158,12 @@ impl Cast {
     pub fn cycles(&self) -> u64 {
         self.cycle
     }
+
+    /// Starts a VCD of every signal at `path` from the next clock edge on, closed when the
+    /// model is dropped (the replay of a failing case); only with the `trace` feature.
+    pub fn trace_to(&mut self, path: &std::path::Path) -> Result<(), RtlError> {
+        crate::trace(path, |c| ffi::cast_trace(self.model, c))
+    }
 }
 
 impl Drop for Cast {

@@ -360,6 +360,12 @@ impl Device {
         self.cycle
     }
 
+    /// Starts a VCD of every signal at `path` from the next clock edge on, closed when the
+    /// model is dropped (the replay of a failing case); only with the `trace` feature.
+    pub fn trace_to(&mut self, path: &std::path::Path) -> Result<(), RtlError> {
+        crate::trace(path, |c| ffi::device_trace(self.model, c))
+    }
+
     /// Clocks on which a record waited for the memory (each holds the core one clock).
     pub fn held(&self) -> u64 {
         self.held

@@ -1,6 +1,7 @@
 //! The C shim's API (csrc/shim.cpp), or, when build.rs could not Verilate the RTL, stubs
 //! whose constructor says why. Everything unsafe in the crate is here.
 
+use std::ffi::CStr;
 use std::ptr::NonNull;
 
 use crate::RtlError;
@@ -32,6 +33,7 @@ pub(crate) struct RtDevice {
 #[cfg(verilated)]
 mod sys {
     use super::{RtCast, RtDevice, RtIsect, RtMath};
+    use std::ffi::c_char;
 
     extern "C" {
         pub fn rt_math_new() -> *mut RtMath;
@@ -46,7 +48,59 @@ mod sys {
         pub fn rt_device_new() -> *mut RtDevice;
         pub fn rt_device_free(m: *mut RtDevice);
         pub fn rt_device_cycle(m: *mut RtDevice, inputs: *const u32, outputs: *mut u32);
+        pub fn rt_math_trace(m: *mut RtMath, path: *const c_char) -> i32;
+        pub fn rt_isect_trace(m: *mut RtIsect, path: *const c_char) -> i32;
+        pub fn rt_cast_trace(m: *mut RtCast, path: *const c_char) -> i32;
+        pub fn rt_device_trace(m: *mut RtDevice, path: *const c_char) -> i32;
     }
+}
+
+#[cfg(verilated)]
+pub(crate) fn math_trace(m: NonNull<RtMath>, path: &CStr) -> bool {
+    // SAFETY: `m` came from `rt_math_new` and lives until its owner's Drop; `path` is
+    // NUL-terminated and only read during the call.
+    unsafe { sys::rt_math_trace(m.as_ptr(), path.as_ptr()) != 0 }
+}
+
+#[cfg(verilated)]
+pub(crate) fn isect_trace(m: NonNull<RtIsect>, path: &CStr) -> bool {
+    // SAFETY: `m` came from `rt_isect_new` and lives until its owner's Drop; `path` is
+    // NUL-terminated and only read during the call.
+    unsafe { sys::rt_isect_trace(m.as_ptr(), path.as_ptr()) != 0 }
+}
+
+#[cfg(verilated)]
+pub(crate) fn cast_trace(m: NonNull<RtCast>, path: &CStr) -> bool {
+    // SAFETY: `m` came from `rt_cast_new` and lives until its owner's Drop; `path` is
+    // NUL-terminated and only read during the call.
+    unsafe { sys::rt_cast_trace(m.as_ptr(), path.as_ptr()) != 0 }
+}
+
+#[cfg(verilated)]
+pub(crate) fn device_trace(m: NonNull<RtDevice>, path: &CStr) -> bool {
+    // SAFETY: `m` came from `rt_device_new` and lives until its owner's Drop; `path` is
+    // NUL-terminated and only read during the call.
+    unsafe { sys::rt_device_trace(m.as_ptr(), path.as_ptr()) != 0 }
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn math_trace(_: NonNull<RtMath>, _: &CStr) -> bool {
+    false
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn isect_trace(_: NonNull<RtIsect>, _: &CStr) -> bool {
+    false
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn cast_trace(_: NonNull<RtCast>, _: &CStr) -> bool {
+    false
+}
+
+#[cfg(not(verilated))]
+pub(crate) fn device_trace(_: NonNull<RtDevice>, _: &CStr) -> bool {
+    false
 }
 
 #[cfg(verilated)]

@@ -11,6 +11,11 @@
 //! broken unit, to watch the tests fail).
 //!
 //! Every value crosses as its Q16.16 bits in an `i32`.
+//!
+//! With the `trace` feature every model can write a VCD of its signals (`trace_to`), for
+//! the replay of a failing differential case; the suite builds without it, because
+//! tracing doubles the Verilated C++ to compile, and rebuilds with it only when a case
+//! fails.
 
 mod cast;
 mod device;
@@ -33,6 +38,34 @@ pub enum RtlError {
     /// Allocating the model failed.
     #[error("cannot construct the Verilated model")]
     Construct,
+    /// A waveform was asked of a model built without tracing.
+    #[error(
+        "this model cannot write a waveform: rt-core-rtl-sim was built without its `trace` feature"
+    )]
+    NoTrace,
+    /// The waveform's file could not be opened (or one is already being written).
+    #[error("cannot write a waveform to {0}")]
+    Trace(String),
+}
+
+/// Whether this build's models can write a waveform (the `trace` feature).
+pub const TRACE: bool = cfg!(feature = "trace");
+
+/// Starts a waveform through `open` (the model's shim call) at `path`, or says why not.
+fn trace(
+    path: &std::path::Path,
+    open: impl FnOnce(&std::ffi::CStr) -> bool,
+) -> Result<(), RtlError> {
+    if !TRACE {
+        return Err(RtlError::NoTrace);
+    }
+    let name = path.display().to_string();
+    let c = std::ffi::CString::new(name.clone()).map_err(|_| RtlError::Trace(name.clone()))?;
+    if open(&c) {
+        Ok(())
+    } else {
+        Err(RtlError::Trace(name))
+    }
 }
 
 /// One of the core's arithmetic units, as `rt_math_top` lays them side by side.
@@ -178,6 +211,12 @@ impl MathUnits {
     pub fn cycles(&self) -> u64 {
         self.cycle
     }
+
+    /// Starts a VCD of every signal at `path` from the next clock edge on, closed when the
+    /// model is dropped (the replay of a failing case); only with the `trace` feature.
+    pub fn trace_to(&mut self, path: &std::path::Path) -> Result<(), RtlError> {
+        trace(path, |c| ffi::math_trace(self.model, c))
+    }
 }
 
 impl Drop for MathUnits {
@@ -283,6 +322,12 @@ impl Intersect {
     /// Clock edges with the enable high since reset.
     pub fn cycles(&self) -> u64 {
         self.cycle
+    }
+
+    /// Starts a VCD of every signal at `path` from the next clock edge on, closed when the
+    /// model is dropped (the replay of a failing case); only with the `trace` feature.
+    pub fn trace_to(&mut self, path: &std::path::Path) -> Result<(), RtlError> {
+        trace(path, |c| ffi::isect_trace(self.model, c))
     }
 }
 
