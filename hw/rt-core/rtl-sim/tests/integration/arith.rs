@@ -13,6 +13,8 @@ use rand::{Rng, SeedableRng};
 use rt_core_rtl_sim::{MathUnits, Operands, Unit};
 use sim_target::num::{Scalar, Q16_16};
 
+use super::waves::Waves;
+
 type P = Q16_16;
 
 fn q(bits: i32) -> P {
@@ -104,9 +106,17 @@ fn operands(rng: &mut SmallRng) -> Operands {
 /// Streams `n` operand sets (one per clock; with `gaps`, idle cycles and cycles with the
 /// clock enable low mixed in) through every unit and checks each result as it comes out:
 /// a held cycle must take no operands and move no result. Returns the results checked.
-fn run(n: usize, seed: u64, gaps: bool) -> usize {
+/// A failure's case is the clock its operand set went in (`cycle N`): its waveform runs
+/// from there to the slowest unit's result.
+fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> usize {
     let mut rtl =
         MathUnits::new().expect("the Verilated core (cargo xtask setup installs verilator)");
+    let replay: Option<u64> = waves
+        .replaying()
+        .and_then(|c| c.strip_prefix("cycle ")?.parse().ok());
+    let slowest = Unit::ALL.iter().map(|u| u.latency()).max().unwrap_or(0);
+    // the clock of the first failure's operand set
+    let mut first: Option<u64> = None;
     let mut rng = SmallRng::seed_from_u64(seed);
     // per unit: (cycle the operands went in, operands, model result, model saturation)
     let mut pending: Vec<VecDeque<(u64, Operands, i32, bool)>> =
@@ -118,6 +128,12 @@ fn run(n: usize, seed: u64, gaps: bool) -> usize {
     while sent < n || pending.iter().any(|p| !p.is_empty()) {
         let input = (sent < n && !(gaps && rng.gen_range(0..4) == 0)).then(|| operands(&mut rng));
         let now = rtl.cycles() + 1;
+        if let Some(at) = replay {
+            waves.before(&format!("cycle {now}"), &mut rtl);
+            if now > at + slowest {
+                waves.passed(&format!("cycle {at}"));
+            }
+        }
         if let Some(o) = input {
             sent += 1;
             for (k, unit) in Unit::ALL.iter().enumerate() {
@@ -127,7 +143,10 @@ fn run(n: usize, seed: u64, gaps: bool) -> usize {
         }
         if let (true, Some(before)) = (gaps && rng.gen_range(0..4) == 0, last) {
             let held = rtl.hold(operands(&mut rng));
-            assert_eq!(held, before, "a held cycle changed an output");
+            if held != before {
+                failures.push(format!("cycle {now}: a held cycle changed an output"));
+                first.get_or_insert(now);
+            }
         }
         let out = rtl.cycle(input);
         last = Some(out);
@@ -144,6 +163,7 @@ fn run(n: usize, seed: u64, gaps: bool) -> usize {
                 failures.push(format!(
                     "{unit:?}: a result nobody asked for at cycle {now}"
                 ));
+                first.get_or_insert(now);
                 continue;
             };
             checked += 1;
@@ -158,30 +178,40 @@ fn run(n: usize, seed: u64, gaps: bool) -> usize {
                     y as u32,
                     unit.latency()
                 ));
+                first.get_or_insert(at);
             }
+        }
+        if let Some(at) = first.filter(|at| Some(*at) == replay) {
+            waves.fail(&format!("cycle {at}"), &failures.join("\n"));
         }
         if failures.len() >= 10 {
             break;
         }
     }
-    assert!(
-        failures.is_empty(),
-        "{} mismatches, first ones:\n{}",
-        failures.len(),
-        failures.join("\n")
-    );
+    if let Some(at) = first {
+        waves.fail(
+            &format!("cycle {at}"),
+            &format!(
+                "{} mismatches, first ones:\n{}",
+                failures.len(),
+                failures.join("\n")
+            ),
+        );
+    }
     checked
 }
 
 #[test]
 fn every_unit_matches_the_model_one_operand_set_per_clock() {
-    let checked = run(1_000_000, 1, false);
+    let waves = Waves::new("arith::every_unit_matches_the_model_one_operand_set_per_clock");
+    let checked = run(&waves, 1_000_000, 1, false);
     assert_eq!(checked, 1_000_000 * Unit::ALL.len());
 }
 
 #[test]
 fn idle_cycles_between_operands_change_nothing() {
-    let checked = run(20_000, 2, true);
+    let waves = Waves::new("arith::idle_cycles_between_operands_change_nothing");
+    let checked = run(&waves, 20_000, 2, true);
     assert_eq!(checked, 20_000 * Unit::ALL.len());
 }
 
@@ -204,7 +234,10 @@ fn the_edges_of_every_unit() {
         0x4000_0000,
         0x3fff_ffff,
     ];
+    let waves = Waves::new("arith::the_edges_of_every_unit");
     let mut rtl = MathUnits::new().expect("the Verilated core");
+    // one case: 225 sets, 325 clocks
+    waves.before("all", &mut rtl);
     let mut expected = Vec::new();
     for &a in &edges {
         for &b in &edges {
@@ -222,20 +255,22 @@ fn the_edges_of_every_unit() {
     for _ in 0..100 {
         outs.push(rtl.cycle(None));
     }
-    for unit in Unit::ALL {
-        let lat = unit.latency() as usize;
-        for (i, o) in expected.iter().enumerate() {
-            let got = outs[i + lat - 1].of(unit);
-            let (y, sat) = model(unit, o);
-            assert!(got.valid, "{unit:?} {o:?}: no result after {lat} cycles");
-            assert_eq!(
-                (
-                    got.y,
-                    got.sat || matches!(unit, Unit::Sqrt | Unit::ToF32) && sat
-                ),
-                (y, sat),
-                "{unit:?} {o:?}"
-            );
+    waves.case("all", || {
+        for unit in Unit::ALL {
+            let lat = unit.latency() as usize;
+            for (i, o) in expected.iter().enumerate() {
+                let got = outs[i + lat - 1].of(unit);
+                let (y, sat) = model(unit, o);
+                assert!(got.valid, "{unit:?} {o:?}: no result after {lat} cycles");
+                assert_eq!(
+                    (
+                        got.y,
+                        got.sat || matches!(unit, Unit::Sqrt | Unit::ToF32) && sat
+                    ),
+                    (y, sat),
+                    "{unit:?} {o:?}"
+                );
+            }
         }
-    }
+    });
 }

@@ -17,6 +17,8 @@ use rt_core_rtl_sim::{Intersect, Pair};
 use sim_target::num::{Scalar, Q16_16};
 use sim_target::rt::{shapes, Math, Shape};
 
+use super::waves::Waves;
+
 fn q(x: f64) -> i32 {
     Q16_16::from_f64(x).0.to_bits()
 }
@@ -95,10 +97,16 @@ fn pair(rng: &mut SmallRng, tag: u16) -> Pair {
 
 /// Streams `n` pairs through the unit (with `gaps`: idle cycles and held cycles mixed in)
 /// and checks each result as it comes out; returns the results checked and the hits per
-/// shape code.
-fn run(n: usize, seed: u64, gaps: bool) -> (usize, [usize; 8]) {
+/// shape code. A failure's case is the clock its pair went in (`cycle N`): its waveform
+/// runs from there to the pair's result.
+fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> (usize, [usize; 8]) {
     let mut rtl =
         Intersect::new().expect("the Verilated core (cargo xtask setup installs verilator)");
+    let replay: Option<u64> = waves
+        .replaying()
+        .and_then(|c| c.strip_prefix("cycle ")?.parse().ok());
+    // the clock of the first failure's pair
+    let mut first: Option<u64> = None;
     let mut rng = SmallRng::seed_from_u64(seed);
     let mut pending: VecDeque<(u64, Pair, Option<i32>)> = VecDeque::new();
     let (mut sent, mut checked, mut hits) = (0usize, 0usize, [0usize; 8]);
@@ -108,13 +116,22 @@ fn run(n: usize, seed: u64, gaps: bool) -> (usize, [usize; 8]) {
         let input =
             (sent < n && !(gaps && rng.gen_range(0..4) == 0)).then(|| pair(&mut rng, sent as u16));
         let now = rtl.cycles() + 1;
+        if let Some(at) = replay {
+            waves.before(&format!("cycle {now}"), &mut rtl);
+            if now > at + Intersect::LATENCY {
+                waves.passed(&format!("cycle {at}"));
+            }
+        }
         if let Some(p) = input {
             sent += 1;
             pending.push_back((now, p, model(&p)));
         }
         if let (true, Some(before)) = (gaps && rng.gen_range(0..4) == 0, last) {
             let held = rtl.hold(pair(&mut rng, 0));
-            assert_eq!(held, before, "a held cycle changed the output");
+            if held != before {
+                failures.push(format!("cycle {now}: a held cycle changed the output"));
+                first.get_or_insert(now);
+            }
         }
         let out = rtl.cycle(input);
         last = Some(out);
@@ -127,6 +144,7 @@ fn run(n: usize, seed: u64, gaps: bool) -> (usize, [usize; 8]) {
         }
         let Some((at, p, want)) = pending.pop_front() else {
             failures.push(format!("a result nobody asked for at cycle {now}"));
+            first.get_or_insert(now);
             continue;
         };
         checked += 1;
@@ -143,23 +161,32 @@ fn run(n: usize, seed: u64, gaps: bool) -> (usize, [usize; 8]) {
                 "{p:?}: RTL {got:?} (unsupported {}, tag {}, {latency} cycles), model {want:?}",
                 out.unsupported, out.tag
             ));
-            if failures.len() >= 10 {
-                break;
-            }
+            first.get_or_insert(at);
+        }
+        if let Some(at) = first.filter(|at| Some(*at) == replay) {
+            waves.fail(&format!("cycle {at}"), &failures.join("\n"));
+        }
+        if failures.len() >= 10 {
+            break;
         }
     }
-    assert!(
-        failures.is_empty(),
-        "{} mismatches, first ones:\n{}",
-        failures.len(),
-        failures.join("\n")
-    );
+    if let Some(at) = first {
+        waves.fail(
+            &format!("cycle {at}"),
+            &format!(
+                "{} mismatches, first ones:\n{}",
+                failures.len(),
+                failures.join("\n")
+            ),
+        );
+    }
     (checked, hits)
 }
 
 #[test]
 fn every_shape_matches_the_model_one_pair_per_clock() {
-    let (checked, hits) = run(300_000, 11, false);
+    let waves = Waves::new("isect::every_shape_matches_the_model_one_pair_per_clock");
+    let (checked, hits) = run(&waves, 300_000, 11, false);
     assert_eq!(checked, 300_000);
     // the generator aims at the shapes: a good share of each shape's pairs hit (about
     // 43 000 pairs each)
@@ -170,6 +197,7 @@ fn every_shape_matches_the_model_one_pair_per_clock() {
 
 #[test]
 fn idle_and_held_cycles_change_nothing() {
-    let (checked, _) = run(20_000, 12, true);
+    let waves = Waves::new("isect::idle_and_held_cycles_change_nothing");
+    let (checked, _) = run(&waves, 20_000, 12, true);
     assert_eq!(checked, 20_000);
 }

@@ -16,6 +16,7 @@ use rt_core_rtl_sim::{AxiError, Device, Jitter};
 use sim_target::mmio::{RegisterError, RegisterFile};
 
 use super::scenes::{model, scene};
+use super::waves::Waves;
 
 /// Polls of `AP_CTRL` before a frame counts as stuck.
 const POLLS: u32 = 1 << 20;
@@ -120,6 +121,7 @@ impl Pair {
 
 #[test]
 fn read_back_is_the_models_byte_for_byte() {
+    let waves = Waves::new("readback::read_back_is_the_models_byte_for_byte");
     let mut rng = SmallRng::seed_from_u64(0x7265_6164);
     let mut pair = Pair {
         rtl: Device::new(Jitter {
@@ -132,77 +134,89 @@ fn read_back_is_the_models_byte_for_byte() {
         accesses: 0,
         refused: 0,
     };
-    // before any frame: no read-back, whatever is asked
-    assert_eq!(pair.read(rb::LEN, "READ_LEN at power-on"), Some(rb::NONE));
-    pair.read(READ_BASE, "the window at power-on");
-    // a frame whose normal plane spans three pages of the window, read whole
-    let (w, h) = pair.render(&mut rng, 1, true, Some((64, 48)));
-    for (plane, format) in [(2, 4), (1, 3), (0, 0)] {
-        let what = format!("64x48 plane {plane} format {format}");
-        pair.write(rb::PLANE, plane, &what);
-        pair.write(rb::FORMAT, format, &what);
-        pair.write(rb::RECT_XY, 0, &what);
-        pair.write(rb::RECT_WH, w | h << 16, &what);
-        let len = pair.read(rb::LEN, &what).expect("READ_LEN");
-        pair.read_run(0, len, &what);
-    }
-    let mut bytes = u64::from(w * h * (12 + 4 + 3));
-    for k in 0..12u32 {
-        let aovs = k % 3 != 2;
-        let (w, h) = pair.render(&mut rng, k, aovs, None);
-        // every plane and format whole, in sequence: what a driver reads
-        for plane in 0..3 {
-            for format in 0..5 {
-                let what =
-                    format!("scene {k} ({w}x{h}, aovs {aovs}) plane {plane} format {format}");
-                pair.write(rb::PLANE, plane, &what);
-                pair.write(rb::FORMAT, format, &what);
-                pair.write(rb::RECT_XY, 0, &what);
-                pair.write(rb::RECT_WH, w | h << 16, &what);
-                if let Some(len) = pair.read(rb::LEN, &what).filter(|&l| l != rb::NONE) {
-                    pair.read_run(0, len, &what);
-                    bytes += u64::from(len);
-                }
-            }
-        }
-        // rectangles inside, on the edge and outside; codes that name nothing; reads in
-        // and out of order, at and past the end
-        for t in 0..24 {
-            let what = format!("scene {k} ({w}x{h}) trial {t}");
-            let plane = rng.gen_range(0..4);
-            let format = rng.gen_range(0..6);
+    // the first case: before any frame, and a 64 x 48 frame read whole. A case's
+    // waveform starts after its frame: the render is the frame core's and the device's
+    // tests' (and a frame's pipeline makes a long waveform), the reads are this test's.
+    let mut bytes = waves.case("64x48", || {
+        // before any frame: no read-back, whatever is asked
+        assert_eq!(pair.read(rb::LEN, "READ_LEN at power-on"), Some(rb::NONE));
+        pair.read(READ_BASE, "the window at power-on");
+        // a frame whose normal plane spans three pages of the window, read whole
+        let (w, h) = pair.render(&mut rng, 1, true, Some((64, 48)));
+        waves.before("64x48", &mut pair.rtl);
+        for (plane, format) in [(2, 4), (1, 3), (0, 0)] {
+            let what = format!("64x48 plane {plane} format {format}");
             pair.write(rb::PLANE, plane, &what);
             pair.write(rb::FORMAT, format, &what);
-            let (x, y) = (rng.gen_range(0..=w), rng.gen_range(0..=h));
-            let (rw, rh) = if rng.gen_bool(0.85) {
-                (rng.gen_range(0..=w - x), rng.gen_range(0..=h - y))
-            } else {
-                (rng.gen_range(0..=w + 2), rng.gen_range(0..=h + 2))
-            };
-            pair.write(rb::RECT_XY, x | y << 16, &what);
-            pair.write(rb::RECT_WH, rw | rh << 16, &what);
-            let len = pair.read(rb::LEN, &what).unwrap_or(rb::NONE);
-            if len == rb::NONE {
-                pair.write(rb::PAGE, 0, &what);
-                pair.read(READ_BASE, &what);
-                continue;
-            }
-            // a run from a random word, then words at random (seeks), then the end
-            let from = rng.gen_range(0..=len / 4) * 4;
-            pair.read_run(from, (len - from).min(96), &what);
-            for _ in 0..6 {
-                let at = rng.gen_range(0..=len / 4 + 1) * 4;
-                pair.write(rb::PAGE, at / READ_WINDOW, &what);
-                pair.read(READ_BASE + at % READ_WINDOW, &what);
-            }
-            let last = len.saturating_sub(1) / 4 * 4;
-            pair.read_run(last, len - last, &what);
-            pair.write(rb::PAGE, len / READ_WINDOW + 1, &what);
-            pair.read(READ_BASE, &what);
-            pair.write(rb::PAGE, 1 << 18, &what);
-            pair.read(READ_BASE, &what);
-            bytes += u64::from(len.min(96));
+            pair.write(rb::RECT_XY, 0, &what);
+            pair.write(rb::RECT_WH, w | h << 16, &what);
+            let len = pair.read(rb::LEN, &what).expect("READ_LEN");
+            pair.read_run(0, len, &what);
         }
+        u64::from(w * h * (12 + 4 + 3))
+    });
+    for k in 0..12u32 {
+        let case = format!("scene {k}");
+        bytes += waves.case(&case, || {
+            let mut bytes = 0;
+            let aovs = k % 3 != 2;
+            let (w, h) = pair.render(&mut rng, k, aovs, None);
+            waves.before(&case, &mut pair.rtl);
+            // every plane and format whole, in sequence: what a driver reads
+            for plane in 0..3 {
+                for format in 0..5 {
+                    let what =
+                        format!("scene {k} ({w}x{h}, aovs {aovs}) plane {plane} format {format}");
+                    pair.write(rb::PLANE, plane, &what);
+                    pair.write(rb::FORMAT, format, &what);
+                    pair.write(rb::RECT_XY, 0, &what);
+                    pair.write(rb::RECT_WH, w | h << 16, &what);
+                    if let Some(len) = pair.read(rb::LEN, &what).filter(|&l| l != rb::NONE) {
+                        pair.read_run(0, len, &what);
+                        bytes += u64::from(len);
+                    }
+                }
+            }
+            // rectangles inside, on the edge and outside; codes that name nothing; reads in
+            // and out of order, at and past the end
+            for t in 0..24 {
+                let what = format!("scene {k} ({w}x{h}) trial {t}");
+                let plane = rng.gen_range(0..4);
+                let format = rng.gen_range(0..6);
+                pair.write(rb::PLANE, plane, &what);
+                pair.write(rb::FORMAT, format, &what);
+                let (x, y) = (rng.gen_range(0..=w), rng.gen_range(0..=h));
+                let (rw, rh) = if rng.gen_bool(0.85) {
+                    (rng.gen_range(0..=w - x), rng.gen_range(0..=h - y))
+                } else {
+                    (rng.gen_range(0..=w + 2), rng.gen_range(0..=h + 2))
+                };
+                pair.write(rb::RECT_XY, x | y << 16, &what);
+                pair.write(rb::RECT_WH, rw | rh << 16, &what);
+                let len = pair.read(rb::LEN, &what).unwrap_or(rb::NONE);
+                if len == rb::NONE {
+                    pair.write(rb::PAGE, 0, &what);
+                    pair.read(READ_BASE, &what);
+                    continue;
+                }
+                // a run from a random word, then words at random (seeks), then the end
+                let from = rng.gen_range(0..=len / 4) * 4;
+                pair.read_run(from, (len - from).min(96), &what);
+                for _ in 0..6 {
+                    let at = rng.gen_range(0..=len / 4 + 1) * 4;
+                    pair.write(rb::PAGE, at / READ_WINDOW, &what);
+                    pair.read(READ_BASE + at % READ_WINDOW, &what);
+                }
+                let last = len.saturating_sub(1) / 4 * 4;
+                pair.read_run(last, len - last, &what);
+                pair.write(rb::PAGE, len / READ_WINDOW + 1, &what);
+                pair.read(READ_BASE, &what);
+                pair.write(rb::PAGE, 1 << 18, &what);
+                pair.read(READ_BASE, &what);
+                bytes += u64::from(len.min(96));
+            }
+            bytes
+        });
     }
     println!(
         "read-back: {} accesses agreed ({} refused by both), {bytes} bytes compared",
