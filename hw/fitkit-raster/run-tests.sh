@@ -74,6 +74,17 @@ if cmp -s rtl/readback.v "$BUILD/readback_broken.v"; then
     exit 1
 fi
 prove_fails fitkit_readback_broken readback "$BUILD/readback_broken.v"
+# the triangle set-up's serial multiplier: the product after its last bit, at two shapes,
+# and one that forgets the +1 of the sign bit's negation must fail
+prove fitkit_mul_seq_a4b5 mul_seq rtl/mul_seq.v -set AW 4 -set BW 5
+prove fitkit_mul_seq_a5b4 mul_seq rtl/mul_seq.v -set AW 5 -set BW 4
+sed 's/                             + {{(AW+1){1'"'"'b0}}, lo\[0\] \& neg};/;/' \
+    rtl/mul_seq.v >"$BUILD/mul_seq_broken.v"
+if cmp -s rtl/mul_seq.v "$BUILD/mul_seq_broken.v"; then
+    echo "formal: the breakage did not apply to rtl/mul_seq.v"
+    exit 1
+fi
+prove_fails fitkit_mul_seq_broken mul_seq "$BUILD/mul_seq_broken.v" -set AW 4 -set BW 5
 echo "formal: done in $PROVE_SECONDS s"
 
 # testbenches (../shared-tb/tb.sh): testbench, build name, LANES parameter of tb_tri (or
@@ -110,4 +121,6 @@ if cmp -s rtl/spi_slave.v "$BUILD/spi_slave_tb_broken.v"; then
     exit 1
 fi
 run_fails tb_spi tb_spi_broken - "$BUILD/spi_slave_tb_broken.v" rtl/spi_decoder.v rtl/fifo36.v
+# and the triangle unit with the broken multiplier (above) must fail tb_tri
+run_fails tb_tri tb_tri_mul_broken QUICK=1 rtl/tri_unit.v rtl/tri_lane.v "$BUILD/mul_seq_broken.v"
 echo "rtl: all testbenches passed"

@@ -31,7 +31,7 @@ module tb_line;
         .frag_ready(ready), .done(done)
     );
 
-    integer passed = 0, failed = 0;
+    `include "check.vh"
     reg [1:0] mark [0:SIDE * SIDE - 1];   // 1 expected, 2 expected and seen
     integer   list [0:1023];
     integer   nref;
