@@ -36,18 +36,22 @@
 //   U      the box corner's offsets 2 min + 1 - 2 v are muxes of the deltas; the eight
 //          products (area: dy1 dx2, dx1 dy2; per edge dy * ox, dx * oy) start in
 //          mul_seq, one bit of the multiplier per clock (the first bit in U);
-//   MUL    ten more bits; meanwhile the box is clipped and sized, one chain per clock;
-//   P1     area sign and zero (cw, degenerate), e = dy * ox - dx * oy per edge;
-//   P2     the top-left flags and the reject decision (degenerate, empty box, culled:
-//          done here); f = s * e + tl - 1 per edge, in every lane;
+//   MUL    ten more bits (the area's 10-bit products end a clock early, and its sign
+//          and zero, cw and degenerate, are taken in the tenth); meanwhile the box is
+//          clipped and sized, one chain per clock;
+//   P1     s * e per edge (e = dy * ox - dx * oy, or u - t - 1 = ~e when clockwise) and
+//          what f adds to it from the top-left flags (+1, -1 or nothing);
+//   P2     the reject decision (degenerate, empty box, culled: done here), or f = s * e +
+//          tl - 1 per edge into every lane;
 //   INIT   LG + 1 clocks: lane g's f gets g column steps (one per bit of g), and r, the
 //          same lane one row down, f + the row step;
 //   RUN    the traversal pushes one step per clock (LANES pixels of a row, their
 //          coverage from the f sign bits) into a 2-entry queue; the emitter hands a
 //          step's covered pixels to frag_* one per cycle, lowest first. A row's covered
 //          pixels are contiguous (the triangle is convex), so a step is its first
-//          pixel's x and a count. The traversal's clock enable is a register's
-//          output (the queue's room), never the fragment handshake.
+//          pixel's x and a count. The lanes' clock enables are flip-flops (steps
+//          left and the queue's room, computed a cycle ahead), never the fragment
+//          handshake.
 //
 // Ports: start (one cycle, in idle) latches the vertices (9-bit unsigned pixels), color,
 // the frame (wm1 = width - 1, hm1 = height - 1) and cull; frag_* is a valid/ready stream of
