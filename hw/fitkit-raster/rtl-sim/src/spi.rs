@@ -155,40 +155,44 @@ impl RtlSpi {
         let mut rtl = shared.try_borrow_mut().map_err(|_| SpiError::Shared)?;
         rtl.set_sck(false);
         rtl.set_cs_n(false);
-        let half = self.config.half_period;
         for k in 0..bits.min(bytes.len() * 8) {
-            rtl.set_mosi(bytes[k / 8] >> (7 - k % 8) & 1 != 0);
-            rtl.run(self.jittered(half));
-            rtl.set_sck(true);
-            rtl.run(self.jittered(half));
-            rtl.set_sck(false);
-            self.bits += 1;
+            self.clock_bit(&mut rtl, bytes[k / 8] >> (7 - k % 8) & 1 != 0);
         }
-        let hold = self.jittered(half);
+        self.release(&mut rtl);
+        Ok(())
+    }
+
+    /// One bit: MOSI is set, SCK rises after a half period and MISO is sampled at that
+    /// edge, SCK falls after another.
+    fn clock_bit(&mut self, rtl: &mut Rtl, mosi: bool) -> bool {
+        let half = self.config.half_period;
+        rtl.set_mosi(mosi);
+        rtl.run(self.jittered(half));
+        rtl.set_sck(true);
+        let miso = rtl.miso();
+        rtl.run(self.jittered(half));
+        rtl.set_sck(false);
+        self.bits += 1;
+        miso
+    }
+
+    /// The end of a transaction: the hold after the last falling edge, then CS_n high for
+    /// the contract's minimum.
+    fn release(&mut self, rtl: &mut Rtl) {
+        let hold = self.jittered(self.config.half_period);
         rtl.run(hold);
         rtl.set_mosi(false);
         rtl.set_cs_n(true);
         self.cs_rise = rtl.cycle();
         let high = self.jittered(self.config.cs_high);
         rtl.run(high);
-        Ok(())
     }
 
-    /// One byte out, one in: per bit MOSI is set, SCK rises after a half period and MISO
-    /// is sampled at that edge, SCK falls after another.
+    /// One byte out, one in, MSB first.
     fn byte(&mut self, rtl: &mut Rtl, out: u8) -> u8 {
-        let half = self.config.half_period;
-        let mut got = 0u8;
-        for bit in (0..8).rev() {
-            rtl.set_mosi(out >> bit & 1 != 0);
-            rtl.run(self.jittered(half));
-            rtl.set_sck(true);
-            got = got << 1 | u8::from(rtl.miso());
-            rtl.run(self.jittered(half));
-            rtl.set_sck(false);
-        }
-        self.bits += 8;
-        got
+        (0..8).rev().fold(0u8, |got, bit| {
+            got << 1 | u8::from(self.clock_bit(rtl, out >> bit & 1 != 0))
+        })
     }
 }
 
@@ -233,14 +237,7 @@ impl SpiDevice<u8> for RtlSpi {
                 }
             }
         }
-        // Hold after the last falling edge, then CS high for the contract's minimum.
-        let hold = self.jittered(self.config.half_period);
-        rtl.run(hold);
-        rtl.set_mosi(false);
-        rtl.set_cs_n(true);
-        self.cs_rise = rtl.cycle();
-        let high = self.jittered(self.config.cs_high);
-        rtl.run(high);
+        self.release(&mut rtl);
         Ok(())
     }
 }
