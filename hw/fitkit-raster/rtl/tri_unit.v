@@ -166,8 +166,9 @@ module tri_unit #(
     mul_seq #(.AW(10), .BW(11)) m_u2 (.clk(clk), .load(mload), .step(mstep), .neg(mneg),
         .a(dx2), .b(oy2), .p(u2));
 
-    // ---- the box, clipped and sized: free-running stages from the latched vertices,
-    // settled long before P2 reads them (one chain per clock)
+    // ---- the box, clipped and sized: stages from the latched vertices, run in U and MUL
+    // and settled long before P2 reads them (one chain per clock); held after, so a
+    // simulator evaluates nothing here while the triangle is walked
     reg [8:0] minx, maxx, miny, maxy;                    // from the order
     reg       inx, iny, lox, loy, offx, offy;            // max <= frame, min >= max, min > frame
     reg [8:0] mxm1, mym1;                                // max - 1
@@ -175,7 +176,7 @@ module tri_unit #(
     reg       empty;
     reg [8:0] wx, hy;                                    // box width - 1, height - 1
     reg       dxz0, dxz1, dxz2, dyz0, dyz1, dyz2;        // deltas that are 0
-    always @(posedge clk) begin
+    always @(posedge clk) if (state == U || state == MUL) begin
         minx <= mnx0 ? vx0 : mnx1 ? vx1 : vx2;
         maxx <= mxx0 ? vx0 : mxx1 ? vx1 : vx2;
         miny <= mny0 ? vy0 : mny1 ? vy1 : vy2;
@@ -215,15 +216,15 @@ module tri_unit #(
     reg signed [20:0] st0, st1, st2, rs0, rs1, rs2;      // s * 2dy << b, s * -2dx
     reg [LG:0]        ib;                                // INIT's clock b, one-hot
 
-    // from the deltas' signs and zero flags, for both orientations (registers, settled
-    // long before P2): kc = clockwise and top-left (f = ~e + 1), kn = counter-clockwise
-    // and not top-left (f = e - 1)
+    // from the deltas' signs and zero flags, for both orientations (registers taken in
+    // MUL, after U has the zero flags): kc = clockwise and top-left (f = ~e + 1), kn =
+    // counter-clockwise and not top-left (f = e - 1)
     function top_left(input exn, input ez, input eyn, input eyz, input rev);
         top_left = rev ? (( eyn & ~eyz) | (eyz & ~exn & ~ez))
                        : ((~eyn & ~eyz) | (eyz &  exn));
     endfunction
     reg kc0, kc1, kc2, kn0, kn1, kn2;
-    always @(posedge clk) begin
+    always @(posedge clk) if (state == MUL) begin
         kc0 <= top_left(dx0[9], dxz0, dy0[9], dyz0, 1'b1);
         kc1 <= top_left(dx1[9], dxz1, dy1[9], dyz1, 1'b1);
         kc2 <= top_left(dx2[9], dxz2, dy2[9], dyz2, 1'b1);
