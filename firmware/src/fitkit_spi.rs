@@ -86,6 +86,12 @@ pub struct FitkitSpi<S, D> {
     delay: D,
     /// Lower bound of the FIFO's free records, from the last status read.
     free: usize,
+    /// The units this build of the block has, from the last status read's flags (a
+    /// line-only or triangle-only bitstream for the seed's XC3S50): a packet for a unit
+    /// the block lacks is refused here, by name, rather than latched there as an unknown
+    /// address.
+    has_line: bool,
+    has_triangle: bool,
     setup: Option<RasterSetup>,
     /// A raster frame was started and not yet reported done.
     pending: Option<u32>,
@@ -108,6 +114,8 @@ impl<S: SpiDevice, D: DelayNs> FitkitSpi<S, D> {
             spi,
             delay,
             free: 0,
+            has_line: true,
+            has_triangle: true,
             setup: None,
             pending: None,
             frames: 0,
@@ -133,6 +141,8 @@ impl<S: SpiDevice, D: DelayNs> FitkitSpi<S, D> {
             return Err(FitkitSpiError::Block(e));
         }
         self.free = usize::from(s.free);
+        self.has_line = s.has_line_unit();
+        self.has_triangle = s.has_triangle_unit();
         Ok(s)
     }
 
@@ -179,6 +189,12 @@ impl<S: SpiDevice, D: DelayNs> FpgaBus for FitkitSpi<S, D> {
             return Err(FitkitSpiError::NoSetup);
         }
         match channel {
+            ADDR_LINE if !self.has_line => Err(FitkitSpiError::Unsupported(
+                "line unit (this build draws triangles only)",
+            )),
+            ADDR_TRIANGLE if !self.has_triangle => Err(FitkitSpiError::Unsupported(
+                "triangle unit (this build draws lines only)",
+            )),
             ADDR_LINE | ADDR_TRIANGLE | ADDR_CLEAR => self.send(channel, records),
             _ => Err(FitkitSpiError::Unsupported(
                 "channel other than line, triangle, clear",

@@ -27,12 +27,31 @@ fi
 verilator --lint-only -Wall -Irtl rtl/*.v --top-module fitkit_raster
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top
 verilator --lint-only -Wall -Irtl -GTRI_LANES=8 rtl/*.v --top-module fitkit_raster
+# the line-only and triangle-only builds for the seed's XC3S50, and their sim tops
+verilator --lint-only -Wall -Irtl -GTRI_UNIT=0 rtl/*.v --top-module fitkit_raster
+verilator --lint-only -Wall -Irtl -GLINE_UNIT=0 rtl/*.v --top-module fitkit_raster
+verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top_line
+verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top_tri
+# a parameter outside what the block builds stops the build, naming the rule
+for bad in -GTRI_LANES=3 -GTRI_UNIT=2 "-GLINE_UNIT=0 -GTRI_UNIT=0"; do
+    # shellcheck disable=SC2086 # $bad is one or two -G options
+    if verilator --lint-only -Wall -Irtl $bad rtl/*.v --top-module fitkit_raster \
+        >"$BUILD/lint-bad-parameter.log" 2>&1; then
+        echo "lint: $bad was accepted"
+        exit 1
+    fi
+    if ! grep -q "_must_be_\|_are_0_or_1_" "$BUILD/lint-bad-parameter.log"; then
+        echo "lint: $bad failed without naming the rule: see $BUILD/lint-bad-parameter.log"
+        exit 1
+    fi
+done
 # the pin wrapper `cargo xtask synth` places on the Gowin part (synth/)
 verilator --lint-only -Wall -Irtl rtl/*.v synth/*.v ../shared-synth/*.v --top-module fitkit_raster_pins
 echo "lint: clean"
 
 # formal: the properties beside the FIFOs (proved at two depths each), the SPI slave, the
-# address decoder, the read-back stream and the kept error (../shared-tb/prove.sh)
+# address decoder (also without a line or a triangle unit: nothing of an absent unit's
+# address reaches the FIFO), the read-back stream and the kept error (../shared-tb/prove.sh)
 . ../shared-tb/prove.sh
 prove fitkit_fifo36_d4 fifo36 rtl/fifo36.v -set DEPTH 4
 prove fitkit_fifo36_d8 fifo36 rtl/fifo36.v -set DEPTH 8
@@ -40,6 +59,8 @@ prove fitkit_frag_fifo_a2 frag_fifo rtl/frag_fifo.v -set AW 2 -set W 4
 prove fitkit_frag_fifo_a3 frag_fifo rtl/frag_fifo.v -set AW 3 -set W 4
 prove fitkit_spi_slave spi_slave rtl/spi_slave.v
 prove fitkit_spi_decoder spi_decoder rtl/spi_decoder.v
+prove fitkit_spi_decoder_line spi_decoder rtl/spi_decoder.v -set TRI_UNIT 0
+prove fitkit_spi_decoder_tri spi_decoder rtl/spi_decoder.v -set LINE_UNIT 0
 prove fitkit_readback readback rtl/readback.v
 prove fitkit_status status rtl/status.v
 # a FIFO whose COMMIT shows one record too many must fail, with its waveform
@@ -66,6 +87,15 @@ if cmp -s rtl/spi_decoder.v "$BUILD/spi_decoder_broken.v"; then
     exit 1
 fi
 prove_fails fitkit_spi_decoder_broken spi_decoder "$BUILD/spi_decoder_broken.v"
+# and a triangle-only decoder that still takes line packets into the FIFO
+sed 's/& ~((LINE_UNIT == 0) & (a == `FITKIT_ADDR_LINE))/\& ~((1 == 0) \& (a == `FITKIT_ADDR_LINE))/' \
+    rtl/spi_decoder.v >"$BUILD/spi_decoder_no_line_broken.v"
+if cmp -s rtl/spi_decoder.v "$BUILD/spi_decoder_no_line_broken.v"; then
+    echo "formal: the breakage did not apply to rtl/spi_decoder.v"
+    exit 1
+fi
+prove_fails fitkit_spi_decoder_no_line_broken spi_decoder "$BUILD/spi_decoder_no_line_broken.v" \
+    -set LINE_UNIT 0
 # and the read-back that sent a late byte in the next slot (the bug that shifted the stream)
 sed 's/    wire push   = arrive \& none_owed;/    wire push   = arrive;/' \
     rtl/readback.v >"$BUILD/readback_broken.v"

@@ -328,6 +328,18 @@ pub const FLAG_ERROR: u8 = 1 << 1;
 pub const FLAG_FIFO_EMPTY: u8 = 1 << 2;
 /// Flags byte: a set-up has run since reset, so the frame registers are valid.
 pub const FLAG_SETUP_DONE: u8 = 1 << 3;
+/// Flags byte: this build of the block has no line unit (its `LINE_UNIT` parameter is 0),
+/// so line packets are refused as an unknown address. Set for the life of the bitstream:
+/// the seed's XC3S50 holds lines and triangles only as two designs, and the controller
+/// learns from this bit which one it talks to. Clear on the full block, so a status block
+/// from a build before the bit existed reads the same.
+pub const FLAG_NO_LINE: u8 = 1 << 4;
+/// Flags byte: this build of the block has no triangle unit (`TRI_UNIT` = 0), as
+/// [`FLAG_NO_LINE`] for triangle packets.
+pub const FLAG_NO_TRIANGLE: u8 = 1 << 5;
+/// Every flag bit the block sends; the others are reserved and read as 0.
+pub const FLAGS_ALL: u8 =
+    FLAG_BUSY | FLAG_ERROR | FLAG_FIFO_EMPTY | FLAG_SETUP_DONE | FLAG_NO_LINE | FLAG_NO_TRIANGLE;
 
 /// The status block, a snapshot the block takes when the address byte completes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -360,6 +372,16 @@ impl Status {
         self.flags & FLAG_BUSY == 0
     }
 
+    /// Whether this build of the block draws lines ([`FLAG_NO_LINE`] clear).
+    pub fn has_line_unit(&self) -> bool {
+        self.flags & FLAG_NO_LINE == 0
+    }
+
+    /// Whether this build of the block draws triangles ([`FLAG_NO_TRIANGLE`] clear).
+    pub fn has_triangle_unit(&self) -> bool {
+        self.flags & FLAG_NO_TRIANGLE == 0
+    }
+
     /// Decodes the 32 status bytes, refusing values the block never sends (a free count
     /// above 512, reserved flag bits, unknown error codes), which is what a floating MISO
     /// or a different device produces.
@@ -375,7 +397,7 @@ impl Status {
             });
         }
         let flags = b[at::FLAGS];
-        if flags & !(FLAG_BUSY | FLAG_ERROR | FLAG_FIFO_EMPTY | FLAG_SETUP_DONE) != 0 {
+        if flags & !FLAGS_ALL != 0 {
             return Err(SpiFrameError::Status {
                 byte: at::FLAGS,
                 value: flags,
@@ -470,7 +492,7 @@ const fn entry(name: &'static str, bits: u32, value: u32, doc: &'static str) -> 
 /// addresses, error codes, flag bits, status offsets and the FIFO's geometry.
 /// [`write_verilog_header`] turns it into `fitkit_map.vh`, so no number here is typed
 /// twice; the error codes follow in [`ErrorCode::ALL`]'s order.
-pub const MAP: [MapEntry; 33] = [
+pub const MAP: [MapEntry; 35] = [
     entry(
         "ADDR_SETUP",
         8,
@@ -571,6 +593,18 @@ pub const MAP: [MapEntry; 33] = [
         0,
         FLAG_SETUP_DONE.trailing_zeros(),
         "flags bit: a set-up has run since reset",
+    ),
+    entry(
+        "FLAG_NO_LINE",
+        0,
+        FLAG_NO_LINE.trailing_zeros(),
+        "flags bit: this build has no line unit",
+    ),
+    entry(
+        "FLAG_NO_TRIANGLE",
+        0,
+        FLAG_NO_TRIANGLE.trailing_zeros(),
+        "flags bit: this build has no triangle unit",
     ),
     entry(
         "STATUS_FREE",

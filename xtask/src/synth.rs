@@ -340,6 +340,21 @@ pub const FITKIT_XC3S: Design = Design {
     ..FITKIT_ICE40
 };
 
+/// The line-only FITkit block (`TRI_UNIT` = 0) for the XC3S50: seed 000 built lines and
+/// triangles as two designs because one did not fit the part, and so does fpgfx.
+pub const FITKIT_XC3S_LINE: Design = Design {
+    variant: "line",
+    params: &[("TRI_UNIT", "0")],
+    ..FITKIT_XC3S
+};
+
+/// The triangle-only FITkit block (`LINE_UNIT` = 0) for the XC3S50.
+pub const FITKIT_XC3S_TRI: Design = Design {
+    variant: "tri",
+    params: &[("LINE_UNIT", "0")],
+    ..FITKIT_XC3S
+};
+
 /// The ray-casting core's folder.
 pub const RT_CORE: &str = "hw/rt-core";
 
@@ -397,6 +412,8 @@ pub const DESIGNS: &[Design] = &[
     FITKIT_ECP5,
     FITKIT_GOWIN,
     FITKIT_XC3S,
+    FITKIT_XC3S_LINE,
+    FITKIT_XC3S_TRI,
     RT_CORE_ECP5,
     RT_ISECT_ECP5,
     RT_CORE_KU5P,
@@ -455,6 +472,19 @@ pub fn overflow(c: &Cells, f: &Family) -> Vec<String> {
         .filter(|(_, (u, cap))| u > cap)
         .map(|(name, (u, cap))| format!("{name} {u} > {cap}"))
         .collect()
+}
+
+/// The part's use as "LUT4 1 192 / 1 536 (78 %), …": each resource beside the device's
+/// capacity, so a report says how close a design is to not fitting.
+pub fn utilisation(c: &Cells, f: &Family) -> String {
+    let used = [c.luts + f.carry_luts * c.carries, c.ffs, c.brams, c.dsps];
+    ["LUT4", "FF", "BRAM", "DSP"]
+        .iter()
+        .zip(used.iter().zip(f.capacity.iter()))
+        .filter(|(_, (_, cap))| **cap > 0)
+        .map(|(name, (u, cap))| format!("{name} {u} / {cap} ({} %)", u * 100 / cap))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// One module of a hierarchical `stat`: its own cells and the modules it instantiates.
@@ -1069,6 +1099,11 @@ pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
         }
     }
     report += &row(&total);
+    report += &format!(
+        "of the {}: {}\n",
+        d.family.part,
+        utilisation(&total, d.family)
+    );
     let record = |fmax_mhz, fmax_seeds| Record {
         block: name.to_string(),
         variant: d.variant.to_string(),

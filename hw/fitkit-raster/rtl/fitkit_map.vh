@@ -46,6 +46,10 @@
 `define FITKIT_FLAG_FIFO_EMPTY 2
 // flags bit: a set-up has run since reset
 `define FITKIT_FLAG_SETUP_DONE 3
+// flags bit: this build has no line unit
+`define FITKIT_FLAG_NO_LINE 4
+// flags bit: this build has no triangle unit
+`define FITKIT_FLAG_NO_TRIANGLE 5
 // status offset: free records, 2 bytes
 `define FITKIT_STATUS_FREE 0
 // status offset: flags

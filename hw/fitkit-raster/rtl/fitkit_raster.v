@@ -8,13 +8,20 @@
 // Parameter TRI_LANES: the triangle unit tests 1 (default, the seed's timing) or 2, 4, 8
 // pixels of a row per cycle (seed 000's 8-pixel parallel evaluation); the fragments
 // still reach memory one per cycle.
+// Parameters LINE_UNIT, TRI_UNIT (1 default, 0 leaves the unit out): the seed's XC3S50
+// holds the block with one of the two units only (seed 000 built lines and triangles as
+// two designs). The absent unit's address is unknown to the decoder (error 5, payload
+// ignored) and the status flags say which unit is absent (FLAG_NO_LINE, FLAG_NO_TRIANGLE),
+// so the controller refuses those commands before sending them.
 // Ports: docs/rtl.md "Top level". rst and the SPI reset (channel 0x7F) reset everything
 // but the SPI slave and decoder, which are idle when the reset transaction ends.
 // Timing: per unit in its own header; the cycle formulas are collected in docs/rtl.md.
 `default_nettype none
 `include "fitkit_map.vh"
 module fitkit_raster #(
-    parameter TRI_LANES = 1     // tri_unit's pixel tests per cycle: 1 (seed), 2, 4 or 8
+    parameter TRI_LANES = 1,    // tri_unit's pixel tests per cycle: 1 (seed), 2, 4 or 8
+    parameter LINE_UNIT = 1,    // 1: the line unit is built; 0: lines are refused
+    parameter TRI_UNIT = 1      // 1: the triangle unit is built; 0: triangles are refused
 ) (
     input  wire        clk,
     input  wire        rst,
@@ -31,6 +38,13 @@ module fitkit_raster #(
     input  wire [7:0]  mem_rdata,
     input  wire        mem_wait
 );
+    generate
+        if ((LINE_UNIT != 0 && LINE_UNIT != 1) || (TRI_UNIT != 0 && TRI_UNIT != 1)
+            || (LINE_UNIT == 0 && TRI_UNIT == 0)) begin : bad_parameter
+            fitkit_raster_line_unit_and_tri_unit_are_0_or_1_not_both_0 unsupported();
+        end
+    endgenerate
+
     // SPI.
     wire       cs_start, cs_end, cs_partial, rx_valid, tx_load, bit_start;
     wire [7:0] rx_byte, rx_index, byte_index;
@@ -47,7 +61,7 @@ module fitkit_raster #(
     wire [37:0] fifo_din;
     wire [`FITKIT_ERR_BITS-1:0] dec_code;
     wire        fifo_room;
-    spi_decoder u_dec (
+    spi_decoder #(.LINE_UNIT(LINE_UNIT), .TRI_UNIT(TRI_UNIT)) u_dec (
         .clk(clk), .rst(rst), .cs_start(cs_start), .cs_end(cs_end), .cs_partial(cs_partial),
         .rx_valid(rx_valid), .rx_byte(rx_byte), .fifo_room(fifo_room),
         .chan(chan), .chan_valid(chan_valid), .fifo_din(fifo_din), .fifo_we(fifo_we),
@@ -97,18 +111,48 @@ module fitkit_raster #(
         .busy(c_busy), .frag_valid(c_v), .frag_x(c_x), .frag_y(c_y), .frag_col(c_col),
         .frag_ready(~frag_full), .done(clr_done)
     );
-    line_unit u_line (
-        .clk(clk), .rst(crst), .start(line_start), .x0(pk[70:62]), .y0(pk[61:53]),
-        .x1(pk[52:44]), .y1(pk[43:35]), .color(pk[34:27]), .busy(l_busy),
-        .frag_valid(l_v), .frag_x(l_x), .frag_y(l_y), .frag_col(l_col),
-        .frag_ready(~frag_full), .done(line_done)
-    );
-    tri_unit #(.LANES(TRI_LANES)) u_tri (
-        .clk(clk), .rst(crst), .start(tri_start), .x0(pk[70:62]), .y0(pk[61:53]),
-        .x1(pk[52:44]), .y1(pk[43:35]), .x2(pk[34:26]), .y2(pk[25:17]), .color(pk[16:9]),
-        .wm1(wm1), .hm1(hm1), .cull(cull), .busy(t_busy), .frag_valid(t_v), .frag_x(t_x),
-        .frag_y(t_y), .frag_col(t_col), .frag_ready(~frag_full), .done(tri_done)
-    );
+    // A unit left out is idle: no fragment, never busy, never done (the decoder sends it
+    // no packet).
+    generate
+        if (LINE_UNIT != 0) begin : g_line
+            line_unit u_line (
+                .clk(clk), .rst(crst), .start(line_start), .x0(pk[70:62]), .y0(pk[61:53]),
+                .x1(pk[52:44]), .y1(pk[43:35]), .color(pk[34:27]), .busy(l_busy),
+                .frag_valid(l_v), .frag_x(l_x), .frag_y(l_y), .frag_col(l_col),
+                .frag_ready(~frag_full), .done(line_done)
+            );
+        end else begin : g_no_line
+            // what only the line unit reads (the decoder never starts it)
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire unused = line_start;
+            /* verilator lint_on UNUSEDSIGNAL */
+            assign l_busy = 1'b0;
+            assign l_v = 1'b0;
+            assign l_x = 9'd0;
+            assign l_y = 9'd0;
+            assign l_col = 8'd0;
+            assign line_done = 1'b0;
+        end
+        if (TRI_UNIT != 0) begin : g_tri
+            tri_unit #(.LANES(TRI_LANES)) u_tri (
+                .clk(clk), .rst(crst), .start(tri_start), .x0(pk[70:62]), .y0(pk[61:53]),
+                .x1(pk[52:44]), .y1(pk[43:35]), .x2(pk[34:26]), .y2(pk[25:17]), .color(pk[16:9]),
+                .wm1(wm1), .hm1(hm1), .cull(cull), .busy(t_busy), .frag_valid(t_v), .frag_x(t_x),
+                .frag_y(t_y), .frag_col(t_col), .frag_ready(~frag_full), .done(tri_done)
+            );
+        end else begin : g_no_tri
+            // what only the triangle unit reads (the decoder never starts it)
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire unused = &{1'b0, tri_start, cull, pk[26:9]};
+            /* verilator lint_on UNUSEDSIGNAL */
+            assign t_busy = 1'b0;
+            assign t_v = 1'b0;
+            assign t_x = 9'd0;
+            assign t_y = 9'd0;
+            assign t_col = 8'd0;
+            assign tri_done = 1'b0;
+        end
+    endgenerate
 
     // One producer runs at a time: the fragment is an OR of the (zeroed when idle) three.
     wire [26:0] frag_din = c_v ? {1'b0, c_col, c_y, c_x}
@@ -144,7 +188,7 @@ module fitkit_raster #(
     assign pipe_idle = frag_empty & ~write_pending;
     assign busy      = exec_busy | (|occupancy) | ~frag_empty | write_pending;
 
-    status u_status (
+    status #(.LINE_UNIT(LINE_UNIT), .TRI_UNIT(TRI_UNIT)) u_status (
         .clk(clk), .rst(crst), .cnt_clr(cnt_clr), .pkt_done(pkt_done), .any_done(any_done),
         .frag_written(frag_written), .line_busy(l_busy), .tri_busy(t_busy),
         .clr_busy(c_busy), .commit(fifo_commit), .fifo_free(free_count),

@@ -12,7 +12,8 @@
 //   3 overrun  a record found the FIFO full (the packet is never partly queued);
 //   (checked in this order: the first failing check is the one reported), and at the
 //   address byte
-//   5 unknown address.
+//   5 unknown address (with LINE_UNIT or TRI_UNIT 0, the absent unit's address too: its
+//     payload is ignored, as any unknown address's is).
 // Channel 0x7F resets the block (soft_rst) when CS_n rises after an address-only
 // transaction. Channel 0x20 asks the status block for a snapshot (snap) as the address
 // byte completes. A transaction without a whole address byte is ignored.
@@ -26,7 +27,10 @@
 // the decoder and protocol::fitkit_spi cannot drift apart.
 `default_nettype none
 `include "fitkit_map.vh"
-module spi_decoder (
+module spi_decoder #(
+    parameter LINE_UNIT = 1,     // the block has a line unit (0: address 0x01 is unknown)
+    parameter TRI_UNIT = 1       // the block has a triangle unit (0: address 0x02 is unknown)
+) (
     input  wire        clk,
     input  wire        rst,
     input  wire        cs_start,
@@ -68,7 +72,16 @@ module spi_decoder (
     wire is_rec  = chan_valid & rec_c;
     wire is_two  = chan_valid & two_c;
     wire is_rst  = chan_valid & rst_c;
-    wire known   = (rx_byte[7:2] == 6'd0) | (rx_byte == `FITKIT_ADDR_STATUS)
+    // A record channel this build has: the address is 0..3 and not an absent unit's.
+    function has_rec(input [7:0] a);
+        has_rec = (a[7:2] == 6'd0) & ~((LINE_UNIT == 0) & (a == `FITKIT_ADDR_LINE))
+                                   & ~((TRI_UNIT == 0) & (a == `FITKIT_ADDR_TRIANGLE));
+    endfunction
+    function has_two(input [7:0] a);
+        has_two = ((LINE_UNIT != 0) & (a == `FITKIT_ADDR_LINE))
+                | ((TRI_UNIT != 0) & (a == `FITKIT_ADDR_TRIANGLE));
+    endfunction
+    wire known   = has_rec(rx_byte) | (rx_byte == `FITKIT_ADDR_STATUS)
                  | (rx_byte == `FITKIT_ADDR_READ) | (rx_byte == `FITKIT_ADDR_RESET);
 
     // Checks at CS_n rise, on the final bytes (5-byte packets sit in acc[39:0]).
@@ -119,8 +132,8 @@ module spi_decoder (
             if (first) begin
                 chan       <= rx_byte;
                 chan_valid <= 1'b1;
-                rec_c      <= rx_byte[7:2] == 6'd0;
-                two_c      <= (rx_byte == `FITKIT_ADDR_LINE) | (rx_byte == `FITKIT_ADDR_TRIANGLE);
+                rec_c      <= has_rec(rx_byte);
+                two_c      <= has_two(rx_byte);
                 rst_c      <= rx_byte == `FITKIT_ADDR_RESET;
                 snap       <= rx_byte == `FITKIT_ADDR_STATUS;
                 if (!known) begin
@@ -170,15 +183,20 @@ module spi_decoder (
     reg [8:0]  f_n = 9'd0;   // bytes of the transaction, saturating at 511
     reg [7:0]  f_chan = 8'd0;
     reg [1:0]  f_w = 2'd0;
+    // the transaction's channel: a two-record one, a record channel this build has (an
+    // absent unit's address is none, so nothing of it reaches the FIFO)
+    wire       f_two = f_chan == `FITKIT_ADDR_LINE || f_chan == `FITKIT_ADDR_TRIANGLE;
+    wire       f_has_rec = f_chan[7:2] == 6'd0
+                        && !(LINE_UNIT == 0 && f_chan == `FITKIT_ADDR_LINE)
+                        && !(TRI_UNIT == 0 && f_chan == `FITKIT_ADDR_TRIANGLE);
     always @(*) begin
         assume (!(cs_start && cs_end) && !(cs_start && rx_valid) && !(cs_end && rx_valid));
         if (!f_in) assume (!rx_valid && !cs_end);
         if (f_in) assume (!cs_start);
         // the address byte is the transaction's first; the kind flags are the channel's
         if (reset_seen && f_in) assert (first == (f_n == 9'd0));
-        if (reset_seen && chan_valid) assert (rec_c == (chan[7:2] == 6'd0)
-            && two_c == ((chan == `FITKIT_ADDR_LINE) | (chan == `FITKIT_ADDR_TRIANGLE))
-            && rst_c == (chan == `FITKIT_ADDR_RESET));
+        if (reset_seen && chan_valid) assert (rec_c == f_has_rec
+            && two_c == (f_has_rec && f_two) && rst_c == (chan == `FITKIT_ADDR_RESET));
     end
     always @(posedge clk) begin
         f_end_d <= !rst && cs_end;
@@ -204,9 +222,9 @@ module spi_decoder (
             end
         end
     end
-    // what the transaction that just ended was: a record channel's, and whole
-    wire       f_rec = f_n != 9'd0 && f_chan[7:2] == 6'd0;
-    wire       f_two = f_chan == `FITKIT_ADDR_LINE || f_chan == `FITKIT_ADDR_TRIANGLE;
+    // what the transaction that just ended was: a record channel's this build has, and
+    // whole
+    wire       f_rec = f_n != 9'd0 && f_has_rec;
     wire [8:0] f_bytes = 9'd1 + {1'b0, f_two ? BYTES2 : BYTES1};
     wire [1:0] f_recs = f_two ? 2'd2 : 2'd1;
     // records completed by the payload so far

@@ -15,13 +15,19 @@
 // The first error after rst is kept (code, channel, packet index = commits so far);
 // later errors are ignored until rst. A decoder error wins over a simultaneous underrun.
 //
+// Parameters LINE_UNIT, TRI_UNIT (0 or 1): the units this build has, as fitkit_raster's;
+// a missing one sets its FLAG_NO_* bit, fixed for the bitstream, so the controller learns
+// which design it talks to from any status read.
 // Ports: byte_index selects tx_byte = snapshot byte byte_index - 1 (bytes after the
 // address), 0 past byte 31.
 // The layout (byte offsets, flag bits), the underrun's error code and channel are the
 // generated map's (fitkit_map.vh), which the host decodes the block by.
 `default_nettype none
 `include "fitkit_map.vh"
-module status (
+module status #(
+    parameter LINE_UNIT = 1,
+    parameter TRI_UNIT = 1
+) (
     input  wire       clk,
     input  wire       rst,
     input  wire       cnt_clr,
@@ -71,6 +77,8 @@ module status (
         flags[`FITKIT_FLAG_ERROR]      = err;
         flags[`FITKIT_FLAG_FIFO_EMPTY] = fifo_occ == 10'd0;
         flags[`FITKIT_FLAG_SETUP_DONE] = setup_done;
+        flags[`FITKIT_FLAG_NO_LINE]     = LINE_UNIT == 0;
+        flags[`FITKIT_FLAG_NO_TRIANGLE] = TRI_UNIT == 0;
         block = {(TOP + 1){1'b0}};
         block[TOP - 8 * `FITKIT_STATUS_FREE -: 16]           = {6'd0, fifo_free};
         block[TOP - 8 * `FITKIT_STATUS_FLAGS -: 8]           = flags;

@@ -4,8 +4,8 @@
 
 use proptest::prelude::*;
 use protocol::fitkit_spi::{
-    packet, read_header, BlockError, ErrorCode, Setup, SpiFrameError, Status, ADDR_LINE, FLAG_BUSY,
-    FLAG_FIFO_EMPTY, FLAG_SETUP_DONE, STATUS_BYTES,
+    packet, read_header, BlockError, ErrorCode, Setup, SpiFrameError, Status, ADDR_LINE, FLAGS_ALL,
+    FLAG_ERROR, FLAG_FIFO_EMPTY, STATUS_BYTES,
 };
 use protocol::raster::Cull;
 
@@ -94,14 +94,14 @@ fn read_header_addresses_a_pixel() {
 fn arb_status() -> impl Strategy<Value = Status> {
     (
         0u16..=512,
-        0u8..16,
+        any::<u8>(),
         proptest::option::of((1u8..=6, any::<u8>(), any::<u16>())),
         proptest::array::uniform6(any::<u32>()),
         any::<u8>(),
     )
         .prop_map(|(free, flags, err, c, max)| Status {
             free,
-            flags: flags & (FLAG_BUSY | FLAG_FIFO_EMPTY | FLAG_SETUP_DONE),
+            flags: flags & FLAGS_ALL & !FLAG_ERROR,
             error: err.map(|(code, channel, packet)| BlockError {
                 code: ErrorCode::from_code(code).unwrap(),
                 channel,
@@ -149,6 +149,32 @@ fn status_from_a_floating_miso_is_refused() {
     ));
     let zeros = [0u8; STATUS_BYTES];
     assert_eq!(Status::decode(&zeros).map(|s| s.idle()), Ok(true));
+}
+
+/// The units a build lacks are flags 4 and 5; bits 6 and 7 stay reserved, so a status
+/// with them set is still refused as not the block's.
+#[test]
+fn status_names_the_units_a_build_lacks() {
+    use protocol::fitkit_spi::{FLAG_NO_LINE, FLAG_NO_TRIANGLE};
+    let mut b = [0u8; STATUS_BYTES];
+    let full = Status::decode(&b).expect("the full block's idle status");
+    assert!(full.has_line_unit() && full.has_triangle_unit());
+    b[2] = FLAG_NO_TRIANGLE | FLAG_FIFO_EMPTY;
+    let lines = Status::decode(&b).expect("a line-only block's status");
+    assert!(lines.has_line_unit() && !lines.has_triangle_unit());
+    b[2] = FLAG_NO_LINE;
+    let tris = Status::decode(&b).expect("a triangle-only block's status");
+    assert!(!tris.has_line_unit() && tris.has_triangle_unit());
+    for reserved in [1u8 << 6, 1 << 7] {
+        b[2] = reserved;
+        assert!(
+            matches!(
+                Status::decode(&b),
+                Err(SpiFrameError::Status { byte: 2, .. })
+            ),
+            "flag {reserved:#04x} is reserved"
+        );
+    }
 }
 
 /// The committed Verilog header, which every RTL module and testbench of the FITkit block

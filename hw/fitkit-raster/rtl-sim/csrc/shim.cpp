@@ -9,6 +9,8 @@
 
 #include "Vfitkit_sim_top.h"
 #include "Vfitkit_sim_top8.h"
+#include "Vfitkit_sim_top_line.h"
+#include "Vfitkit_sim_top_tri.h"
 #include "verilated.h"
 #include "verilated_syms.h"
 #include "verilated_vcd_c.h"
@@ -33,8 +35,9 @@ enum : uint32_t {
 };
 }  // namespace
 
-// One of the Verilated builds (TRI_LANES = 1 or 8) behind one interface: both have the
-// same pins, and the Rust side picks the build when it makes the model.
+// One of the Verilated builds (the seed's, TRI_LANES = 8, line-only, triangle-only) behind
+// one interface: all have the same pins, and the Rust side picks the build when it makes
+// the model.
 struct Top {
     virtual ~Top() = default;
     virtual void apply(uint32_t in) = 0;
@@ -101,9 +104,10 @@ extern "C" {
 // or construction failed. `seed` 0 starts every register and memory at 0; any other seed
 // starts them at random values drawn from it (Verilated with --x-initial unique), so a
 // test can show that nothing uninitialised reaches an output.
-// `lanes` picks the build: 1 (fitkit_sim_top) or 8 (fitkit_sim_top8); any other value
-// gives null without `*no_ram`.
-FitkitRtl* fitkit_rtl_new(int* no_ram, uint64_t seed, uint32_t lanes) {
+// `build` picks the Verilated top, in the order of the Rust side's `Build::ALL`: 0
+// fitkit_sim_top, 1 fitkit_sim_top8, 2 fitkit_sim_top_line, 3 fitkit_sim_top_tri; any
+// other value gives null without `*no_ram`.
+FitkitRtl* fitkit_rtl_new(int* no_ram, uint64_t seed, uint32_t build) {
     *no_ram = 0;
     auto* m = new (std::nothrow) FitkitRtl;
     if (!m) return nullptr;
@@ -114,13 +118,24 @@ FitkitRtl* fitkit_rtl_new(int* no_ram, uint64_t seed, uint32_t lanes) {
     }
     // tracing must be allowed before the model exists; it costs nothing until opened
     m->ctx->traceEverOn(true);
-    if (lanes == 1) {
-        m->top = std::make_unique<TopOf<Vfitkit_sim_top>>(m->ctx.get(), "fitkit_sim_top");
-    } else if (lanes == 8) {
-        m->top = std::make_unique<TopOf<Vfitkit_sim_top8>>(m->ctx.get(), "fitkit_sim_top8");
-    } else {
-        delete m;
-        return nullptr;
+    switch (build) {
+        case 0:
+            m->top = std::make_unique<TopOf<Vfitkit_sim_top>>(m->ctx.get(), "fitkit_sim_top");
+            break;
+        case 1:
+            m->top = std::make_unique<TopOf<Vfitkit_sim_top8>>(m->ctx.get(), "fitkit_sim_top8");
+            break;
+        case 2:
+            m->top = std::make_unique<TopOf<Vfitkit_sim_top_line>>(m->ctx.get(),
+                                                                   "fitkit_sim_top_line");
+            break;
+        case 3:
+            m->top = std::make_unique<TopOf<Vfitkit_sim_top_tri>>(m->ctx.get(),
+                                                                  "fitkit_sim_top_tri");
+            break;
+        default:
+            delete m;
+            return nullptr;
     }
     m->ram = find_ram(m->ctx.get());
     if (!m->ram) {

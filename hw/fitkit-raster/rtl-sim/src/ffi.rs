@@ -27,7 +27,7 @@ mod sys {
     use super::FitkitRtl;
 
     extern "C" {
-        pub fn fitkit_rtl_new(no_ram: *mut i32, seed: u64, lanes: u32) -> *mut FitkitRtl;
+        pub fn fitkit_rtl_new(no_ram: *mut i32, seed: u64, build: u32) -> *mut FitkitRtl;
         pub fn fitkit_rtl_trace(m: *mut FitkitRtl, path: *const std::ffi::c_char) -> i32;
         pub fn fitkit_rtl_free(m: *mut FitkitRtl);
         pub fn fitkit_rtl_tick(m: *mut FitkitRtl, inputs: u32) -> u32;
@@ -36,13 +36,11 @@ mod sys {
 }
 
 #[cfg(verilated)]
-pub(crate) fn new(seed: u64, lanes: u32) -> Result<NonNull<FitkitRtl>, RtlError> {
-    if !crate::BUILT_TRI_LANES.contains(&lanes) {
-        return Err(RtlError::TriLanes(lanes));
-    }
+/// `build`: the index of one of [`crate::Build::ALL`] (the shim returns null for others).
+pub(crate) fn new(seed: u64, build: u32) -> Result<NonNull<FitkitRtl>, RtlError> {
     let mut no_ram = 0i32;
     // SAFETY: the shim writes `no_ram` and returns a fresh model or null.
-    let p = unsafe { sys::fitkit_rtl_new(&mut no_ram, seed, lanes) };
+    let p = unsafe { sys::fitkit_rtl_new(&mut no_ram, seed, build) };
     match NonNull::new(p) {
         Some(m) => Ok(m),
         None if no_ram != 0 => Err(RtlError::NoRam),

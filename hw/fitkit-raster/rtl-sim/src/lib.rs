@@ -35,9 +35,67 @@ pub const RAM_STRIDE: u32 = 512;
 /// few cycles also flush the SPI synchronisers.
 pub const RESET_CYCLES: u64 = 4;
 
-/// The `TRI_LANES` builds of the block the crate Verilates: the seed's one pixel test per
-/// cycle, and eight.
-pub const BUILT_TRI_LANES: [u32; 2] = [1, 8];
+/// One Verilated build of the block: the top-level parameters of `fitkit_raster` it was
+/// built with. The crate Verilates the four of [`Build::ALL`]; each has its own sim top
+/// in `hw/fitkit-raster/sim/` (its parameters written there, once) and its place in
+/// [`Build::ALL`] is the index the shim takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Build {
+    /// The name `cargo xtask synth` gives the same variant.
+    pub name: &'static str,
+    /// `TRI_LANES`: the triangle unit's pixel tests per cycle.
+    pub tri_lanes: u32,
+    /// `LINE_UNIT`: the block has a line unit.
+    pub line_unit: bool,
+    /// `TRI_UNIT`: the block has a triangle unit.
+    pub tri_unit: bool,
+}
+
+impl Build {
+    /// The seed's block: both units, one pixel test per cycle (`fitkit_sim_top`).
+    pub const DEFAULT: Build = Build {
+        name: "default",
+        tri_lanes: 1,
+        line_unit: true,
+        tri_unit: true,
+    };
+    /// Eight pixel tests per cycle (`fitkit_sim_top8`).
+    pub const TRI_LANES_8: Build = Build {
+        name: "tri-lanes-8",
+        tri_lanes: 8,
+        ..Build::DEFAULT
+    };
+    /// Lines only, for the seed's XC3S50 (`fitkit_sim_top_line`).
+    pub const LINE: Build = Build {
+        name: "line",
+        tri_unit: false,
+        ..Build::DEFAULT
+    };
+    /// Triangles only, for the seed's XC3S50 (`fitkit_sim_top_tri`).
+    pub const TRI: Build = Build {
+        name: "tri",
+        line_unit: false,
+        ..Build::DEFAULT
+    };
+    /// Every build the crate Verilates, in the shim's order.
+    pub const ALL: [Build; 4] = [Build::DEFAULT, Build::TRI_LANES_8, Build::LINE, Build::TRI];
+
+    /// The build with `TRI_LANES` = `lanes` and both units, if one is Verilated.
+    pub fn with_tri_lanes(lanes: u32) -> Result<Build, RtlError> {
+        Build::ALL
+            .into_iter()
+            .find(|b| b.tri_lanes == lanes && b.line_unit && b.tri_unit)
+            .ok_or(RtlError::TriLanes(lanes))
+    }
+
+    /// The shim's index of this build.
+    fn index(self) -> u32 {
+        Build::ALL
+            .iter()
+            .position(|b| *b == self)
+            .map_or(u32::MAX, |i| i as u32)
+    }
+}
 
 /// The model shared between the SPI device, the delay and the test that owns them.
 pub type SharedRtl = Rc<RefCell<Rtl>>;
@@ -68,7 +126,8 @@ pub enum RtlError {
         /// The bound, in cycles.
         bound: u64,
     },
-    /// No build of the block with this `TRI_LANES` is Verilated ([`BUILT_TRI_LANES`]).
+    /// No build of the block with this `TRI_LANES` and both units is Verilated
+    /// ([`Build::ALL`]).
     #[error("no Verilated build with TRI_LANES = {0} (built: 1 and 8)")]
     TriLanes(u32),
     /// A waveform could not be started at the path.
@@ -149,17 +208,21 @@ impl Rtl {
     /// `--x-initial unique`): what a reset leaves undefined then differs from seed to
     /// seed, so equal results across seeds show no X reaches an output.
     pub fn with_x_seed(seed: u64) -> Result<Self, RtlError> {
-        Self::build(seed, 1)
+        Self::build(seed, Build::DEFAULT)
     }
 
-    /// As [`Rtl::new`], the block built with `TRI_LANES` = `lanes` (one of
-    /// [`BUILT_TRI_LANES`]).
+    /// As [`Rtl::new`], the block built with `TRI_LANES` = `lanes` and both units.
     pub fn with_tri_lanes(lanes: u32) -> Result<Self, RtlError> {
-        Self::build(0, lanes)
+        Self::build(0, Build::with_tri_lanes(lanes)?)
     }
 
-    fn build(seed: u64, lanes: u32) -> Result<Self, RtlError> {
-        let model = ffi::new(seed, lanes)?;
+    /// As [`Rtl::new`], one of the Verilated builds ([`Build::ALL`]).
+    pub fn with_build(build: Build) -> Result<Self, RtlError> {
+        Self::build(0, build)
+    }
+
+    fn build(seed: u64, build: Build) -> Result<Self, RtlError> {
+        let model = ffi::new(seed, build.index())?;
         let mut rtl = Self {
             model,
             inputs: ffi::IN_CS_N,

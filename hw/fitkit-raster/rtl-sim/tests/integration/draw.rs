@@ -5,6 +5,8 @@ use protocol::raster::{Cull, RasterCmd, RasterSetup};
 use rand::rngs::SmallRng;
 use rand::Rng;
 
+use fitkit_rtl_sim::Build;
+
 use crate::cases;
 use crate::harness::{self, Pair};
 use crate::tally::Tally;
@@ -26,13 +28,13 @@ impl Class<'_> {
     /// Runs every case, recording counter differences in `tally` (pixels are asserted
     /// as they come).
     pub fn run(&self, tally: &mut Tally) {
-        self.run_lanes(tally, 1);
+        self.run_on(tally, Build::DEFAULT);
     }
 
-    /// As [`Class::run`] on the block built with `TRI_LANES` = `lanes`.
+    /// As [`Class::run`] on one Verilated build of the block.
     /// A frame whose pixels differ is replayed into a waveform the failure names
     /// (`replay`); counter differences are collected in `tally` and reported together.
-    pub fn run_lanes(&self, tally: &mut Tally, lanes: u32) {
+    pub fn run_on(&self, tally: &mut Tally, build: Build) {
         let mut rng = cases::rng(self.seed);
         for f in 0..self.frames {
             // each frame from its own generator state, so a replay draws the same frame
@@ -40,15 +42,16 @@ impl Class<'_> {
             let steps = std::cell::RefCell::new(Vec::new());
             let after = std::cell::RefCell::new(None);
             let name = format!(
-                "{}-seed{}-frame{f}-lanes{lanes}",
+                "{}-seed{}-frame{f}-{}",
                 self.name.replace(' ', "-"),
-                self.seed
+                self.seed,
+                build.name
             );
             crate::replay::with_waveform(&name, || {
                 let mut rng = start.clone();
                 steps.borrow_mut().clear();
                 let setup = (self.frame)(&mut rng);
-                let mut pair = Pair::with_lanes(setup, lanes);
+                let mut pair = Pair::with_build(setup, build);
                 for k in 0..self.per_frame {
                     let (cmd, cb) = (self.cmd)(&mut rng, &setup);
                     let case = format!("{} seed {} frame {f} cmd {k}", self.name, self.seed);

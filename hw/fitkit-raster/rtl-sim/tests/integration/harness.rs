@@ -3,7 +3,7 @@
 //! framebuffers and counters side by side.
 
 use embedded_hal::spi::{Operation, SpiDevice};
-use fitkit_rtl_sim::{MemWait, Rtl, RtlSpi, SharedRtl, SpiConfig};
+use fitkit_rtl_sim::{Build, MemWait, Rtl, RtlSpi, SharedRtl, SpiConfig};
 use protocol::bus::{self, PackOptions, FITKIT};
 use protocol::fitkit_spi::{self as wire, Status};
 use protocol::raster::{Cull, RasterCmd, RasterSetup, Rgb, Traversal};
@@ -92,12 +92,19 @@ impl Pair {
         Self::make(rtl, setup, wait, config, 1)
     }
 
-    /// As [`Pair::new`] on the block built with `TRI_LANES` = `lanes`, the model's
-    /// triangle cycles counted for the same width.
-    pub fn with_lanes(setup: RasterSetup, lanes: u32) -> Self {
-        let rtl = Rtl::with_tri_lanes(lanes).unwrap_or_else(|e| panic!("{e}"));
+    /// As [`Pair::new`] on one Verilated build of the block, the model's triangle cycles
+    /// counted for the build's `TRI_LANES`. The model has every unit: a case sends a
+    /// build only the commands it draws.
+    pub fn with_build(setup: RasterSetup, build: Build) -> Self {
+        let rtl = Rtl::with_build(build).unwrap_or_else(|e| panic!("{e}"));
         let rtl = crate::replay::traced(std::rc::Rc::new(std::cell::RefCell::new(rtl)));
-        Self::make(rtl, setup, MemWait::Off, SpiConfig::default(), lanes)
+        Self::make(
+            rtl,
+            setup,
+            MemWait::Off,
+            SpiConfig::default(),
+            build.tri_lanes,
+        )
     }
 
     fn make(

@@ -1,6 +1,7 @@
 //! Lines: random, tiny, at the viewport limits, partly outside the frame, axis-aligned
 //! and diagonal.
 
+use fitkit_rtl_sim::Build;
 use rand::Rng;
 
 use crate::cases::{self, MAX_COORD};
@@ -9,6 +10,18 @@ use crate::tally::Tally;
 
 #[test]
 fn lines_match_the_model() {
+    every_class(Build::DEFAULT);
+}
+
+/// The same lines on the line-only build for the seed's XC3S50: the unit is the same,
+/// so pixels and cycles are too.
+#[test]
+fn lines_match_the_model_on_the_line_only_build() {
+    every_class(Build::LINE);
+}
+
+/// Every class of lines through one build of the block.
+fn every_class(build: Build) {
     let mut t = Tally::default();
     Class {
         name: "line random",
@@ -25,7 +38,7 @@ fn lines_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_on(&mut t, build);
     Class {
         name: "line tiny (<= 2 px)",
         seed: 0x12,
@@ -42,7 +55,7 @@ fn lines_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_on(&mut t, build);
     Class {
         name: "line viewport limits 0 and 511",
         seed: 0x13,
@@ -58,7 +71,7 @@ fn lines_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_on(&mut t, build);
     Class {
         name: "line partly outside 320x240",
         seed: 0x14,
@@ -74,7 +87,7 @@ fn lines_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_on(&mut t, build);
     Class {
         name: "line axis and diagonal",
         seed: 0x15,
@@ -98,7 +111,7 @@ fn lines_match_the_model() {
             )
         },
     }
-    .run(&mut t);
+    .run_on(&mut t, build);
     assert!(t.cases() >= 1_000, "{} line cases", t.cases());
     t.assert_exact();
 }

@@ -22,3 +22,4 @@ mod spi;
 mod stimulus;
 mod stuck;
 mod triangles;
+mod variants;

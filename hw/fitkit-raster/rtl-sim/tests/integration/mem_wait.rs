@@ -4,20 +4,21 @@
 //! told what the memory did (`Raster::set_mem_wait`: the units stall on a full fragment
 //! FIFO).
 
-use fitkit_rtl_sim::MemWait;
+use fitkit_rtl_sim::{Build, MemWait};
 use protocol::raster::Cull;
 use rand::Rng;
 
 use crate::cases;
 use crate::harness::{self, Pair};
 
-/// One block under `wait`, `TRI_LANES` = `lanes`: 40 commands, pixels and every counter
-/// exact.
+/// One block under `wait`, with both units and `TRI_LANES` = `lanes`: 40 commands,
+/// pixels and every counter exact.
 fn stalls_are_counted(seed: u64, wait: MemWait, lanes: u32) {
     let mut rng = cases::rng(seed);
     let bg = cases::color(&mut rng);
     let setup = harness::setup(64, 48, bg, Cull::None);
-    let mut pair = Pair::with_lanes(setup, lanes);
+    let build = Build::with_tri_lanes(lanes).unwrap_or_else(|e| panic!("{e}"));
+    let mut pair = Pair::with_build(setup, build);
     pair.rtl.borrow_mut().record_mem_wait();
     for n in 0..40 {
         let c = cases::color_except(&mut rng, bg);

@@ -1,6 +1,7 @@
 //! Flat triangles: random, tiny, slivers, edges through pixel centres, at the viewport
 //! limits, partly outside the frame, and culled by winding.
 
+use fitkit_rtl_sim::Build;
 use protocol::raster::Cull;
 use rand::Rng;
 
@@ -11,18 +12,25 @@ use crate::tally::Tally;
 
 #[test]
 fn triangles_match_the_model() {
-    every_class(1);
+    every_class(Build::DEFAULT);
 }
 
 /// The same triangles on the block testing eight pixels of a row per cycle: pixels
 /// equal, cycles as the model counts a step (max(1, covered pixels)).
 #[test]
 fn triangles_match_the_model_with_eight_lanes() {
-    every_class(8);
+    every_class(Build::TRI_LANES_8);
 }
 
-/// Every class of triangles through the block built with `TRI_LANES` = `lanes`.
-fn every_class(lanes: u32) {
+/// The same triangles on the triangle-only build for the seed's XC3S50: the unit is
+/// the same, so pixels and cycles are too.
+#[test]
+fn triangles_match_the_model_on_the_triangle_only_build() {
+    every_class(Build::TRI);
+}
+
+/// Every class of triangles through one build of the block.
+fn every_class(build: Build) {
     let mut t = Tally::default();
     Class {
         name: "triangle random",
@@ -39,7 +47,7 @@ fn every_class(lanes: u32) {
             )
         },
     }
-    .run_lanes(&mut t, lanes);
+    .run_on(&mut t, build);
     Class {
         name: "triangle tiny (<= 2 px)",
         seed: 0x22,
@@ -56,7 +64,7 @@ fn every_class(lanes: u32) {
             )
         },
     }
-    .run_lanes(&mut t, lanes);
+    .run_on(&mut t, build);
     Class {
         name: "triangle sliver",
         seed: 0x23,
@@ -72,7 +80,7 @@ fn every_class(lanes: u32) {
             )
         },
     }
-    .run_lanes(&mut t, lanes);
+    .run_on(&mut t, build);
     Class {
         name: "triangle edges through pixel centres",
         seed: 0x24,
@@ -87,7 +95,7 @@ fn every_class(lanes: u32) {
             )
         },
     }
-    .run_lanes(&mut t, lanes);
+    .run_on(&mut t, build);
     Class {
         name: "triangle viewport limits 0 and 511",
         seed: 0x25,
@@ -103,7 +111,7 @@ fn every_class(lanes: u32) {
             )
         },
     }
-    .run_lanes(&mut t, lanes);
+    .run_on(&mut t, build);
     Class {
         name: "triangle partly outside 320x240",
         seed: 0x26,
@@ -122,7 +130,7 @@ fn every_class(lanes: u32) {
             )
         },
     }
-    .run_lanes(&mut t, lanes);
+    .run_on(&mut t, build);
     Class {
         name: "triangle culled by winding",
         seed: 0x27,
@@ -140,7 +148,7 @@ fn every_class(lanes: u32) {
             )
         },
     }
-    .run_lanes(&mut t, lanes);
+    .run_on(&mut t, build);
     assert!(t.cases() >= 1_300, "{} triangle cases", t.cases());
     t.assert_exact();
 }
