@@ -30,10 +30,12 @@ verilator --lint-only -Wall -Irtl -GTRI_LANES=8 rtl/*.v --top-module fitkit_rast
 # the line-only and triangle-only builds for the seed's XC3S50, and their sim tops
 verilator --lint-only -Wall -Irtl -GTRI_UNIT=0 rtl/*.v --top-module fitkit_raster
 verilator --lint-only -Wall -Irtl -GLINE_UNIT=0 rtl/*.v --top-module fitkit_raster
+verilator --lint-only -Wall -Irtl -GLINE_UNIT=0 -GTRI_SMALL=1 rtl/*.v --top-module fitkit_raster
+verilator --lint-only -Wall -Irtl -GTRI_SMALL=1 rtl/*.v --top-module fitkit_raster
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top_line
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top_tri
 # a parameter outside what the block builds stops the build, naming the rule
-for bad in -GTRI_LANES=3 -GTRI_UNIT=2 "-GLINE_UNIT=0 -GTRI_UNIT=0"; do
+for bad in -GTRI_LANES=3 -GTRI_UNIT=2 "-GLINE_UNIT=0 -GTRI_UNIT=0" "-GTRI_SMALL=1 -GTRI_LANES=8"; do
     # shellcheck disable=SC2086 # $bad is one or two -G options
     if verilator --lint-only -Wall -Irtl $bad rtl/*.v --top-module fitkit_raster \
         >"$BUILD/lint-bad-parameter.log" 2>&1; then
@@ -127,6 +129,8 @@ run tb_line tb_line - rtl/line_unit.v
 run tb_tri tb_tri - rtl/tri_unit.v rtl/tri_lane.v rtl/mul_seq.v
 echo "tb_tri with LANES = 8:"
 run tb_tri tb_tri8 8 rtl/tri_unit.v rtl/tri_lane.v rtl/mul_seq.v
+echo "tb_tri on tri_small:"
+run tb_tri tb_tri_small SMALL=1 rtl/tri_small.v rtl/tri_unit.v rtl/tri_lane.v rtl/mul_seq.v
 run tb_cmd_exec tb_cmd_exec - rtl/cmd_exec.v
 run tb_clear tb_clear - rtl/clear_unit.v
 run tb_fb_writer tb_fb_writer - rtl/fb_writer.v
@@ -153,4 +157,12 @@ fi
 run_fails tb_spi tb_spi_broken - "$BUILD/spi_slave_tb_broken.v" rtl/spi_decoder.v rtl/fifo36.v
 # and the triangle unit with the broken multiplier (above) must fail tb_tri
 run_fails tb_tri tb_tri_mul_broken QUICK=1 rtl/tri_unit.v rtl/tri_lane.v "$BUILD/mul_seq_broken.v"
+# and tri_small with the top-left rule of its sloped edges inverted
+sed 's/ : (~ey\[9\] ^ rev);/ : (ey[9] ^ rev);/' rtl/tri_small.v >"$BUILD/tri_small_broken.v"
+if cmp -s rtl/tri_small.v "$BUILD/tri_small_broken.v"; then
+    echo "testbench: the breakage did not apply to rtl/tri_small.v"
+    exit 1
+fi
+run_fails tb_tri tb_tri_small_broken SMALL=1,QUICK=1 "$BUILD/tri_small_broken.v" rtl/tri_unit.v \
+    rtl/tri_lane.v rtl/mul_seq.v
 echo "rtl: all testbenches passed"

@@ -4,8 +4,8 @@
 #
 # run TB NAME PARAM FILES...
 #   compiles tb/TB.v (module TB) with FILES into $BUILD/NAME*, runs it into
-#   $BUILD/NAME.log and prints the log. PARAM is -, NAME=VALUE (one parameter of the
-#   testbench overridden), or a bare VALUE for the testbench's LANES. The testbench
+#   $BUILD/NAME.log and prints the log. PARAM is -, NAME=VALUE[,NAME=VALUE...] (parameters
+#   of the testbench overridden), or a bare VALUE for the testbench's LANES. The testbench
 #   passes only when the simulator exits 0 and its summary line ends ", 0 failed"
 #   (check.vh's bookkeeping): Icarus 11's vvp exits 1 after $fatal and a Verilated bench
 #   aborts, but a bench that ends with $finish whatever it found leaves the summary to
@@ -32,11 +32,15 @@ tb_compile() {
     *) param=LANES=$param ;;
     esac
     if [ "$SIM" = iverilog ]; then
-        [ "$param" = - ] || set -- -P "$tb.$param" "$@"
+        if [ "$param" != - ]; then
+            for p in $(echo "$param" | tr ',' ' '); do set -- -P "$tb.$p" "$@"; done
+        fi
         iverilog -g2012 -I tb -I ../shared-tb -I rtl -s "$tb" -o "$BUILD/$name.vvp" \
             "tb/$tb.v" "$@"
     else
-        [ "$param" = - ] || set -- -G"$param" "$@"
+        if [ "$param" != - ]; then
+            for p in $(echo "$param" | tr ',' ' '); do set -- -G"$p" "$@"; done
+        fi
         mdir=$BUILD/$name
         [ "$trace" = no ] || { set -- --trace "$@"; mdir=$BUILD/$name-trace; }
         verilator --binary --timing -Wno-fatal -Wno-lint -Wno-style -Itb -I../shared-tb -Irtl \

@@ -94,6 +94,11 @@ pub struct Family {
     carry_luts: u64,
     /// What the part holds: LUT4s, flip-flops, block RAMs and DSP blocks.
     capacity: [u64; 4],
+    /// Block RAM cells that take their paired multiplier's inputs (the Spartan-3's
+    /// RAMB16 with a 36-bit port: DS099 "the multiplier shares inputs with the upper data
+    /// bits of block RAM"), so each one leaves a multiplier fewer for the fit check.
+    /// Empty where block RAM and DSP blocks do not share inputs.
+    bram_takes_dsp: &'static [&'static str],
 }
 
 /// The iCE40 HX8K in its ct256 package: the largest common iCE40 (7 680 LUTs, 32 4-kbit
@@ -116,6 +121,7 @@ pub const ICE40: Family = Family {
     dsps: &["SB_MAC16"],
     carry_luts: 0,
     capacity: [7_680, 7_680, 32, 0],
+    bram_takes_dsp: &[],
 };
 
 /// The ECP5-85F (LFE5U-85F, 83 640 LUT4, 208 18-kbit EBRs, 156 MULT18X18D), speed grade
@@ -138,6 +144,7 @@ pub const ECP5: Family = Family {
     dsps: &["MULT18X18D", "ALU54B"],
     carry_luts: 2,
     capacity: [83_640, 83_640, 208, 156],
+    bram_takes_dsp: &[],
 };
 
 /// The XCKU5P (Kintex UltraScale+) of the KCU116, the seed's board: 216 960 LUT6,
@@ -164,6 +171,7 @@ pub const XCKU5P: Family = Family {
     dsps: &["DSP48E2"],
     carry_luts: 0,
     capacity: [216_960, 433_920, 480, 1_824],
+    bram_takes_dsp: &[],
 };
 
 /// The GW1NR-9 (GW1NR-LV9QN88PC6/I5, the Tang Nano 9K's part: 8 640 LUT4, 6 480 FF,
@@ -215,14 +223,22 @@ pub const GOWIN: Family = Family {
     ],
     carry_luts: 1,
     capacity: [8_640, 6_480, 26, 20],
+    bram_takes_dsp: &[],
 };
 
 /// The seed's own FPGA, the FITkit's Spartan-3 XC3S50 (1 536 LUT4, 1 536 FF, 4 RAMB16,
 /// 4 MULT18X18). No open tool places a Spartan-3, so resources and fit only.
+///
+/// Mapped without wide LUTs (`-nowidelut`): by default Yosys builds functions of five to
+/// eight inputs from LUT4s joined by the slice's MUXF5–MUXF8, and on these designs that
+/// mapping takes 5–26 % more LUT4s than ABC's plain LUT4 mapping of the same netlist (the
+/// triangle-only build: 1 994 against 1 467). Both are valid netlists for the part; fit is
+/// a count of LUT4s, so the smaller mapping is the closer bound on what the vendor's
+/// mapper needs.
 pub const XC3S50: Family = Family {
     name: "xc3s",
     part: "Spartan-3 XC3S50 (FITkit)",
-    synth: "synth_xilinx -family xc3s",
+    synth: "synth_xilinx -family xc3s -nowidelut",
     yosys: Pnr::Debian("yosys"),
     keep_hierarchy: "",
     flatten: "-flatten",
@@ -253,6 +269,18 @@ pub const XC3S50: Family = Family {
     dsps: &["MULT18X18", "MULT18X18S", "MULT18X18SIO"],
     carry_luts: 0,
     capacity: [1_536, 1_536, 4, 4],
+    bram_takes_dsp: &[
+        "RAMB16_S36",
+        "RAMB16_S1_S36",
+        "RAMB16_S2_S36",
+        "RAMB16_S4_S36",
+        "RAMB16_S9_S36",
+        "RAMB16_S18_S36",
+        "RAMB16_S36_S36",
+        "RAMB16BWE_S36",
+        "RAMB16BWE_S36_S36",
+        "RAMB16BWE_S18_S36",
+    ],
 };
 
 /// One design to place: a block's top (or its pin wrapper), a variant's parameters, a
@@ -348,10 +376,11 @@ pub const FITKIT_XC3S_LINE: Design = Design {
     ..FITKIT_XC3S
 };
 
-/// The triangle-only FITkit block (`LINE_UNIT` = 0) for the XC3S50.
+/// The triangle-only FITkit block (`LINE_UNIT` = 0) for the XC3S50, on the small triangle
+/// unit (`TRI_SMALL` = 1: its set-up's products through two of the part's MULT18X18s).
 pub const FITKIT_XC3S_TRI: Design = Design {
     variant: "tri",
-    params: &[("LINE_UNIT", "0")],
+    params: &[("LINE_UNIT", "0"), ("TRI_SMALL", "1")],
     ..FITKIT_XC3S
 };
 
@@ -434,6 +463,9 @@ pub struct Cells {
     pub brams: u64,
     /// DSP blocks.
     pub dsps: u64,
+    /// Block RAMs that take their paired DSP block's inputs ([`Family`]'s
+    /// `bram_takes_dsp`).
+    pub brams_taking_dsp: u64,
 }
 
 /// One placed design's figures, as `--json` prints them.
@@ -466,12 +498,20 @@ pub struct Record {
 /// fits. Logic counts LUT4s and the LUT4s the carry cells take.
 pub fn overflow(c: &Cells, f: &Family) -> Vec<String> {
     let used = [c.luts + f.carry_luts * c.carries, c.ffs, c.brams, c.dsps];
-    ["LUT4 (with carries)", "FF", "BRAM", "DSP"]
+    let mut over: Vec<String> = ["LUT4 (with carries)", "FF", "BRAM", "DSP"]
         .iter()
         .zip(used.iter().zip(f.capacity.iter()))
         .filter(|(_, (u, cap))| u > cap)
         .map(|(name, (u, cap))| format!("{name} {u} > {cap}"))
-        .collect()
+        .collect();
+    let free_dsp = f.capacity[3].saturating_sub(c.brams_taking_dsp);
+    if c.dsps <= f.capacity[3] && c.dsps > free_dsp {
+        over.push(format!(
+            "DSP {} > {free_dsp} (the part's {} less the {} beside block RAMs with a 36-bit port, which share their inputs)",
+            c.dsps, f.capacity[3], c.brams_taking_dsp
+        ));
+    }
+    over
 }
 
 /// The part's use as "LUT4 1 192 / 1 536 (78 %), …": each resource beside the device's
@@ -549,6 +589,7 @@ pub fn unit_tree(text: &str, family: &Family, top: &str, depth: usize) -> Result
                 c.carries += n * k.carries;
                 c.brams += n * k.brams;
                 c.dsps += n * k.dsps;
+                c.brams_taking_dsp += n * k.brams_taking_dsp;
             }
         }
         c
@@ -570,6 +611,7 @@ pub fn unit_tree(text: &str, family: &Family, top: &str, depth: usize) -> Result
             &mut c.carries,
             &mut c.brams,
             &mut c.dsps,
+            &mut c.brams_taking_dsp,
         ] {
             *v *= n;
         }
@@ -733,6 +775,9 @@ fn add_cell(row: &mut Cells, family: &Family, cell: &str, n: u64) -> bool {
     } else if family.carries.contains(&cell) {
         &mut row.carries
     } else if family.brams.contains(&cell) {
+        if family.bram_takes_dsp.contains(&cell) {
+            row.brams_taking_dsp += n;
+        }
         &mut row.brams
     } else if family.dsps.contains(&cell) {
         &mut row.dsps
@@ -1231,7 +1276,8 @@ mod tests {
                 ffs: 34,
                 carries: 20,
                 brams: 0,
-                dsps: 0
+                dsps: 0,
+                brams_taking_dsp: 0
             }
         );
         assert_eq!(rows[1].brams, 5);
@@ -1272,7 +1318,8 @@ mod tests {
                 ffs: 1612,
                 carries: 1054,
                 brams: 2,
-                dsps: 3
+                dsps: 3,
+                brams_taking_dsp: 0
             }
         );
     }
@@ -1289,7 +1336,8 @@ mod tests {
                 ffs: 245,
                 carries: 15,
                 brams: 7,
-                dsps: 12
+                dsps: 12,
+                brams_taking_dsp: 0
             }
         );
     }
@@ -1331,6 +1379,26 @@ mod tests {
             ..Cells::default()
         };
         assert!(overflow(&small, &ECP5).is_empty());
+    }
+
+    /// The Spartan-3 pairs each MULT18X18 with a RAMB16 whose upper data bits are its
+    /// inputs: with three of the XC3S50's four block RAMs at 36 bits, one multiplier is
+    /// left, and a second one does not fit however few the LUTs.
+    #[test]
+    fn a_spartan3_multiplier_beside_a_36_bit_block_ram_is_taken() {
+        let stat = "=== top ===\n     LUT4    100\n     RAMB16_S36_S36    3\n     MULT18X18    2\n";
+        let rows = parse_stat(stat, &XC3S50);
+        let c = &rows[0];
+        assert_eq!((c.brams, c.brams_taking_dsp, c.dsps), (3, 3, 2));
+        assert_eq!(overflow(c, &XC3S50).len(), 1);
+        assert!(overflow(c, &XC3S50)[0].starts_with("DSP 2 > 1"));
+        let one = Cells {
+            dsps: 1,
+            ..c.clone()
+        };
+        assert!(overflow(&one, &XC3S50).is_empty());
+        let narrow = "=== top ===\n     RAMB16_S18_S18    3\n     MULT18X18    2\n";
+        assert!(overflow(&parse_stat(narrow, &XC3S50)[0], &XC3S50).is_empty());
     }
 
     #[test]

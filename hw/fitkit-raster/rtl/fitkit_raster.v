@@ -21,7 +21,8 @@
 module fitkit_raster #(
     parameter TRI_LANES = 1,    // tri_unit's pixel tests per cycle: 1 (seed), 2, 4 or 8
     parameter LINE_UNIT = 1,    // 1: the line unit is built; 0: lines are refused
-    parameter TRI_UNIT = 1      // 1: the triangle unit is built; 0: triangles are refused
+    parameter TRI_UNIT = 1,     // 1: the triangle unit is built; 0: triangles are refused
+    parameter TRI_SMALL = 0     // 1: tri_small (TRI_LANES = 1's pixels and cycles, few LUTs)
 ) (
     input  wire        clk,
     input  wire        rst,
@@ -42,6 +43,10 @@ module fitkit_raster #(
         if ((LINE_UNIT != 0 && LINE_UNIT != 1) || (TRI_UNIT != 0 && TRI_UNIT != 1)
             || (LINE_UNIT == 0 && TRI_UNIT == 0)) begin : bad_parameter
             fitkit_raster_line_unit_and_tri_unit_are_0_or_1_not_both_0 unsupported();
+        end
+        if ((TRI_SMALL != 0 && TRI_SMALL != 1) || (TRI_SMALL == 1 && TRI_LANES != 1))
+        begin : bad_small
+            fitkit_raster_tri_small_must_be_0_or_1_with_one_lane unsupported();
         end
     endgenerate
 
@@ -133,7 +138,15 @@ module fitkit_raster #(
             assign l_col = 8'd0;
             assign line_done = 1'b0;
         end
-        if (TRI_UNIT != 0) begin : g_tri
+        if (TRI_UNIT != 0 && TRI_SMALL != 0) begin : g_tri_small
+            tri_small u_tri (
+                .clk(clk), .rst(crst), .start(tri_start), .x0(pk[70:62]), .y0(pk[61:53]),
+                .x1(pk[52:44]), .y1(pk[43:35]), .x2(pk[34:26]), .y2(pk[25:17]),
+                .color(pk[16:9]), .wm1(wm1), .hm1(hm1), .cull(cull), .busy(t_busy),
+                .frag_valid(t_v), .frag_x(t_x), .frag_y(t_y), .frag_col(t_col),
+                .frag_ready(~frag_full), .done(tri_done)
+            );
+        end else if (TRI_UNIT != 0) begin : g_tri
             tri_unit #(.LANES(TRI_LANES)) u_tri (
                 .clk(clk), .rst(crst), .start(tri_start), .x0(pk[70:62]), .y0(pk[61:53]),
                 .x1(pk[52:44]), .y1(pk[43:35]), .x2(pk[34:26]), .y2(pk[25:17]), .color(pk[16:9]),

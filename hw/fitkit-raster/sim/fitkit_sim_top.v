@@ -5,13 +5,15 @@
 // memory port's wait input (tests toggle it to exercise the stall path); bd_addr /
 // bd_data read the RAM without a clock (the backdoor; sim_ram's `mem` is also
 // `verilator public`).
-// Parameters: TRI_LANES, LINE_UNIT and TRI_UNIT as fitkit_raster (fitkit_sim_top8 builds
-// it with 8 lanes, fitkit_sim_top_line and fitkit_sim_top_tri with one unit each).
+// Parameters: TRI_LANES, LINE_UNIT, TRI_UNIT and TRI_SMALL as fitkit_raster
+// (fitkit_sim_top8 builds it with 8 lanes, fitkit_sim_top_line and fitkit_sim_top_tri
+// with one unit each, the latter with tri_small).
 `default_nettype none
 module fitkit_sim_top #(
     parameter TRI_LANES = 1,
     parameter LINE_UNIT = 1,
-    parameter TRI_UNIT = 1
+    parameter TRI_UNIT = 1,
+    parameter TRI_SMALL = 0
 ) (
     input  wire        clk,
     input  wire        rst,
@@ -29,7 +31,9 @@ module fitkit_sim_top #(
     wire [7:0]  mem_wdata, mem_rdata;
     wire        mem_we, mem_re;
 
-    fitkit_raster #(.TRI_LANES(TRI_LANES), .LINE_UNIT(LINE_UNIT), .TRI_UNIT(TRI_UNIT)) u_dut (
+    fitkit_raster #(
+        .TRI_LANES(TRI_LANES), .LINE_UNIT(LINE_UNIT), .TRI_UNIT(TRI_UNIT), .TRI_SMALL(TRI_SMALL)
+    ) u_dut (
         .clk(clk), .rst(rst), .spi_sck(spi_sck), .spi_cs_n(spi_cs_n), .spi_mosi(spi_mosi),
         .spi_miso(spi_miso), .fifo_free(fifo_free), .busy(busy), .mem_addr(mem_addr),
         .mem_wdata(mem_wdata), .mem_we(mem_we), .mem_re(mem_re), .mem_rdata(mem_rdata),

@@ -6,8 +6,8 @@
 // on top-left edges) and pixel (i, j) covered iff a i + b j + c >= 0 for all three -- the
 // model's form, not the unit's halved incremental one -- tested at every pixel of the
 // vertices' bounding box within the frame. Checks per triangle: the same pixel set, each
-// pixel once, colour, busy = 16 + clipped box area (13 when degenerate, culled or off
-// the frame) plus frag_ready stalls, done once. With LANES > 1 (tri_unit's parameter) the
+// pixel once, colour, busy = 16 + clipped box area (18 + area for tri_small; 13 when
+// degenerate, culled or off the frame) plus frag_ready stalls, done once. With LANES > 1 (tri_unit's parameter) the
 // set-up is 16 + log2 LANES and a step of LANES pixels costs max(1, covered pixels)
 // cycles instead of one per pixel. Cases: both windings,
 // horizontal and vertical edges, edges through pixel centres, degenerate (points,
@@ -21,8 +21,11 @@
 module tb_tri;
     parameter LANES = 1;           // tri_unit's pixels per cycle (1, 2, 4, 8)
     parameter QUICK = 0;           // 1: the first small cases only (a broken copy's check)
-    // the unit's set-up cycles and those of a rejected triangle (tri_unit's Timing)
-    localparam integer SETUP  = 16 + ((LANES == 8) ? 3 : (LANES == 4) ? 2 : (LANES == 2) ? 1 : 0);
+    parameter SMALL = 0;           // 1: tri_small in place of tri_unit (LANES = 1's pixels)
+    // the unit's set-up cycles and those of a rejected triangle (tri_unit's and
+    // tri_small's Timing)
+    localparam integer SETUP  = (SMALL != 0) ? 18
+                              : 16 + ((LANES == 8) ? 3 : (LANES == 4) ? 2 : (LANES == 2) ? 1 : 0);
     localparam integer REJECT = 13;
     localparam integer SIDE = `FITKIT_FRAME_SIDE;   // the frame the coordinates address
     reg clk = 1'b0;
@@ -38,12 +41,23 @@ module tb_tri;
     wire [8:0] fx, fy;
     wire [7:0] fc;
 
-    tri_unit #(.LANES(LANES)) dut (
-        .clk(clk), .rst(rst), .start(start), .x0(vx0), .y0(vy0), .x1(vx1), .y1(vy1),
-        .x2(vx2), .y2(vy2), .color(color), .wm1(wm1), .hm1(hm1), .cull(cull), .busy(busy),
-        .frag_valid(fv), .frag_x(fx), .frag_y(fy), .frag_col(fc), .frag_ready(ready),
-        .done(done)
-    );
+    generate
+        if (SMALL != 0) begin : g_small
+            tri_small dut (
+                .clk(clk), .rst(rst), .start(start), .x0(vx0), .y0(vy0), .x1(vx1),
+                .y1(vy1), .x2(vx2), .y2(vy2), .color(color), .wm1(wm1), .hm1(hm1),
+                .cull(cull), .busy(busy), .frag_valid(fv), .frag_x(fx), .frag_y(fy),
+                .frag_col(fc), .frag_ready(ready), .done(done)
+            );
+        end else begin : g_unit
+            tri_unit #(.LANES(LANES)) dut (
+                .clk(clk), .rst(rst), .start(start), .x0(vx0), .y0(vy0), .x1(vx1),
+                .y1(vy1), .x2(vx2), .y2(vy2), .color(color), .wm1(wm1), .hm1(hm1),
+                .cull(cull), .busy(busy), .frag_valid(fv), .frag_x(fx), .frag_y(fy),
+                .frag_col(fc), .frag_ready(ready), .done(done)
+            );
+        end
+    endgenerate
 
     `include "check.vh"
     reg [1:0] mark [0:SIDE * SIDE - 1];   // 1 expected, 2 expected and seen

@@ -21,8 +21,13 @@ pub fn tri_setup_cycles(lanes: u32) -> u64 {
     16 + u64::from(lanes.max(1).ilog2())
 }
 /// Cycles of a triangle the RTL's unit draws nothing of (degenerate, culled or off the
-/// frame): its set-up up to the orientation, whatever the lanes.
+/// frame): its set-up up to the orientation, whatever the lanes (and the small unit's
+/// too, which waits for that cycle).
 pub const TRI_REJECT_CYCLES: u64 = 13;
+/// Cycles of the small triangle unit's set-up (`tri_small`, the XC3S50's: its set-up's
+/// seventeen products one at a time through one multiplier, then the first step) before
+/// its walk, which is the one-lane unit's (docs/rtl.md).
+pub const TRI_SMALL_SETUP_CYCLES: u64 = 18;
 /// Cycles of a line's set-up (the deltas' magnitudes, the major axis, the Bresenham
 /// decision variable) before its first pixel, as the RTL's line unit spends them
 /// (docs/rtl.md).

@@ -103,6 +103,10 @@ pub enum RasterError {
     /// A triangle unit width the RTL does not build (its `TRI_LANES`).
     #[error("triangle lanes {0}: the triangle unit builds 1, 2, 4 or 8")]
     TriLanes(u32),
+    /// The small triangle unit asked for with more than one lane (the RTL refuses
+    /// `TRI_SMALL` with `TRI_LANES` other than 1).
+    #[error("triangle lanes {0}: the small triangle unit tests one pixel per cycle")]
+    TriSmallLanes(u32),
 }
 
 /// Texels of texture memory in the model.
@@ -120,6 +124,8 @@ pub struct Raster {
     /// Pixel tests per cycle of the RTL's triangle unit (its `TRI_LANES`), for the
     /// bounding-box traversal's cycle count.
     tri_lanes: u32,
+    /// The RTL's triangle unit is the small one (`TRI_SMALL`), whose set-up is longer.
+    tri_small: bool,
     /// The memory's wait input from the next command's first unit cycle on, when the
     /// cycles are to include the RTL's stalls ([`Raster::set_mem_wait`]).
     mem_wait: Option<Vec<bool>>,
@@ -197,6 +203,7 @@ impl Raster {
             stats: Stats::default(),
             hw: hw::Model::default(),
             tri_lanes: 1,
+            tri_small: false,
             mem_wait: None,
         };
         // The set-up is one FIFO record, then a clear of the frame at one pixel per cycle:
@@ -218,8 +225,32 @@ impl Raster {
         if !matches!(lanes, 1 | 2 | 4 | 8) {
             return Err(RasterError::TriLanes(lanes));
         }
+        if self.tri_small && lanes != 1 {
+            return Err(RasterError::TriSmallLanes(lanes));
+        }
         self.tri_lanes = lanes;
         Ok(())
+    }
+
+    /// Models the RTL's small triangle unit (the FITkit block's `TRI_SMALL`, built for the
+    /// XC3S50's area): the one-lane unit's pixels and walk after a set-up of
+    /// [`hw::TRI_SMALL_SETUP_CYCLES`] instead of [`hw::tri_setup_cycles`]`(1)`; a rejected
+    /// triangle costs the same. Refused while more than one lane is modelled.
+    pub fn set_tri_small(&mut self, small: bool) -> Result<(), RasterError> {
+        if small && self.tri_lanes != 1 {
+            return Err(RasterError::TriSmallLanes(self.tri_lanes));
+        }
+        self.tri_small = small;
+        Ok(())
+    }
+
+    /// The set-up cycles of the modelled triangle unit with `lanes` pixel tests per step.
+    fn tri_setup(&self, lanes: u32) -> u64 {
+        if self.tri_small {
+            hw::TRI_SMALL_SETUP_CYCLES
+        } else {
+            hw::tri_setup_cycles(lanes)
+        }
     }
 
     /// Makes the next line, clear and bounding-box triangle count the cycles the RTL's
@@ -436,7 +467,7 @@ impl Raster {
                 },
             );
             self.stats.pixel_tests += n;
-            return Ok(hw::tri_setup_cycles(1) + n);
+            return Ok(self.tri_setup(1) + n);
         }
         let Some(s) = tri::setup(&t.v, bits, w, h, self.setup.cull) else {
             return Ok(hw::TRI_REJECT_CYCLES);
@@ -477,17 +508,17 @@ impl Raster {
         if let (true, Some(w)) = (keep, wait) {
             self.stats.pixel_tests += c.pixel_tests;
             let steps = box_steps(s.bbox, lanes, &spans);
-            return Ok(hw::stalled_cycles(hw::tri_setup_cycles(lanes), steps, &w));
+            return Ok(hw::stalled_cycles(self.tri_setup(lanes), steps, &w));
         }
         self.stats.pixel_tests += c.pixel_tests;
         self.stats.block_tests += c.block_tests;
         if trav == Traversal::BoundingBox && lanes > 1 {
             let [x0, y0, x1, y1] = s.bbox;
             let steps = u64::from(y1 - y0) * u64::from((x1 - x0).div_ceil(lanes));
-            return Ok(hw::tri_setup_cycles(lanes) + steps + extra);
+            return Ok(self.tri_setup(lanes) + steps + extra);
         }
         let lanes = if trav == Traversal::Simd8 { 8 } else { 1 };
-        Ok(hw::tri_setup_cycles(1)
+        Ok(self.tri_setup(1)
             + c.block_tests
             + c.wide_steps
             + (c.pixel_tests + c.accepted).div_ceil(lanes))
@@ -710,5 +741,9 @@ mod tests {
         let mut r = Raster::new(8, 8, &setup).expect("raster");
         assert_eq!(r.set_tri_lanes(3), Err(RasterError::TriLanes(3)));
         assert_eq!(r.set_tri_lanes(8), Ok(()));
+        assert_eq!(r.set_tri_small(true), Err(RasterError::TriSmallLanes(8)));
+        assert_eq!(r.set_tri_lanes(1), Ok(()));
+        assert_eq!(r.set_tri_small(true), Ok(()));
+        assert_eq!(r.set_tri_lanes(2), Err(RasterError::TriSmallLanes(2)));
     }
 }

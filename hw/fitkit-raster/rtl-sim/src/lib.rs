@@ -49,6 +49,9 @@ pub struct Build {
     pub line_unit: bool,
     /// `TRI_UNIT`: the block has a triangle unit.
     pub tri_unit: bool,
+    /// `TRI_SMALL`: the triangle unit is `tri_small` (the XC3S50's: `TRI_LANES` = 1's
+    /// pixels and cycles in fewer LUTs).
+    pub tri_small: bool,
 }
 
 impl Build {
@@ -58,6 +61,7 @@ impl Build {
         tri_lanes: 1,
         line_unit: true,
         tri_unit: true,
+        tri_small: false,
     };
     /// Eight pixel tests per cycle (`fitkit_sim_top8`).
     pub const TRI_LANES_8: Build = Build {
@@ -71,10 +75,12 @@ impl Build {
         tri_unit: false,
         ..Build::DEFAULT
     };
-    /// Triangles only, for the seed's XC3S50 (`fitkit_sim_top_tri`).
+    /// Triangles only, on the small triangle unit, for the seed's XC3S50
+    /// (`fitkit_sim_top_tri`).
     pub const TRI: Build = Build {
         name: "tri",
         line_unit: false,
+        tri_small: true,
         ..Build::DEFAULT
     };
     /// Every build the crate Verilates, in the shim's order.
@@ -84,7 +90,7 @@ impl Build {
     pub fn with_tri_lanes(lanes: u32) -> Result<Build, RtlError> {
         Build::ALL
             .into_iter()
-            .find(|b| b.tri_lanes == lanes && b.line_unit && b.tri_unit)
+            .find(|b| b.tri_lanes == lanes && b.line_unit && b.tri_unit && !b.tri_small)
             .ok_or(RtlError::TriLanes(lanes))
     }
 

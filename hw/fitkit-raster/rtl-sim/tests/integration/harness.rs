@@ -34,8 +34,10 @@ pub struct Pair {
     pub spi: RtlSpi,
     pub model: Device,
     pub setup: RasterSetup,
-    /// The triangle unit's pixel tests per cycle on both sides (the RTL's `TRI_LANES`).
+    /// The triangle unit's pixel tests per cycle on both sides (the RTL's `TRI_LANES`),
+    /// and whether it is the small unit (`TRI_SMALL`).
     tri_lanes: u32,
+    tri_small: bool,
     /// Both sides' counters after the last [`Pair::step`] (or the set-up).
     last: (Counters, Counters),
 }
@@ -89,7 +91,7 @@ impl Pair {
     /// As [`Pair::with_spi`] on a given RTL (one whose registers start at random values,
     /// say).
     pub fn on(rtl: SharedRtl, setup: RasterSetup, wait: MemWait, config: SpiConfig) -> Self {
-        Self::make(rtl, setup, wait, config, 1)
+        Self::make(rtl, setup, wait, config, Build::DEFAULT)
     }
 
     /// As [`Pair::new`] on one Verilated build of the block, the model's triangle cycles
@@ -98,13 +100,7 @@ impl Pair {
     pub fn with_build(setup: RasterSetup, build: Build) -> Self {
         let rtl = Rtl::with_build(build).unwrap_or_else(|e| panic!("{e}"));
         let rtl = crate::replay::traced(std::rc::Rc::new(std::cell::RefCell::new(rtl)));
-        Self::make(
-            rtl,
-            setup,
-            MemWait::Off,
-            SpiConfig::default(),
-            build.tri_lanes,
-        )
+        Self::make(rtl, setup, MemWait::Off, SpiConfig::default(), build)
     }
 
     fn make(
@@ -112,7 +108,7 @@ impl Pair {
         setup: RasterSetup,
         wait: MemWait,
         config: SpiConfig,
-        tri_lanes: u32,
+        build: Build,
     ) -> Self {
         rtl.borrow_mut().set_mem_wait(wait);
         let spi = RtlSpi::new(rtl.clone(), config).expect("SPI config within the contract");
@@ -121,7 +117,8 @@ impl Pair {
             spi,
             model: Device::new(&FITKIT),
             setup,
-            tri_lanes,
+            tri_lanes: build.tri_lanes,
+            tri_small: build.tri_small,
             last: Default::default(),
         };
         pair.restart();
@@ -139,6 +136,11 @@ impl Pair {
             .expect("set up")
             .set_tri_lanes(self.tri_lanes)
             .expect("a built TRI_LANES");
+        self.model
+            .raster_mut()
+            .expect("set up")
+            .set_tri_small(self.tri_small)
+            .expect("the small unit has one lane");
         let record = wire::Setup {
             width: setup.width,
             height: setup.height,
