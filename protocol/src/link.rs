@@ -98,11 +98,15 @@ const MAX_ENCODED: usize = cobs::max_encoding_length(MAX_RAW);
 pub const MAX_FRAME: usize = MAX_ENCODED + 1;
 
 /// On a host the slice-by-16 table (16 KiB) triples CRC throughput; on the MCU, where
-/// flash is the budget, the 1 KiB byte-wise table. Both give identical values.
+/// flash is the budget, the 1 KiB byte-wise table; on the MSP430, whose 16-bit address
+/// space leaves the firmware short of flash by about that much, no table (bit by bit).
+/// All give identical values.
 #[cfg(not(target_os = "none"))]
 type CrcTable = crc::Table<16>;
-#[cfg(target_os = "none")]
+#[cfg(all(target_os = "none", not(target_arch = "msp430")))]
 type CrcTable = crc::Table<1>;
+#[cfg(all(target_os = "none", target_arch = "msp430"))]
+type CrcTable = crc::NoTable;
 
 /// The link's CRC-32 (ISO-HDLC): every frame's trailer, and the read-back's checksum
 /// ([`crate::frame::ReadDone::crc32`]) too, so that a board carries one table, not two.

@@ -923,8 +923,10 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     pub const LIGHT_CAPACITY: usize = LIGHTS;
     /// Word 1: version and capacities, so that a map built for other sizes is refused.
     pub const VERSION_WORD: u32 = VERSION as u32 | (OBJ as u32) << 16 | (LIGHTS as u32) << 24;
-    // RegWrite offsets are u16 and the capacities must fit their bytes in word 1.
-    const FITS: () = assert!(Self::WORDS <= 1 << 16 && OBJ < 256 && LIGHTS < 256 && LIGHTS >= 1);
+    // RegWrite offsets are u16 and the capacities must fit their bytes in word 1. Compared
+    // as u64: `1 << 16` overflows a 16-bit usize (MSP430).
+    const FITS: () =
+        assert!(Self::WORDS as u64 <= 1 << 16 && OBJ < 256 && LIGHTS < 256 && LIGHTS >= 1);
 
     /// An empty Q16.16 scene: header magic and version set, no objects or lights, all
     /// else 0 (the device's power-on register file).
