@@ -6,11 +6,29 @@ use firmware::{FitkitSpi, FpgaBus};
 use fitkit_rtl_sim::{RtlDelay, RtlSpi, SpiConfig};
 use protocol::bus::{self, FITKIT};
 use protocol::frame::{Block, Numeric, PixelFormat, Plane, ReadRequest, Rect, StartFrame};
-use protocol::raster::Cull;
+use protocol::raster::{Cull, RasterSetup};
 use sim_target::Device;
 
 use crate::cases;
 use crate::harness;
+
+/// The whole frame read back through the driver, as RGB888.
+pub fn read_frame(fpga: &mut FitkitSpi<RtlSpi, RtlDelay>, setup: &RasterSetup) -> Vec<u8> {
+    let req = ReadRequest {
+        plane: Plane::Color,
+        format: PixelFormat::Rgb888,
+        rect: Rect {
+            x: 0,
+            y: 0,
+            w: setup.width,
+            h: setup.height,
+        },
+    };
+    let n = fpga.read_len(&req).expect("len").expect("readable") as usize;
+    let mut got = vec![0u8; n];
+    fpga.read(&req, 0, &mut got).expect("read-back");
+    got
+}
 
 #[test]
 fn the_firmware_driver_draws_what_the_model_draws() {
@@ -63,19 +81,7 @@ fn the_firmware_driver_draws_what_the_model_draws() {
         fpga.wait().expect("wait");
     };
     assert_eq!(done.frame_id, 7);
-    let req = ReadRequest {
-        plane: Plane::Color,
-        format: PixelFormat::Rgb888,
-        rect: Rect {
-            x: 0,
-            y: 0,
-            w: setup.width,
-            h: setup.height,
-        },
-    };
-    let n = fpga.read_len(&req).expect("len").expect("readable") as usize;
-    let mut got = vec![0u8; n];
-    fpga.read(&req, 0, &mut got).expect("read-back");
+    let got = read_frame(&mut fpga, &setup);
     let want = model.raster().expect("set up").framebuffer().rgb();
     assert!(got == want, "the driver's read-back differs from the model");
     assert_eq!(done.work, model.raster().expect("set up").stats().fragments);

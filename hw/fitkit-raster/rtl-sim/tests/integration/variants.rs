@@ -131,19 +131,7 @@ fn the_driver_refuses_the_missing_unit_by_name() {
         while !fpga.idle().expect("status without an error") {
             fpga.wait().expect("wait");
         }
-        let req = protocol::frame::ReadRequest {
-            plane: protocol::frame::Plane::Color,
-            format: protocol::frame::PixelFormat::Rgb888,
-            rect: protocol::frame::Rect {
-                x: 0,
-                y: 0,
-                w: setup.width,
-                h: setup.height,
-            },
-        };
-        let n = fpga.read_len(&req).expect("len").expect("readable") as usize;
-        let mut got = vec![0u8; n];
-        fpga.read(&req, 0, &mut got).expect("read-back");
+        let got = crate::firmware_driver::read_frame(&mut fpga, &setup);
         let want = model.raster().expect("set up").framebuffer().rgb();
         assert!(
             got == want,
