@@ -13,7 +13,7 @@ use rand::{Rng, SeedableRng};
 use rt_core_rtl_sim::{MathUnits, Operands, Unit};
 use sim_target::num::{Scalar, Q16_16};
 
-use super::waves::Waves;
+use super::waves::{Mismatches, Waves};
 
 type P = Q16_16;
 
@@ -115,15 +115,13 @@ fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> usize {
         .replaying()
         .and_then(|c| c.strip_prefix("cycle ")?.parse().ok());
     let slowest = Unit::ALL.iter().map(|u| u.latency()).max().unwrap_or(0);
-    // the clock of the first failure's operand set
-    let mut first: Option<u64> = None;
     let mut rng = SmallRng::seed_from_u64(seed);
     // per unit: (cycle the operands went in, operands, model result, model saturation)
     let mut pending: Vec<VecDeque<(u64, Operands, i32, bool)>> =
         Unit::ALL.iter().map(|_| VecDeque::new()).collect();
     let mut sent = 0;
     let mut checked = 0;
-    let mut failures = Vec::new();
+    let mut failures = Mismatches::default();
     let mut last = None;
     while sent < n || pending.iter().any(|p| !p.is_empty()) {
         let input = (sent < n && !(gaps && rng.gen_range(0..4) == 0)).then(|| operands(&mut rng));
@@ -144,8 +142,7 @@ fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> usize {
         if let (true, Some(before)) = (gaps && rng.gen_range(0..4) == 0, last) {
             let held = rtl.hold(operands(&mut rng));
             if held != before {
-                failures.push(format!("cycle {now}: a held cycle changed an output"));
-                first.get_or_insert(now);
+                failures.push(now, format!("cycle {now}: a held cycle changed an output"));
             }
         }
         let out = rtl.cycle(input);
@@ -160,10 +157,10 @@ fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> usize {
                 continue;
             }
             let Some((at, o, y, sat)) = pending[k].pop_front() else {
-                failures.push(format!(
-                    "{unit:?}: a result nobody asked for at cycle {now}"
-                ));
-                first.get_or_insert(now);
+                failures.push(
+                    now,
+                    format!("{unit:?}: a result nobody asked for at cycle {now}"),
+                );
                 continue;
             };
             checked += 1;
@@ -171,33 +168,20 @@ fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> usize {
             // sqrt and to_f32 have no saturation output: their results always fit
             let sat_ok = matches!(unit, Unit::Sqrt | Unit::ToF32) || got.sat == sat;
             if got.y != y || !sat_ok || latency != unit.latency() {
-                failures.push(format!(
+                failures.push(at, format!(
                     "{unit:?} {o:?}: RTL {:#010x} sat {} after {latency} cycles, model {:#010x} sat {sat} after {}",
                     got.y as u32,
                     got.sat,
                     y as u32,
                     unit.latency()
                 ));
-                first.get_or_insert(at);
             }
         }
-        if let Some(at) = first.filter(|at| Some(*at) == replay) {
-            waves.fail(&format!("cycle {at}"), &failures.join("\n"));
-        }
-        if failures.len() >= 10 {
+        if failures.enough(waves, replay) {
             break;
         }
     }
-    if let Some(at) = first {
-        waves.fail(
-            &format!("cycle {at}"),
-            &format!(
-                "{} mismatches, first ones:\n{}",
-                failures.len(),
-                failures.join("\n")
-            ),
-        );
-    }
+    failures.finish(waves);
     checked
 }
 

@@ -17,7 +17,7 @@ use rt_core_rtl_sim::{Intersect, Pair};
 use sim_target::num::{Scalar, Q16_16};
 use sim_target::rt::{shapes, Math, Shape};
 
-use super::waves::Waves;
+use super::waves::{Mismatches, Waves};
 
 fn q(x: f64) -> i32 {
     Q16_16::from_f64(x).0.to_bits()
@@ -105,12 +105,10 @@ fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> (usize, [usize; 8]) {
     let replay: Option<u64> = waves
         .replaying()
         .and_then(|c| c.strip_prefix("cycle ")?.parse().ok());
-    // the clock of the first failure's pair
-    let mut first: Option<u64> = None;
     let mut rng = SmallRng::seed_from_u64(seed);
     let mut pending: VecDeque<(u64, Pair, Option<i32>)> = VecDeque::new();
     let (mut sent, mut checked, mut hits) = (0usize, 0usize, [0usize; 8]);
-    let mut failures = Vec::new();
+    let mut failures = Mismatches::default();
     let mut last = None;
     while sent < n || !pending.is_empty() {
         let input =
@@ -129,8 +127,7 @@ fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> (usize, [usize; 8]) {
         if let (true, Some(before)) = (gaps && rng.gen_range(0..4) == 0, last) {
             let held = rtl.hold(pair(&mut rng, 0));
             if held != before {
-                failures.push(format!("cycle {now}: a held cycle changed the output"));
-                first.get_or_insert(now);
+                failures.push(now, format!("cycle {now}: a held cycle changed the output"));
             }
         }
         let out = rtl.cycle(input);
@@ -143,8 +140,7 @@ fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> (usize, [usize; 8]) {
             continue;
         }
         let Some((at, p, want)) = pending.pop_front() else {
-            failures.push(format!("a result nobody asked for at cycle {now}"));
-            first.get_or_insert(now);
+            failures.push(now, format!("a result nobody asked for at cycle {now}"));
             continue;
         };
         checked += 1;
@@ -157,29 +153,19 @@ fn run(waves: &Waves, n: usize, seed: u64, gaps: bool) -> (usize, [usize; 8]) {
             || out.tag != p.tag
             || latency != Intersect::LATENCY
         {
-            failures.push(format!(
-                "{p:?}: RTL {got:?} (unsupported {}, tag {}, {latency} cycles), model {want:?}",
-                out.unsupported, out.tag
-            ));
-            first.get_or_insert(at);
+            failures.push(
+                at,
+                format!(
+                    "{p:?}: RTL {got:?} (unsupported {}, tag {}, {latency} cycles), model {want:?}",
+                    out.unsupported, out.tag
+                ),
+            );
         }
-        if let Some(at) = first.filter(|at| Some(*at) == replay) {
-            waves.fail(&format!("cycle {at}"), &failures.join("\n"));
-        }
-        if failures.len() >= 10 {
+        if failures.enough(waves, replay) {
             break;
         }
     }
-    if let Some(at) = first {
-        waves.fail(
-            &format!("cycle {at}"),
-            &format!(
-                "{} mismatches, first ones:\n{}",
-                failures.len(),
-                failures.join("\n")
-            ),
-        );
-    }
+    failures.finish(waves);
     (checked, hits)
 }
 

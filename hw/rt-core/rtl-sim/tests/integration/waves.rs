@@ -55,6 +55,45 @@ impl Waveform for Device {
     }
 }
 
+/// The mismatches of a stream of cycles (operand sets, pairs) against the model: their
+/// lines, and the earliest cycle whose inputs failed, the case a failure replays.
+#[derive(Default)]
+pub struct Mismatches {
+    lines: Vec<String>,
+    first: Option<u64>,
+}
+
+impl Mismatches {
+    /// A mismatch of the inputs that went in at `cycle`.
+    pub fn push(&mut self, cycle: u64, why: String) {
+        self.lines.push(why);
+        self.first.get_or_insert(cycle);
+    }
+
+    /// After a cycle's checks: in the child replaying cycle `replay`, ends the replay
+    /// once that cycle failed; whether the suite has enough (ten) to stop streaming.
+    pub fn enough(&self, waves: &Waves, replay: Option<u64>) -> bool {
+        if let Some(at) = self.first.filter(|at| Some(*at) == replay) {
+            waves.fail(&format!("cycle {at}"), &self.lines.join("\n"));
+        }
+        self.lines.len() >= 10
+    }
+
+    /// After the stream: if anything failed, fails naming the first failing cycle.
+    pub fn finish(self, waves: &Waves) {
+        if let Some(at) = self.first {
+            waves.fail(
+                &format!("cycle {at}"),
+                &format!(
+                    "{} mismatches, first ones:\n{}",
+                    self.lines.len(),
+                    self.lines.join("\n")
+                ),
+            );
+        }
+    }
+}
+
 /// One test's cases: run by the suite, or replayed by the child.
 pub struct Waves {
     /// The test's path in the binary (`module::name`), which the child runs alone.
