@@ -23,7 +23,9 @@
 //!   32-bit AXI4-Lite register image, and [`axi_lite`] — where that image and the start
 //!   of a frame sit on the block's AXI4-Lite bus.
 //! * [`bootloader`] — the STM32 ROM bootloader's UART protocol (ST AN3155) that
-//!   `fpgfx flash` speaks to the board and `fpgfx-sim --bootloader` emulates.
+//!   `fpgfx flash` speaks to the board and `fpgfx-sim --bootloader` emulates, and
+//!   [`msp430_bsl`] — the MSP430's ROM bootstrap loader (TI SLAU319), the same for the
+//!   FITkit's MSP430F168 (`fpgfx flash --chip msp430f168`, `fpgfx-sim --bootloader msp430`).
 //! * [`fpga_link`] — the same bus operations as messages, for an FPGA reached over a
 //!   serial line (the board's second UART when the FPGA is the `fpgfx-sim` emulator):
 //!   what `firmware::FpgaLink` sends and `sim_board::FpgaServer` answers.
@@ -42,6 +44,7 @@ pub mod fitkit_spi;
 pub mod fpga_link;
 pub mod frame;
 pub mod link;
+pub mod msp430_bsl;
 pub mod names;
 pub mod raster;
 pub mod scene;

@@ -12,5 +12,6 @@ mod fuzz_props;
 mod generated;
 mod link;
 mod modules;
+mod msp430_bsl;
 mod names;
 mod scene;

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Every top-level module, leaves first: a module may name only those before it.
-const ORDER: [&str; 10] = [
+const ORDER: [&str; 11] = [
     "names",
     "raster",
     "fitkit_spi",
@@ -17,6 +17,7 @@ const ORDER: [&str; 10] = [
     "fpga_link",
     "axi_lite",
     "bootloader",
+    "msp430_bsl",
 ];
 
 /// The top-level modules a file's code (not its comments) names as `crate::<module>`.
