@@ -20,7 +20,9 @@
 //!   [`FpgaServer`]), for a controller elsewhere: the QEMU board's second UART, with the
 //!   model or the RTL behind it;
 //! * the STM32's ROM bootloader ([`bootloader`], on a pty through [`bootloader_pty`]),
-//!   what the chip does with BOOT0 high, for `fpgfx flash`.
+//!   what the chip does with BOOT0 high, for `fpgfx flash`; and the FITkit MSP430F168's
+//!   ROM BSL ([`msp430_bsl`], on a pty through the same server), for
+//!   `fpgfx flash --chip msp430f168`.
 //!
 //! The shapes whose entry points are free functions stay modules, named the way callers
 //! name them (`board::serve`, `bootloader_pty::serve`, `in_process::sim_target()`,
@@ -37,6 +39,7 @@ pub mod board;
 pub mod bootloader;
 pub mod bootloader_pty;
 pub mod in_process;
+pub mod msp430_bsl;
 pub mod pty;
 pub mod rt_rtl;
 pub mod rtl;

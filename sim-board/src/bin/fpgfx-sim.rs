@@ -7,7 +7,9 @@ use std::io::Write;
 use anyhow::Result;
 use clap::Parser;
 use sim_board::board::Fpga;
-use sim_board::bootloader_pty::{self, Chip};
+use sim_board::bootloader::Bootloader;
+use sim_board::bootloader_pty::{self, Chip, RomLoader};
+use sim_board::msp430_bsl::Bsl;
 use sim_board::FpgaPort;
 use sim_board::{board, pty};
 
@@ -22,18 +24,27 @@ struct Cli {
     /// controller + FPGA model on it until killed.
     #[arg(long)]
     pty: bool,
-    /// Serve the STM32F405's ROM bootloader (AN3155) on the pty instead of the board:
-    /// what the chip does with BOOT0 high. See docs/flash.md.
-    #[arg(long, requires = "pty")]
-    bootloader: bool,
-    /// With --bootloader: keep the emulated flash in FILE (1 MiB, created erased if
-    /// missing), updated after every write or erase, so a later run sees it.
+    /// Serve a ROM bootloader on the pty instead of the board: the STM32F405's (AN3155,
+    /// what the chip does with BOOT0 high; the default when no value is given) or the
+    /// FITkit MSP430F168's BSL (SLAU319, what it does after the RST/TEST entry sequence).
+    /// See docs/flash.md.
+    #[arg(long, requires = "pty", value_enum, num_args = 0..=1, default_missing_value = "stm32",
+          value_name = "CHIP")]
+    bootloader: Option<Loader>,
+    /// With --bootloader: keep the emulated flash in FILE (STM32: the 1 MiB flash;
+    /// MSP430: the 64 KiB address space, of which the flash is kept), created erased if
+    /// missing and updated after every write or erase, so a later run sees it.
     #[arg(long, value_name = "FILE", requires = "bootloader")]
     flash_image: Option<std::path::PathBuf>,
     /// With --bootloader, a test aid: exit (like a board losing power) right after the
-    /// Nth successful Write Memory, to interrupt a flash at a known point.
+    /// Nth successful flash write (Write Memory, RX data block), to interrupt a flash at a
+    /// known point.
     #[arg(long, value_name = "N", requires = "bootloader")]
     exit_after_writes: Option<u64>,
+    /// With --bootloader msp430, a test aid: every data frame the BSL sends carries a
+    /// wrong checksum, as on a line that corrupts the chip's answers.
+    #[arg(long, requires = "bootloader")]
+    corrupt_answers: bool,
     /// Serve the controller + FPGA model on TCP (e.g. 127.0.0.1:7878; port 0 picks one),
     /// one client at a time; prints the bound address on the first line of stdout.
     #[arg(long, value_name = "ADDR", conflicts_with = "pty")]
@@ -57,6 +68,15 @@ struct Cli {
     fpga: Fpga,
 }
 
+/// Which ROM bootloader `--bootloader` emulates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Loader {
+    /// STM32F405, ST AN3155 (bootloader v3.1).
+    Stm32,
+    /// MSP430F168, TI SLAU319 ROM BSL 1.61.
+    Msp430,
+}
+
 fn main() -> std::process::ExitCode {
     match run(Cli::parse()) {
         Ok(()) => std::process::ExitCode::SUCCESS,
@@ -68,8 +88,19 @@ fn main() -> std::process::ExitCode {
 }
 
 fn run(cli: Cli) -> Result<()> {
-    if cli.bootloader {
-        return serve_bootloader(&cli);
+    match cli.bootloader {
+        Some(Loader::Stm32) => {
+            anyhow::ensure!(
+                !cli.corrupt_answers,
+                "--corrupt-answers is for --bootloader msp430"
+            );
+            return serve_bootloader::<Bootloader>(&cli, |_| {});
+        }
+        Some(Loader::Msp430) => {
+            let corrupt = cli.corrupt_answers;
+            return serve_bootloader::<Bsl>(&cli, |bsl| bsl.corrupt_answers(corrupt));
+        }
+        None => {}
     }
     if let Some(path) = &cli.fpga_link {
         let port = FpgaPort::open(path, cli.baud)?;
@@ -110,16 +141,18 @@ fn announce(what: &str) -> Result<()> {
     Ok(())
 }
 
-/// `--bootloader`: the emulated ROM bootloader on a pty.
-fn serve_bootloader(cli: &Cli) -> Result<()> {
-    let chip = match &cli.flash_image {
-        Some(path) => Chip::with_image(path)?,
-        None => Chip::new(),
+/// `--bootloader`: the emulated ROM bootloader on a pty; `setup` applies test aids.
+fn serve_bootloader<B: RomLoader>(cli: &Cli, setup: impl FnOnce(&mut B)) -> Result<()> {
+    let mut chip = match &cli.flash_image {
+        Some(path) => Chip::<B>::with_image(path)?,
+        None => Chip::<B>::new(),
     };
+    setup(chip.model());
     let (master, path) = pty::open()?;
     announce(&path)?;
+    let width = if B::IMAGE_SIZE > 0x1_0000 { 10 } else { 6 };
     let writes = bootloader_pty::serve(master, chip, cli.exit_after_writes, |address| {
-        eprintln!("fpgfx-sim: Go {address:#010x}")
+        eprintln!("fpgfx-sim: Go {address:#0width$x}")
     })?;
     eprintln!("fpgfx-sim: exiting after {writes} writes (--exit-after-writes)");
     Ok(())
