@@ -222,7 +222,7 @@ pub fn frame_len(head: [u8; 4], min_l: usize) -> Result<usize, DecodeError> {
         return Err(DecodeError::LengthMismatch { l1, l2 });
     }
     let l = usize::from(l1);
-    if l % 2 != 0 || l > MAX_L || l < min_l {
+    if !l.is_multiple_of(2) || l > MAX_L || l < min_l {
         return Err(DecodeError::Length(l1));
     }
     Ok(4 + l + 2)
@@ -237,7 +237,7 @@ pub fn encode_request(
     data: &[u8],
     out: &mut [u8],
 ) -> Result<usize, EncodeError> {
-    if data.len() % 2 != 0 || data.len() > MAX_DATA {
+    if !data.len().is_multiple_of(2) || data.len() > MAX_DATA {
         return Err(EncodeError::DataLength(data.len()));
     }
     let needed = HEADER_LEN + data.len() + 2;
@@ -268,7 +268,7 @@ pub fn decode_request(frame: &[u8]) -> Result<Request<'_>, DecodeError> {
 /// Encodes the chip's data frame (the answer to TX data block and TX BSL version):
 /// `80 00 n n D1…Dn CKL CKH`; returns the number of bytes used.
 pub fn encode_data_frame(data: &[u8], out: &mut [u8]) -> Result<usize, EncodeError> {
-    if data.len() % 2 != 0 || data.len() > MAX_L {
+    if !data.len().is_multiple_of(2) || data.len() > MAX_L {
         return Err(EncodeError::DataLength(data.len()));
     }
     let needed = 4 + data.len() + 2;

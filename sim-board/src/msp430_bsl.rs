@@ -285,7 +285,7 @@ impl Bsl {
                     .chip
                     .region(address, 2)
                     .is_some_and(|r| r.kind != Kind::Rom);
-                if runnable && address % 2 == 0 {
+                if runnable && address.is_multiple_of(2) {
                     self.ack(out);
                     self.go = Some(req.address);
                     self.state = State::Jumped;
@@ -319,7 +319,9 @@ impl Bsl {
     /// The bytes of `[address, address + len)` if they lie in one region and the read
     /// is word-aligned and fits a data frame.
     fn readable(&self, address: u32, len: u32) -> Option<Vec<u8>> {
-        let fits = (2..=MAX_DATA as u32).contains(&len) && len % 2 == 0 && address % 2 == 0;
+        let fits = (2..=MAX_DATA as u32).contains(&len)
+            && len.is_multiple_of(2)
+            && address.is_multiple_of(2);
         self.chip.region(address, len).filter(|_| fits)?;
         Some(self.memory[address as usize..(address + len) as usize].to_vec())
     }
@@ -329,7 +331,7 @@ impl Bsl {
     /// other than `data` — the cells are then left holding old AND new, as on the part.
     fn write(&mut self, address: u32, data: &[u8]) -> bool {
         let len = data.len() as u32;
-        let aligned = address % 2 == 0 && len % 2 == 0 && len > 0;
+        let aligned = address.is_multiple_of(2) && len.is_multiple_of(2) && len > 0;
         let Some(region) = self.chip.region(address, len).filter(|_| aligned) else {
             return false;
         };
