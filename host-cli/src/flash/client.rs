@@ -3,22 +3,13 @@
 //! bytes the chip sent.
 
 use std::io;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use protocol::bootloader::{self as bl, Command, ACK, NACK, SYNC};
 
-use super::FlashError;
+use super::line::{self, hex};
+use super::{FlashError, Loader};
 use crate::session::Transport;
-
-/// Up to 16 bytes as hex for a message, "nothing" when there are none.
-fn hex(bytes: &[u8]) -> String {
-    if bytes.is_empty() {
-        return "nothing".into();
-    }
-    let shown: Vec<String> = bytes.iter().take(16).map(|b| format!("{b:02x}")).collect();
-    let more = if bytes.len() > 16 { " …" } else { "" };
-    format!("[{}{more}]", shown.join(" "))
-}
 
 /// What the chip said about itself.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -73,37 +64,8 @@ impl<T: Transport> Client<T> {
         }
     }
 
-    /// Reads exactly `n` bytes or fails with what arrived.
     fn read_exact(&mut self, n: usize, timeout: Duration) -> Result<Vec<u8>, (Vec<u8>, bool)> {
-        let deadline = Instant::now() + timeout;
-        let mut got = Vec::with_capacity(n);
-        let mut buf = [0u8; 300];
-        while got.len() < n {
-            let now = Instant::now();
-            if now >= deadline {
-                return Err((got, true));
-            }
-            let want = (n - got.len()).min(buf.len());
-            match self.port.read(&mut buf[..want], deadline - now) {
-                Ok(k) => got.extend_from_slice(&buf[..k]),
-                Err(_) => return Err((got, false)),
-            }
-        }
-        Ok(got)
-    }
-
-    /// Empties the receive buffer; returns (the first 64 of) what was in it.
-    fn drain(&mut self) -> io::Result<Vec<u8>> {
-        let mut buf = [0u8; 256];
-        let mut seen = Vec::new();
-        loop {
-            let n = self.port.read(&mut buf, Duration::from_millis(5))?;
-            if n == 0 {
-                return Ok(seen);
-            }
-            let room = 64usize.saturating_sub(seen.len());
-            seen.extend_from_slice(&buf[..n.min(room)]);
-        }
+        line::read_exact(&mut self.port, n, timeout)
     }
 
     fn read_or_fail(
@@ -167,39 +129,13 @@ impl<T: Transport> Client<T> {
     /// NACK; the bytes after it pair up into further NACKs, and at most two more single
     /// 0x7F then get a NACK from an idle chip.
     pub fn sync(&mut self, attempts: u32) -> Result<(), FlashError> {
-        let mut got = Vec::new();
-        let mut burst = false;
-        for i in 0..attempts {
-            if i == 2 {
-                self.port.write_all(&[SYNC; 258])?;
-                burst = true;
-                // Let the burst and its answers cross the line (2 × 258 byte times).
-                let line =
-                    Duration::from_secs_f64(2.0 * 258.0 * 11.0 / f64::from(self.baud.max(1)));
-                std::thread::sleep(line.min(Duration::from_secs(1)) + Duration::from_millis(20));
-                let answers = self.drain()?;
-                if answers.iter().any(|&b| b != ACK && b != NACK) {
-                    got.extend(answers);
-                }
-            }
-            got.extend(self.drain()?);
-            self.port.write_all(&[SYNC])?;
-            match self.read_exact(1, self.timeouts.sync) {
-                Ok(b) if b[0] == ACK || b[0] == NACK => return Ok(()),
-                Ok(b) => got.extend(b),
-                Err((b, _)) => got.extend(b),
-            }
-        }
-        Err(FlashError::NoSync {
+        line::sync(
+            &mut self.port,
+            self.baud,
+            &AN3155_SYNC,
+            self.timeouts.sync,
             attempts,
-            baud: self.baud,
-            burst: if burst {
-                " (and one burst of 258 to end a half-received command)"
-            } else {
-                ""
-            },
-            got: hex(&got),
-        })
+        )
     }
 
     /// Get, Get Version and Get ID.
@@ -304,6 +240,33 @@ impl<T: Transport> Client<T> {
     /// answer) back to its idle command loop: that is what [`Client::sync`] does.
     pub fn recover(&mut self) -> Result<(), FlashError> {
         self.sync(4)
+    }
+}
+
+/// How AN3155's autobaud is done and recovered: a fresh chip ACKs 0x7F; one that is
+/// already synced takes 0x7F as a command byte and NACKs the second 0x7F (not its
+/// complement) — both mean it is listening and idle. A burst of 258 × 0x7F is longer than
+/// any frame (N-1, 256 data bytes, checksum).
+const AN3155_SYNC: line::Sync = line::Sync {
+    byte: SYNC,
+    answers: &[ACK, NACK],
+    burst_byte: SYNC,
+    burst: 258,
+    burst_answers: &[ACK, NACK],
+    burst_note: " (and one burst of 258 to end a half-received command)",
+    first_drain: Duration::from_millis(5),
+    hint: "is BOOT0 high and the board reset? is this the right port?",
+};
+
+impl<T: Transport> Loader for Client<T> {
+    fn write_block(&mut self, address: u32, data: &[u8]) -> Result<(), FlashError> {
+        Client::write_block(self, address, data)
+    }
+    fn read_block(&mut self, address: u32, len: usize) -> Result<Vec<u8>, FlashError> {
+        Client::read_block(self, address, len)
+    }
+    fn recover(&mut self) -> Result<(), FlashError> {
+        Client::recover(self)
     }
 }
 

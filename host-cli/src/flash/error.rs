@@ -22,13 +22,15 @@ pub enum FlashError {
     /// The serial port could not be opened.
     #[error(transparent)]
     Open(#[from] ConnectError),
-    /// Nothing (or nothing sensible) came back to 0x7F.
+    /// Nothing (or nothing sensible) came back to the sync byte.
     #[error(
-        "no answer from the bootloader: sent 0x7F {attempts} times{burst} at {baud} baud 8E1, got {got} \
-         (is BOOT0 high and the board reset? is this the right port?)"
+        "no answer from the bootloader: sent 0x{sync:02X} {attempts} times{burst} at {baud} baud 8E1, got {got} \
+         ({hint})"
     )]
     NoSync {
-        /// How many 0x7F sync bytes were sent before giving up.
+        /// The sync byte: 0x7F (STM32) or 0x80 (MSP430 BSL).
+        sync: u8,
+        /// How many sync bytes were sent before giving up.
         attempts: u32,
         /// Line rate in baud the sync was tried at.
         baud: u32,
@@ -36,6 +38,8 @@ pub enum FlashError {
         burst: &'static str,
         /// What came back, as hex, or "nothing".
         got: String,
+        /// What to check on the board.
+        hint: &'static str,
     },
     /// The chip answered NACK.
     #[error("{command}: the chip answered NACK {stage}")]
@@ -74,6 +78,49 @@ pub enum FlashError {
         "chip ID {0:#05x} is not the STM32F405/407's 0x413; refusing to flash it (--force to try anyway)"
     )]
     UnknownChip(u16),
+    /// The chip's answer frame is damaged (MSP430 BSL data frames carry a checksum).
+    #[error("{command} {stage}: the chip's answer is damaged ({error}): {got}")]
+    Answer {
+        /// The command answered.
+        command: &'static str,
+        /// At which step.
+        stage: String,
+        /// What is wrong with the frame.
+        error: protocol::msp430_bsl::DecodeError,
+        /// The frame, as hex.
+        got: String,
+    },
+    /// The MSP430 BSL refused the password given with `--password`.
+    #[error(
+        "RX password: the BSL refused the password from {from} (its vectors at \
+         0xffe0..=0xffff are not the chip's); nothing was erased or written: flash without \
+         --password to mass-erase the chip instead"
+    )]
+    Password {
+        /// The file the password came from.
+        from: String,
+    },
+    /// The MSP430 BSL refused the all-0xFF password right after its own mass erase.
+    #[error(
+        "RX password: the BSL refused the erased chip's password (32 × 0xff) after Mass \
+         erase answered DATA_ACK: the erase did not reach the vectors"
+    )]
+    ErasedPassword,
+    /// TX BSL version reported another part.
+    #[error(
+        "device ID {id:#06x} (BSL {version}) is not the {expected}'s {expected_id:#06x}; \
+         refusing to flash it (--force to try anyway)"
+    )]
+    UnknownMsp430 {
+        /// The device ID the chip reported.
+        id: u16,
+        /// Its BSL version as text ("1.61").
+        version: String,
+        /// The part asked for.
+        expected: &'static str,
+        /// That part's device ID.
+        expected_id: u16,
+    },
     /// The bootloader lacks a command we need.
     #[error("the bootloader does not offer {0} (its Get answer lists {1})")]
     MissingCommand(&'static str, String),

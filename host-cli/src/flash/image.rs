@@ -45,20 +45,67 @@ pub enum ImageError {
     /// Two records or segments write the same byte.
     #[error("the image writes {0:#010x} twice")]
     Overlap(u32),
-    /// Part of the image lies outside the F405's flash.
-    #[error(
-        "the image covers {start:#010x}..{end:#010x}, outside the flash (0x08000000..0x08100000)"
-    )]
+    /// Part of the image lies outside the chip's flash.
+    #[error("the image covers {start:#x}..{end:#x}, outside the {chip}'s flash ({map})")]
     OutsideFlash {
-        /// Address of the image's first byte.
+        /// Address of the piece's first byte.
         start: u32,
-        /// One past the last byte.
+        /// One past its last byte.
         end: u64,
+        /// The part.
+        chip: &'static str,
+        /// Its flash regions, for the message.
+        map: String,
+    },
+    /// `--go` or the password needs bytes the image does not hold.
+    #[error("the image holds no {what} at {address:#x}..{end:#x}")]
+    Missing {
+        /// What was looked for ("reset vector").
+        what: &'static str,
+        /// First address.
+        address: u32,
+        /// One past the last.
+        end: u32,
     },
 }
 
-/// One Write Memory: at most 256 bytes, 4-byte aligned start and length, inside one
-/// 256-byte-aligned page of flash.
+/// Where a chip's images may go and how they are cut into the bootloader's write blocks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Layout {
+    /// The part, for messages.
+    pub chip: &'static str,
+    /// The programmable ranges, `(name, start, end)`.
+    pub regions: &'static [(&'static str, u32, u32)],
+    /// Blocks never cross a multiple of this; at most the bootloader's block limit.
+    pub page: u32,
+    /// Word size: block starts and lengths are multiples of it, padded with 0xFF (which
+    /// programs nothing).
+    pub word: u32,
+}
+
+/// The STM32F405: 1 MiB of flash, 256-byte Write Memory blocks of 32-bit words.
+pub const STM32F405: Layout = Layout {
+    chip: "STM32F405",
+    regions: &[("flash", bl::FLASH_BASE, bl::FLASH_BASE + bl::FLASH_SIZE)],
+    page: 256,
+    word: 4,
+};
+
+/// The MSP430F168: information memory and main flash (with the vectors); RX data blocks
+/// of 16-bit words, 128 bytes (an information segment; the BSL takes up to 250) so a
+/// block never straddles a segment.
+pub const MSP430F168: Layout = Layout {
+    chip: "MSP430F168",
+    regions: &[
+        ("information memory", 0x1000, 0x1100),
+        ("main flash", 0x4000, 0x1_0000),
+    ],
+    page: 128,
+    word: 2,
+};
+
+/// One write: at most a [`Layout::page`] of bytes, word-aligned start and length, inside
+/// one page-aligned page of flash.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Block {
     /// Where it goes.
@@ -75,10 +122,18 @@ pub struct Image {
 }
 
 impl Image {
-    /// Builds the blocks from `(address, bytes)` pieces: checks overlap and bounds,
-    /// pads to words with 0xFF and cuts at 256-byte boundaries.
+    /// The STM32F405's blocks from `(address, bytes)` pieces ([`Image::build`]).
     pub fn from_pieces(pieces: &[(u32, Vec<u8>)]) -> Result<Image, ImageError> {
-        let mut pages: BTreeMap<u32, ([u8; 256], [bool; 256])> = BTreeMap::new();
+        Image::build(pieces, &STM32F405)
+    }
+
+    /// Builds the blocks from `(address, bytes)` pieces: checks overlap and that each
+    /// piece lies in one of the layout's regions, pads to words with 0xFF and cuts at
+    /// page boundaries.
+    pub fn build(pieces: &[(u32, Vec<u8>)], layout: &Layout) -> Result<Image, ImageError> {
+        let page_len = layout.page as usize;
+        let word = layout.word as usize;
+        let mut pages: BTreeMap<u32, (Vec<u8>, Vec<bool>)> = BTreeMap::new();
         let mut any = false;
         for (start, data) in pieces {
             if data.is_empty() {
@@ -86,16 +141,30 @@ impl Image {
             }
             any = true;
             let end = u64::from(*start) + data.len() as u64;
-            let flash_end = u64::from(bl::FLASH_BASE + bl::FLASH_SIZE);
-            if *start < bl::FLASH_BASE || end > flash_end {
-                return Err(ImageError::OutsideFlash { start: *start, end });
+            let inside = layout
+                .regions
+                .iter()
+                .any(|&(_, lo, hi)| *start >= lo && end <= u64::from(hi));
+            if !inside {
+                let map = layout
+                    .regions
+                    .iter()
+                    .map(|(name, lo, hi)| format!("{name} {lo:#x}..{hi:#x}"))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                return Err(ImageError::OutsideFlash {
+                    start: *start,
+                    end,
+                    chip: layout.chip,
+                    map,
+                });
             }
             for (i, &b) in data.iter().enumerate() {
                 let a = start + i as u32;
                 let page = pages
-                    .entry(a & !0xFF)
-                    .or_insert(([0xFF; 256], [false; 256]));
-                let o = (a & 0xFF) as usize;
+                    .entry(a - a % layout.page)
+                    .or_insert_with(|| (vec![0xFF; page_len], vec![false; page_len]));
+                let o = (a % layout.page) as usize;
                 if page.1[o] {
                     return Err(ImageError::Overlap(a));
                 }
@@ -109,9 +178,9 @@ impl Image {
         let blocks = pages
             .into_iter()
             .filter_map(|(base, (bytes, used))| {
-                let first = used.iter().position(|&u| u)? & !3;
+                let first = used.iter().position(|&u| u)? / word * word;
                 let last = used.iter().rposition(|&u| u)?;
-                let end = (last + 4) & !3;
+                let end = (last / word + 1) * word;
                 Some(Block {
                     address: base + first as u32,
                     data: bytes[first..end].to_vec(),
@@ -121,9 +190,29 @@ impl Image {
         Ok(Image { blocks })
     }
 
+    /// The image's bytes at `[address, address + len)` (padding counts as 0xFF), or
+    /// `None` if any of them is not in a block.
+    pub fn bytes(&self, address: u32, len: u32) -> Option<Vec<u8>> {
+        (address..address.checked_add(len)?)
+            .map(|a| {
+                let b = self
+                    .blocks
+                    .iter()
+                    .find(|b| a >= b.address && a - b.address < b.data.len() as u32)?;
+                Some(b.data[(a - b.address) as usize])
+            })
+            .collect()
+    }
+
     /// Reads a .bin, .hex or .elf file (by extension; by content when the extension is
-    /// something else). `base` places a .bin.
+    /// something else) for the STM32F405 ([`Image::load_for`]).
     pub fn load(path: &Path, base: u32) -> Result<Image, ImageError> {
+        Image::load_for(path, base, &STM32F405)
+    }
+
+    /// Reads a .bin, .hex or .elf file (by extension; by content when the extension is
+    /// something else) for the chip `layout` describes. `base` places a .bin.
+    pub fn load_for(path: &Path, base: u32, layout: &Layout) -> Result<Image, ImageError> {
         let bytes = std::fs::read(path).map_err(|source| ImageError::Read {
             path: path.display().to_string(),
             source,
@@ -141,7 +230,7 @@ impl Image {
             _ if bytes.first() == Some(&b':') => parse_hex(&bytes)?,
             _ => vec![(base, bytes)],
         };
-        Image::from_pieces(&pieces)
+        Image::build(&pieces, layout)
     }
 
     /// Bytes the image programs (including word padding).
@@ -340,6 +429,48 @@ mod tests {
         assert_eq!(img.sectors(), vec![0]);
         let img = Image::from_pieces(&[(0x0800_3FFC, vec![1; 8])]).unwrap();
         assert_eq!(img.sectors(), vec![0, 1]);
+    }
+
+    #[test]
+    fn msp430_blocks_words_and_bounds() {
+        let img = Image::build(&[(0xFFDF, vec![7; 33])], &MSP430F168).unwrap();
+        assert_eq!(
+            img.blocks,
+            vec![Block {
+                address: 0xFFDE,
+                data: [&[0xFF][..], &[7; 33][..], &[]].concat()
+            }]
+        );
+        assert_eq!(img.bytes(0xFFFE, 2), Some(vec![7, 7]));
+        assert_eq!(img.bytes(0xFFDC, 4), None);
+        // 300 bytes from 0x4000: cut at 128-byte pages.
+        let img = Image::build(&[(0x4000, vec![1; 300])], &MSP430F168).unwrap();
+        let cuts: Vec<(u32, usize)> = img
+            .blocks
+            .iter()
+            .map(|b| (b.address, b.data.len()))
+            .collect();
+        assert_eq!(cuts, [(0x4000, 128), (0x4080, 128), (0x4100, 44)]);
+        for bad in [
+            (0xFF00u32, 0x101usize),
+            (0x3FFE, 4),
+            (0x10FE, 4),
+            (0x0200, 2),
+        ] {
+            let e = Image::build(&[(bad.0, vec![0; bad.1])], &MSP430F168).unwrap_err();
+            assert!(matches!(e, ImageError::OutsideFlash { .. }), "{e}");
+        }
+        let e = Image::build(&[(0xFF00, vec![0; 0x101])], &MSP430F168).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "the image covers 0xff00..0x10001, outside the MSP430F168's flash \
+             (information memory 0x1000..0x1100, main flash 0x4000..0x10000)"
+        );
+        // The layout agrees with the BSL's own map.
+        for (name, lo, hi) in MSP430F168.regions {
+            let r = protocol::msp430_bsl::MSP430F168.region(*lo, hi - lo);
+            assert_eq!(r.map(|r| r.name), Some(*name));
+        }
     }
 
     #[test]

@@ -13,17 +13,31 @@
 //! the 8E1 [`BootPort`], `client.rs` speaks AN3155 over any transport ([`Client`]),
 //! `sequence.rs` erases, writes and verifies ([`flash()`]) and reports its [`Progress`].
 //! Nothing here prints: `fpgfx flash` draws the progress bar and the summary.
+//!
+//! The FITkit's MSP430F168 is flashed the same way through its ROM BSL (TI SLAU319):
+//! `bsl_client.rs` speaks it ([`BslClient`]) and [`flash_msp430`] mass-erases (the
+//! password of a chip is its vector table, unknown until erased), unlocks with 32 × 0xFF,
+//! reads the BSL version, then shares the STM32's write/verify/retry loop over
+//! [`Loader`]. `line.rs` holds what both clients do on the line alike (reads with
+//! deadlines, the sync that rescues a chip left mid-frame).
 
+mod bsl_client;
 mod client;
 mod error;
 mod image;
+mod line;
 mod port;
 mod sequence;
 #[cfg(test)]
 mod test_wire;
 
+pub use bsl_client::{BslClient, BslInfo, BslTimeouts};
 pub use client::{ChipInfo, Client, Timeouts};
 pub use error::FlashError;
-pub use image::{parse_elf, parse_hex, parse_u32, Block, Image, ImageError};
-pub use port::{open, BootPort};
-pub use sequence::{flash, FlashOptions, Progress, Report, Stage};
+pub use image::{
+    parse_elf, parse_hex, parse_u32, Block, Image, ImageError, Layout, MSP430F168, STM32F405,
+};
+pub use port::{open, open_bsl, BootPort};
+pub use sequence::{
+    flash, flash_msp430, password_of, Erased, FlashOptions, Loader, Progress, Report, Stage, Unlock,
+};

@@ -1,10 +1,10 @@
-//! The board's bootloader line: a serial port at 8E1, which is what AN3155 specifies and
-//! what sets it apart from the 8N1 link of every other command.
+//! The board's bootloader line: a serial port at 8E1, which is what AN3155 and SLAU319
+//! specify and what sets it apart from the 8N1 link of every other command.
 
 use std::io;
 use std::time::Duration;
 
-use super::{Client, FlashError};
+use super::{BslClient, Client, FlashError};
 use crate::connect::{ConnectError, Target};
 use crate::session::Transport;
 
@@ -44,8 +44,17 @@ impl Transport for BootPort {
 /// The bootloader behind `port` (the `--port` after the config file), at `baud`. Only a
 /// serial port can have one: `builtin` and `tcp:` targets are refused by name.
 pub fn open(port: Option<&str>, baud: u32) -> Result<Client<BootPort>, FlashError> {
+    Ok(Client::new(open_port(port, baud)?, baud))
+}
+
+/// The MSP430's BSL behind `port` at `baud` (9600 unless changed), the same way.
+pub fn open_bsl(port: Option<&str>, baud: u32) -> Result<BslClient<BootPort>, FlashError> {
+    Ok(BslClient::new(open_port(port, baud)?, baud))
+}
+
+fn open_port(port: Option<&str>, baud: u32) -> Result<BootPort, FlashError> {
     match port.map(|p| (p, Target::parse(p, baud))) {
-        Some((path, Target::Serial { .. })) => Ok(Client::new(BootPort::open(path, baud)?, baud)),
+        Some((path, Target::Serial { .. })) => Ok(BootPort::open(path, baud)?),
         other => Err(FlashError::NotSerial {
             port: other.map_or("(none)", |(p, _)| p).to_string(),
         }),

@@ -1,5 +1,7 @@
-//! The flash sequence: identify the chip, erase what the image touches, write every
-//! block with bounded retries, read it all back, jump. It reports how far it got as
+//! The flash sequences: identify the chip, erase, write every block with bounded retries,
+//! read it all back, jump. The STM32 ([`flash`]) and the MSP430 ([`flash_msp430`]) differ
+//! in how they identify, unlock and erase; writing, verifying, retrying and reporting
+//! progress are one implementation over [`Loader`]. Each reports how far it got as
 //! [`Progress`] and what it did as a [`Report`]; the caller decides what to show.
 
 use std::fmt;
@@ -7,18 +9,20 @@ use std::io;
 use std::time::{Duration, Instant};
 
 use protocol::bootloader::{self as bl, Command};
+use protocol::msp430_bsl::{self as bsl, PASSWORD_ADDRESS, PASSWORD_LEN, RESET_VECTOR};
 
-use super::{Block, ChipInfo, Client, FlashError, Image};
+use super::{Block, BslClient, BslInfo, ChipInfo, Client, FlashError, Image, ImageError};
 use crate::session::Transport;
 
-/// A step of [`flash`] that takes long enough to show.
+/// A step of a flash that takes long enough to show.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stage {
-    /// Extended Erase of the image's sectors: one command, seconds on a real part.
+    /// Erasing what the image needs: one command (or one per segment), seconds on a real
+    /// part.
     Erase,
-    /// Write Memory of every block.
+    /// Writing every block.
     Write,
-    /// Read Memory of every block, compared with the image.
+    /// Reading every block back, compared with the image.
     Verify,
 }
 
@@ -32,11 +36,11 @@ impl fmt::Display for Stage {
     }
 }
 
-/// How [`flash`] tells its caller how far it got (a progress bar, a log, a test). Both
+/// How a flash tells its caller how far it got (a progress bar, a log, a test). Both
 /// methods do nothing by default, and `()` is the caller that wants nothing.
 pub trait Progress {
-    /// `stage` begins with `total` units to do: sectors for [`Stage::Erase`] (which
-    /// then reports no progress until it ends), bytes for write and verify.
+    /// `stage` begins with `total` units to do: erase commands for [`Stage::Erase`]
+    /// (which then reports no progress until it ends), bytes for write and verify.
     fn stage(&mut self, stage: Stage, total: u64) {
         let _ = (stage, total);
     }
@@ -49,14 +53,50 @@ pub trait Progress {
 
 impl Progress for () {}
 
-/// What a flash did, for the summary line and for tests.
+/// What a bootloader client must do for the shared write/verify loop.
+pub trait Loader {
+    /// Writes one block (a NACK or timeout is retried by the caller).
+    fn write_block(&mut self, address: u32, data: &[u8]) -> Result<(), FlashError>;
+    /// Reads one block back.
+    fn read_block(&mut self, address: u32, len: usize) -> Result<Vec<u8>, FlashError>;
+    /// Brings a chip that may be half-way through a command back to listening.
+    fn recover(&mut self) -> Result<(), FlashError>;
+}
+
+/// What was erased.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Erased {
+    /// STM32 sectors by number: only those the image touches.
+    Sectors(Vec<u16>),
+    /// All flash (MSP430 mass erase: the password is unknown until then).
+    Mass,
+    /// MSP430 segments by start address (with `--password`: the chip was unlocked, so
+    /// only what the image touches).
+    Segments(Vec<u32>),
+}
+
+impl fmt::Display for Erased {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Erased::Sectors(s) => write!(f, "erased sectors {s:?}"),
+            Erased::Mass => f.write_str("mass-erased"),
+            Erased::Segments(s) => {
+                let list: Vec<String> = s.iter().map(|a| format!("{a:#06x}")).collect();
+                write!(f, "erased segments [{}]", list.join(", "))
+            }
+        }
+    }
+}
+
+/// What a flash did, for the summary line and for tests; `C` is what the chip said about
+/// itself ([`ChipInfo`] for the STM32, [`BslInfo`] for the MSP430).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Report {
-    /// What Get, Get Version and Get ID said about the chip.
-    pub chip: ChipInfo,
-    /// Flash sectors erased (only those the image touches), by sector number.
-    pub sectors: Vec<u16>,
-    /// Write Memory blocks written (at most 256 bytes each) and verified.
+pub struct Report<C = ChipInfo> {
+    /// What the chip said about itself.
+    pub chip: C,
+    /// What was erased.
+    pub erased: Erased,
+    /// Blocks written and verified.
     pub blocks: usize,
     /// Image bytes written.
     pub bytes: usize,
@@ -66,26 +106,26 @@ pub struct Report {
     pub elapsed: Duration,
     /// Whether the read-back ran.
     pub verified: bool,
-    /// Where Go jumped, if asked.
+    /// Where the chip was sent to run, if asked.
     pub jumped: Option<u32>,
 }
 
-/// How [`flash`] runs: whether it verifies and jumps, whether it accepts another chip, how
+/// How a flash runs: whether it verifies and jumps, whether it accepts another chip, how
 /// often it tries a block.
 #[derive(Debug, Clone, Copy)]
 pub struct FlashOptions {
     /// Read back and compare.
     pub verify: bool,
-    /// Jump to the image start at the end.
+    /// Jump to the image at the end.
     pub go: bool,
-    /// Accept a product ID other than 0x413.
+    /// Accept another chip than the one asked for.
     pub force: bool,
     /// Attempts per block.
     pub attempts: u32,
 }
 
-/// Erases, writes and verifies `image` through `client`; `progress` is told when each
-/// stage begins and after every block.
+/// Erases, writes and verifies `image` through `client` (STM32, AN3155); `progress` is
+/// told when each stage begins and after every block.
 pub fn flash<T: Transport>(
     client: &mut Client<T>,
     image: &Image,
@@ -121,7 +161,167 @@ pub fn flash<T: Transport>(
     let sectors = image.sectors();
     progress.stage(Stage::Erase, sectors.len() as u64);
     client.erase(&sectors)?;
+    let retries = write_and_verify(client, image, opts, progress)?;
+    let elapsed = started.elapsed();
 
+    let jumped = match (opts.go, image.start()) {
+        (true, Some(a)) => {
+            client.go(a)?;
+            Some(a)
+        }
+        _ => None,
+    };
+    Ok(Report {
+        chip,
+        erased: Erased::Sectors(sectors),
+        blocks: image.blocks.len(),
+        bytes: image.len(),
+        retries,
+        elapsed,
+        verified: opts.verify,
+        jumped,
+    })
+}
+
+/// Where the MSP430 flash gets its password from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Unlock {
+    /// Mass-erase first (a locked chip accepts that), then give the erased chip's
+    /// password, 32 × 0xFF: works whatever the chip held.
+    MassErase,
+    /// The chip's current vector table (from a file, named in errors), which keeps
+    /// everything the image does not touch; only the touched segments are erased.
+    Password {
+        /// The 32 bytes at 0xFFE0..=0xFFFF.
+        vectors: [u8; PASSWORD_LEN],
+        /// Where they came from.
+        from: String,
+    },
+}
+
+/// Unlocks, erases, writes and verifies `image` through the MSP430's ROM BSL; `--go`
+/// loads the PC with the image's reset vector. `expected` is the part asked for
+/// (`--chip`), whose device ID TX BSL version must report unless `opts.force`.
+pub fn flash_msp430<T: Transport>(
+    client: &mut BslClient<T>,
+    image: &Image,
+    expected: &bsl::Chip,
+    unlock: &Unlock,
+    opts: FlashOptions,
+    progress: &mut dyn Progress,
+) -> Result<Report<BslInfo>, FlashError> {
+    let go = if opts.go {
+        let v = image
+            .bytes(u32::from(RESET_VECTOR), 2)
+            .ok_or(ImageError::Missing {
+                what: "reset vector (needed by --go)",
+                address: u32::from(RESET_VECTOR),
+                end: 0x1_0000,
+            })?;
+        Some(u16::from_le_bytes([v[0], v[1]]))
+    } else {
+        None
+    };
+    let started = Instant::now();
+    // No sync of its own: every command below begins with one, and a second SYNC in a
+    // row would be taken by the BSL as the header of a frame.
+    let erased = match unlock {
+        Unlock::MassErase => {
+            progress.stage(Stage::Erase, 1);
+            client.mass_erase()?;
+            client
+                .password(&bsl::ERASED_PASSWORD)
+                .map_err(|e| match e {
+                    FlashError::Nack { .. } => FlashError::ErasedPassword,
+                    e => e,
+                })?;
+            Erased::Mass
+        }
+        Unlock::Password { vectors, from } => {
+            client.password(vectors).map_err(|e| match e {
+                FlashError::Nack { .. } => FlashError::Password { from: from.clone() },
+                e => e,
+            })?;
+            Erased::Segments(Vec::new())
+        }
+    };
+    let chip = client.version()?;
+    if chip.device_id != expected.device_id && !opts.force {
+        return Err(FlashError::UnknownMsp430 {
+            id: chip.device_id,
+            version: chip.version_text(),
+            expected: expected.name,
+            expected_id: expected.device_id,
+        });
+    }
+    let erased = match erased {
+        Erased::Segments(_) => {
+            let segments = segments_touched(image, expected);
+            progress.stage(Stage::Erase, segments.len() as u64);
+            for (i, &s) in segments.iter().enumerate() {
+                client.erase_segment(s as u16)?;
+                progress.advance(i as u64 + 1);
+            }
+            Erased::Segments(segments)
+        }
+        other => other,
+    };
+    let retries = write_and_verify(client, image, opts, progress)?;
+    let elapsed = started.elapsed();
+    if let Some(pc) = go {
+        client.load_pc(pc)?;
+    }
+    Ok(Report {
+        chip,
+        erased,
+        blocks: image.blocks.len(),
+        bytes: image.len(),
+        retries,
+        elapsed,
+        verified: opts.verify,
+        jumped: go.map(u32::from),
+    })
+}
+
+/// The 32 bytes of the vector table in `image`, for `--password`.
+pub fn password_of(image: &Image) -> Result<[u8; PASSWORD_LEN], ImageError> {
+    let v = image
+        .bytes(u32::from(PASSWORD_ADDRESS), PASSWORD_LEN as u32)
+        .ok_or(ImageError::Missing {
+            what: "vector table (the BSL password)",
+            address: u32::from(PASSWORD_ADDRESS),
+            end: 0x1_0000,
+        })?;
+    let mut out = [0u8; PASSWORD_LEN];
+    out.copy_from_slice(&v);
+    Ok(out)
+}
+
+/// Start addresses of the flash segments `image`'s blocks touch, ascending.
+fn segments_touched(image: &Image, chip: &bsl::Chip) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::new();
+    for b in &image.blocks {
+        for a in [b.address, b.address + b.data.len() as u32 - 1] {
+            if let Some(r) = chip.region(a, 1) {
+                if let bsl::Kind::Flash { segment } = r.kind {
+                    out.push(a - (a - r.start) % segment);
+                }
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Writes every block with retries, then reads every block back and compares (if
+/// `opts.verify`); returns the retries needed. Shared by both chips.
+fn write_and_verify<L: Loader>(
+    client: &mut L,
+    image: &Image,
+    opts: FlashOptions,
+    progress: &mut dyn Progress,
+) -> Result<u32, FlashError> {
     let total = image.len() as u64;
     let attempts = opts.attempts.max(1);
     let mut retries = 0;
@@ -155,9 +355,7 @@ pub fn flash<T: Transport>(
                         back = Some(b);
                         break;
                     }
-                    Err(e @ (FlashError::Nack { .. } | FlashError::Timeout { .. })) => {
-                        last = Some(e)
-                    }
+                    Err(e) if retryable(&e) => last = Some(e),
                     Err(e) => return Err(e),
                 }
             }
@@ -177,31 +375,22 @@ pub fn flash<T: Transport>(
             progress.advance(checked);
         }
     }
-    let elapsed = started.elapsed();
+    Ok(retries)
+}
 
-    let jumped = match (opts.go, image.start()) {
-        (true, Some(a)) => {
-            client.go(a)?;
-            Some(a)
-        }
-        _ => None,
-    };
-    Ok(Report {
-        chip,
-        sectors,
-        blocks: image.blocks.len(),
-        bytes: image.len(),
-        retries,
-        elapsed,
-        verified: opts.verify,
-        jumped,
-    })
+/// Failures another attempt may cure: a refusal, silence, a damaged answer. (A port
+/// error or a wrong chip is not retried.)
+fn retryable(e: &FlashError) -> bool {
+    matches!(
+        e,
+        FlashError::Nack { .. } | FlashError::Timeout { .. } | FlashError::Answer { .. }
+    )
 }
 
 /// Writes one block with up to `attempts` tries, counting them in `made`; returns the
 /// last failure.
-fn write_with_retries<T: Transport>(
-    client: &mut Client<T>,
+fn write_with_retries<L: Loader>(
+    client: &mut L,
     block: &Block,
     attempts: u32,
     made: &mut u32,
@@ -211,9 +400,9 @@ fn write_with_retries<T: Transport>(
         *made += 1;
         match client.write_block(block.address, &block.data) {
             Ok(()) => return Ok(()),
-            Err(e @ (FlashError::Nack { .. } | FlashError::Timeout { .. })) => {
+            Err(e) if retryable(&e) => {
                 // A timeout may leave the chip mid-frame; a NACK leaves it idle.
-                if matches!(e, FlashError::Timeout { .. }) {
+                if !matches!(e, FlashError::Nack { .. }) {
                     client.recover()?;
                 }
                 // The block may have landed with only the ACK lost, and a plain retry
@@ -221,7 +410,7 @@ fn write_with_retries<T: Transport>(
                 match client.read_block(block.address, block.data.len()) {
                     Ok(back) if back == block.data => return Ok(()),
                     Ok(_) | Err(FlashError::Nack { .. }) => {}
-                    Err(FlashError::Timeout { .. }) => client.recover()?,
+                    Err(e) if retryable(&e) => client.recover()?,
                     Err(other) => return Err(other),
                 }
                 last = Some(e);
@@ -374,5 +563,309 @@ mod tests {
         let e = flash(&mut c, &image, OPTS, &mut ()).unwrap_err();
         assert!(matches!(e, FlashError::UnknownChip(0x410)), "{e}");
         assert!(e.to_string().contains("0x410"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod msp430_tests {
+    use super::*;
+    use crate::flash::test_wire::{bsl_client, pattern, wire_to, Wire};
+    use crate::flash::MSP430F168;
+    use sim_board::msp430_bsl::Bsl;
+
+    const OPTS: FlashOptions = FlashOptions {
+        verify: true,
+        go: true,
+        force: false,
+        attempts: 3,
+    };
+
+    /// Code at 0x4000 and a vector table whose reset vector is 0x4000.
+    fn firmware(len: usize, seed: u32) -> (Image, Vec<u8>, Vec<u8>) {
+        let code = pattern(len, seed);
+        let mut vectors = pattern(32, seed + 1);
+        vectors[30..].copy_from_slice(&0x4000u16.to_le_bytes());
+        let image = Image::build(
+            &[(0x4000, code.clone()), (0xFFE0, vectors.clone())],
+            &MSP430F168,
+        )
+        .unwrap();
+        (image, code, vectors)
+    }
+
+    fn flash_on(
+        w: &mut Option<Wire<Bsl>>,
+        image: &Image,
+        unlock: &Unlock,
+        progress: &mut dyn Progress,
+    ) -> Result<Report<BslInfo>, FlashError> {
+        let mut c = bsl_client(w.take().unwrap());
+        let r = flash_msp430(&mut c, image, &bsl::MSP430F168, unlock, OPTS, progress);
+        *w = Some(c.port);
+        r
+    }
+
+    /// A chip already holding other firmware (so its password is unknown): mass erase,
+    /// the erased password, version, 128-byte blocks, read-back, Load PC.
+    #[test]
+    fn msp430_flashes_verifies_and_jumps() {
+        let (old, _, _) = firmware(500, 40);
+        let mut w = Some(wire_to(Bsl::new()));
+        flash_on(&mut w, &old, &Unlock::MassErase, &mut ()).unwrap();
+        let mut chip = w.take().unwrap().chip;
+        chip.reset();
+        let mut w = Some(wire_to(chip));
+
+        #[derive(Default)]
+        struct Log(Vec<(Option<Stage>, u64)>);
+        impl Progress for Log {
+            fn stage(&mut self, stage: Stage, total: u64) {
+                self.0.push((Some(stage), total));
+            }
+            fn advance(&mut self, done: u64) {
+                self.0.push((None, done));
+            }
+        }
+        let (image, code, vectors) = firmware(200, 7);
+        let mut log = Log::default();
+        let r = flash_on(&mut w, &image, &Unlock::MassErase, &mut log).unwrap();
+        assert_eq!(
+            r.chip,
+            BslInfo {
+                device_id: 0xF169,
+                version: 0x0161
+            }
+        );
+        assert_eq!(r.chip.version_text(), "1.61");
+        assert_eq!(r.erased, Erased::Mass);
+        assert_eq!((r.blocks, r.bytes, r.retries), (3, 232, 0));
+        assert_eq!(r.jumped, Some(0x4000));
+        let chip = &w.as_ref().unwrap().chip;
+        assert_eq!(chip.go_address(), Some(0x4000));
+        assert_eq!(&chip.memory()[0x4000..0x4000 + 200], &code[..]);
+        // The old firmware's tail is gone: mass erase.
+        assert!(chip.memory()[0x4000 + 200..0xFFE0]
+            .iter()
+            .all(|&b| b == 0xFF));
+        assert_eq!(&chip.memory()[0xFFE0..], &vectors[..]);
+        assert_eq!(
+            log.0,
+            [
+                (Some(Stage::Erase), 1),
+                (Some(Stage::Write), 232),
+                (None, 128),
+                (None, 200),
+                (None, 232),
+                (Some(Stage::Verify), 232),
+                (None, 128),
+                (None, 200),
+                (None, 232),
+            ]
+        );
+    }
+
+    /// With the right password only the touched segments are erased; with a wrong one
+    /// the BSL refuses, nothing changes, and a plain run (mass erase) then succeeds.
+    #[test]
+    fn msp430_password_keeps_the_rest_and_a_wrong_one_changes_nothing() {
+        let (old, old_code, old_vectors) = firmware(2000, 1);
+        let mut w = Some(wire_to(Bsl::new()));
+        flash_on(&mut w, &old, &Unlock::MassErase, &mut ()).unwrap();
+        let mut info = w.take().unwrap();
+        info.chip.reset();
+        let mut w = Some(info);
+
+        let (new, new_code, new_vectors) = firmware(100, 2);
+        let wrong = Unlock::Password {
+            vectors: password_of(&new).unwrap(),
+            from: "new.hex".into(),
+        };
+        let before = w.as_ref().unwrap().chip.memory().to_vec();
+        let e = flash_on(&mut w, &new, &wrong, &mut ()).unwrap_err();
+        assert!(matches!(e, FlashError::Password { .. }), "{e}");
+        assert!(
+            e.to_string().contains("refused the password from new.hex"),
+            "{e}"
+        );
+        assert_eq!(w.as_ref().unwrap().chip.memory(), &before[..]);
+
+        let right = Unlock::Password {
+            vectors: password_of(&old).unwrap(),
+            from: "old.hex".into(),
+        };
+        let r = flash_on(&mut w, &new, &right, &mut ()).unwrap();
+        assert_eq!(r.erased, Erased::Segments(vec![0x4000, 0xFE00]));
+        assert_eq!(r.erased.to_string(), "erased segments [0x4000, 0xfe00]");
+        let mem = w.as_ref().unwrap().chip.memory().to_vec();
+        assert_eq!(&mem[0x4000..0x4064], &new_code[..]);
+        // The old code past the first segment is kept.
+        assert_eq!(&mem[0x4200..0x4000 + 2000], &old_code[0x200..]);
+        assert_eq!(&mem[0xFFE0..], &new_vectors[..]);
+        assert_ne!(old_vectors, new_vectors);
+    }
+
+    /// A line that damages the chip's data frames: one damaged read is retried; a line
+    /// that damages all of them fails naming the block, and the same chip on a clean
+    /// line is then flashed.
+    #[test]
+    fn msp430_damaged_answers_are_retried_then_reported() {
+        struct Damage(Wire<Bsl>, u32);
+        impl Transport for Damage {
+            fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+                let before = self.0.rx.len();
+                self.0.write_all(bytes)?;
+                // A data frame answering TX data block (CMD 0x14).
+                if bytes.get(1) == Some(&0x14) && self.1 > 0 && self.0.rx.len() > before + 4 {
+                    self.1 -= 1;
+                    let last = self.0.rx.len() - 1;
+                    self.0.rx[last] ^= 0x01;
+                }
+                Ok(())
+            }
+            fn read(&mut self, buf: &mut [u8], t: Duration) -> io::Result<usize> {
+                self.0.read(buf, t)
+            }
+        }
+        let (image, code, _) = firmware(300, 3);
+        let fast = |d: Damage| {
+            let mut c = BslClient::new(d, 9600);
+            c.timeouts.sync = Duration::from_millis(1);
+            c.timeouts.ack = Duration::from_millis(1);
+            c
+        };
+        let mut c = fast(Damage(wire_to(Bsl::new()), 1));
+        let r = flash_msp430(
+            &mut c,
+            &image,
+            &bsl::MSP430F168,
+            &Unlock::MassErase,
+            OPTS,
+            &mut (),
+        )
+        .unwrap();
+        assert_eq!(r.retries, 1);
+
+        let mut c = fast(Damage(wire_to(Bsl::new()), u32::MAX));
+        let e = flash_msp430(
+            &mut c,
+            &image,
+            &bsl::MSP430F168,
+            &Unlock::MassErase,
+            OPTS,
+            &mut (),
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                FlashError::Block {
+                    address: 0x4000,
+                    attempts: 3,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let cause = match &e {
+            FlashError::Block { last, .. } => last.to_string(),
+            _ => unreachable!(),
+        };
+        assert!(
+            cause.starts_with(
+                "TX data block to reading 128 bytes at 0x4000: the chip's answer is damaged \
+                 (checksum"
+            ),
+            "{cause}"
+        );
+        let mut chip = c.port.0.chip;
+        chip.reset();
+        let mut w = Some(wire_to(chip));
+        flash_on(&mut w, &image, &Unlock::MassErase, &mut ()).unwrap();
+        assert_eq!(&w.unwrap().chip.memory()[0x4000..0x4000 + 300], &code[..]);
+    }
+
+    /// The chip goes silent in the middle of the image (a board losing power, a cable
+    /// pulled): the error names the block and the command; answering again, the same
+    /// chip is flashed by the same call.
+    #[test]
+    fn msp430_a_chip_that_stops_answering_is_named_and_recovered() {
+        struct Mute(Wire<Bsl>, usize);
+        impl Transport for Mute {
+            fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+                if self.1 == 0 {
+                    return Ok(());
+                }
+                self.1 -= 1;
+                self.0.write_all(bytes)
+            }
+            fn read(&mut self, buf: &mut [u8], t: Duration) -> io::Result<usize> {
+                self.0.read(buf, t)
+            }
+        }
+        let (image, code, _) = firmware(1000, 5);
+        // Writes: sync + frame per command: erase, password, version, then three blocks
+        // (2 each) and half of the fourth block's exchange.
+        let mut c = BslClient::new(Mute(wire_to(Bsl::new()), 6 + 6 + 1), 9600);
+        c.timeouts.sync = Duration::from_millis(1);
+        c.timeouts.ack = Duration::from_millis(1);
+        let e = flash_msp430(
+            &mut c,
+            &image,
+            &bsl::MSP430F168,
+            &Unlock::MassErase,
+            OPTS,
+            &mut (),
+        )
+        .unwrap_err();
+        let FlashError::Block { address, last, .. } = &e else {
+            panic!("{e}");
+        };
+        assert_eq!(*address, 0x4080, "{e}");
+        // The block's SYNC went unanswered, and so did the rescue burst's.
+        assert!(
+            last.to_string().starts_with(
+                "no answer from the bootloader: sent 0x80 4 times (and one burst of 260 × \
+                 0xFF to end a half-received frame) at 9600 baud 8E1, got nothing"
+            ),
+            "{last}"
+        );
+        // The chip was left after a SYNC with its frame never sent; power back (no
+        // reset: the same session), the next run gets through.
+        let chip = c.port.0.chip;
+        let mut w = Some(wire_to(chip));
+        flash_on(&mut w, &image, &Unlock::MassErase, &mut ()).unwrap();
+        assert_eq!(&w.unwrap().chip.memory()[0x4000..0x4000 + 1000], &code[..]);
+    }
+
+    /// A host that died half-way through an RX data block leaves the chip collecting a
+    /// frame: the next run's sync frees it with its burst.
+    #[test]
+    fn msp430_a_chip_left_mid_frame_is_freed() {
+        for sent in [0usize, 3, 50] {
+            let mut chip = Bsl::new();
+            let mut out = Vec::new();
+            chip.feed(&[bsl::SYNC], &mut out);
+            let mut frame = [0u8; bsl::MAX_FRAME];
+            let n = bsl::encode_request(0x12, 0x4000, 128, &[0; 128], &mut frame).unwrap();
+            chip.feed(&frame[..sent.min(n)], &mut out);
+            let (image, code, _) = firmware(64, 9);
+            let mut w = Some(wire_to(chip));
+            flash_on(&mut w, &image, &Unlock::MassErase, &mut ())
+                .unwrap_or_else(|e| panic!("after {sent} bytes: {e}"));
+            assert_eq!(&w.unwrap().chip.memory()[0x4000..0x4040], &code[..]);
+        }
+    }
+
+    #[test]
+    fn msp430_go_needs_a_reset_vector() {
+        let image = Image::build(&[(0x4000, vec![1, 2])], &MSP430F168).unwrap();
+        let mut w = Some(wire_to(Bsl::new()));
+        let e = flash_on(&mut w, &image, &Unlock::MassErase, &mut ()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "the image holds no reset vector (needed by --go) at 0xfffe..0x10000"
+        );
+        // Nothing was sent.
+        assert_eq!(w.unwrap().writes, 0);
     }
 }

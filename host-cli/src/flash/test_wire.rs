@@ -1,18 +1,21 @@
-//! The chip the flash tests talk to: the bootloader emulator as an in-process transport.
+//! The chip the flash tests talk to: a bootloader emulator (the STM32's or the MSP430's)
+//! as an in-process transport.
 
 use std::collections::VecDeque;
 use std::io;
 use std::time::Duration;
 
 use sim_board::bootloader::Bootloader;
+use sim_board::bootloader_pty::RomLoader;
+use sim_board::msp430_bsl::Bsl;
 
-use super::Client;
+use super::{BslClient, Client};
 use crate::session::Transport;
 
-/// The emulator as an in-process transport, optionally dropping one answer.
-pub struct Wire {
+/// An emulator as an in-process transport, optionally dropping one answer.
+pub struct Wire<B = Bootloader> {
     /// The emulated chip.
-    pub chip: Bootloader,
+    pub chip: B,
     /// Its answers not yet read.
     pub rx: VecDeque<u8>,
     /// Swallow the answer to the Nth write from the host (1-based), to test retries.
@@ -21,7 +24,7 @@ pub struct Wire {
     pub writes: usize,
 }
 
-impl Transport for Wire {
+impl<B: RomLoader> Transport for Wire<B> {
     fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
         self.writes += 1;
         let mut out = Vec::new();
@@ -43,12 +46,26 @@ impl Transport for Wire {
 
 /// A fresh chip that loses nothing.
 pub fn wire() -> Wire {
+    wire_to(Bootloader::new())
+}
+
+/// `chip` on a line that loses nothing.
+pub fn wire_to<B>(chip: B) -> Wire<B> {
     Wire {
-        chip: Bootloader::new(),
+        chip,
         rx: VecDeque::new(),
         lose_answer_to_write: None,
         writes: 0,
     }
+}
+
+/// A BSL client with millisecond timeouts on `w`.
+pub fn bsl_client(w: Wire<Bsl>) -> BslClient<Wire<Bsl>> {
+    let mut c = BslClient::new(w, 9600);
+    c.timeouts.sync = Duration::from_millis(1);
+    c.timeouts.ack = Duration::from_millis(1);
+    c.timeouts.erase = Duration::from_millis(1);
+    c
 }
 
 /// A client with millisecond timeouts: the emulator answers at once.

@@ -138,6 +138,13 @@ fn to_hex(address: u32, data: &[u8]) -> String {
 /// A minimal ARM ELF32 executable: `.text` at `text_at`, `.data` loaded at `data_lma`
 /// (runs at 0x2000_0000), and a `.bss` segment with no file bytes.
 fn to_elf(text_at: u32, text: &[u8], data_lma: u32, data: &[u8]) -> Vec<u8> {
+    elf32(40, 0x2000_0000, text_at, text, data_lma, data)
+}
+
+/// A minimal little-endian ELF32 executable for `machine` (40 Arm, 105 MSP430): `.text`
+/// at `text_at`, `.data` loaded at `data_lma` (runs at `ram`), and a `.bss` segment
+/// with no file bytes at `ram + 0x1000`.
+fn elf32(machine: u16, ram: u32, text_at: u32, text: &[u8], data_lma: u32, data: &[u8]) -> Vec<u8> {
     let phnum = 3u16;
     let text_off = 52 + 32 * u32::from(phnum);
     let data_off = text_off + text.len() as u32;
@@ -146,7 +153,7 @@ fn to_elf(text_at: u32, text: &[u8], data_lma: u32, data: &[u8]) -> Vec<u8> {
     let u16le = |f: &mut Vec<u8>, v: u16| f.extend_from_slice(&v.to_le_bytes());
     let u32le = |f: &mut Vec<u8>, v: u32| f.extend_from_slice(&v.to_le_bytes());
     u16le(&mut f, 2); // ET_EXEC
-    u16le(&mut f, 40); // EM_ARM
+    u16le(&mut f, machine);
     u32le(&mut f, 1);
     u32le(&mut f, text_at | 1); // entry (Thumb)
     u32le(&mut f, 52); // phoff
@@ -170,13 +177,13 @@ fn to_elf(text_at: u32, text: &[u8], data_lma: u32, data: &[u8]) -> Vec<u8> {
         ),
         (
             data_off,
-            0x2000_0000,
+            ram,
             data_lma,
             data.len() as u32,
             data.len() as u32,
             6,
         ),
-        (0, 0x2000_1000, 0x2000_1000, 0, 0x100, 6),
+        (0, ram + 0x1000, ram + 0x1000, 0, 0x100, 6),
     ];
     for (off, vaddr, paddr, filesz, memsz, flags) in phdrs {
         u32le(&mut f, 1); // PT_LOAD
@@ -374,4 +381,305 @@ fn the_emulator_refuses_to_program_unerased_flash() {
         "Write Memory: the chip answered NACK to the 4 bytes for 0x08000000"
     );
     assert_eq!(c.read_block(FLASH_BASE, 4).expect("read"), [1, 2, 3, 4]);
+}
+
+// The FITkit's MSP430F168 through its ROM BSL: `fpgfx-sim --bootloader msp430` plays the
+// chip after its entry sequence, with the 64 KiB address space persisted by
+// `--flash-image`.
+
+/// The emulator as an MSP430F168 in its ROM BSL.
+fn msp430_board(extra: &[&str]) -> Sim {
+    start_sim(&[&["--bootloader", "msp430"], extra].concat())
+}
+
+/// The persisted 64 KiB address space.
+fn msp430_memory(path: impl AsRef<Path>) -> Vec<u8> {
+    let f = std::fs::read(path).expect("flash image");
+    assert_eq!(f.len(), 0x1_0000);
+    f
+}
+
+/// Firmware for the F168 as Intel HEX: `code` at 0x4000, the vector table at 0xFFE0 with
+/// every vector (the reset vector too) pointing at 0x4000, `info` at 0x1000.
+fn msp430_hex(name: &str, code: &[u8], info: &[u8]) -> String {
+    let vectors: Vec<u8> = [0x00, 0x40].repeat(16);
+    let hex = [
+        to_hex(0x4000, code),
+        to_hex(0xFFE0, &vectors),
+        to_hex(0x1000, info),
+    ]
+    .concat();
+    // One file: drop the inner end-of-file records.
+    let mut lines: Vec<&str> = hex
+        .lines()
+        .filter(|l| *l != ":00000001FF" && !l.starts_with(":04000005"))
+        .collect();
+    lines.push(":00000001FF");
+    firmware_file(name, lines.join("\n") + "\n")
+}
+
+/// The workspace's Python environment's interpreter, where `cargo xtask setup` puts
+/// python-msp430-tools.
+fn pyenv_python() -> std::path::PathBuf {
+    let python = crate::common::workspace().join("target/pyenv/bin/python");
+    let found = Command::new(&python)
+        .args(["-c", "import msp430.bsl.target"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    assert!(
+        found,
+        "python-msp430-tools is not in {}: run `cargo xtask setup` (it pip-installs it there)",
+        python.display()
+    );
+    python
+}
+
+/// Runs python-msp430-tools' `msp430-bsl ARGS… -p PORT --no-start` through the pty shim
+/// (host-cli/tests/tools/msp430_bsl_on_pty.py: a pty has no DTR/RTS and no parity);
+/// returns whether it succeeded and what it printed.
+fn msp430_bsl(args: &[&str], port: &str) -> (bool, String) {
+    let shim = crate::common::workspace().join("host-cli/tests/tools/msp430_bsl_on_pty.py");
+    let out = Command::new(pyenv_python())
+        .arg(shim)
+        .args(["-p", port, "--no-start"])
+        .args(args)
+        .output()
+        .expect("python runs");
+    let text = String::from_utf8_lossy(&out.stdout).to_string()
+        + String::from_utf8_lossy(&out.stderr).as_ref();
+    (out.status.success(), text)
+}
+
+#[test]
+fn bsl_python_msp430_tools_writes_and_reads_back_through_the_emulation() {
+    let memory = erased_flash_image("bsl-python.flash");
+    let sim = msp430_board(&["--flash-image", &memory]);
+    let code = random_bytes(6000, 21);
+    let info = random_bytes(64, 22);
+    let hex = msp430_hex("bsl-python.hex", &code, &info);
+
+    // Mass erase, the erased password, program, and msp430-bsl's own read-back compare.
+    let (ok, text) = msp430_bsl(&["-e", "-P", "-V", &hex], &sim.pty);
+    assert!(ok, "msp430-bsl -e -P -V: {text}");
+
+    // A second session unlocks with the image's vectors and uploads what it wrote.
+    let back = tmp("bsl-python-back.bin");
+    let _ = std::fs::remove_file(&back);
+    let (ok, text) = msp430_bsl(
+        &[
+            "--password",
+            &hex,
+            "-u",
+            "0x4000/6000",
+            "-o",
+            &back,
+            "-f",
+            "bin",
+        ],
+        &sim.pty,
+    );
+    assert!(ok, "msp430-bsl --password -u: {text}");
+    let read = std::fs::read(&back).expect("upload file");
+    assert!(
+        read == code,
+        "msp430-bsl read back other bytes than it wrote"
+    );
+
+    // The emulator's own view agrees.
+    let mem = msp430_memory(&memory);
+    assert!(mem[0x4000..0x4000 + code.len()] == code[..]);
+    assert_eq!(&mem[0x1000..0x1040], &info[..]);
+    assert_eq!(&mem[0xFFFE..], &[0x00, 0x40]);
+    drop(sim);
+
+    // A chip whose answers carry wrong checksums must fail the same upload: the client
+    // checks what the emulation sends, so this test can catch a wrong emulation.
+    let sim = msp430_board(&["--flash-image", &memory, "--corrupt-answers"]);
+    let (ok, text) = msp430_bsl(
+        &[
+            "--password",
+            &hex,
+            "-u",
+            "0x4000/16",
+            "-o",
+            &back,
+            "-f",
+            "bin",
+        ],
+        &sim.pty,
+    );
+    assert!(!ok, "msp430-bsl accepted damaged answers: {text}");
+    assert!(text.contains("checksum error in answer"), "{text}");
+}
+
+#[test]
+fn fpgfx_flashes_the_msp430_from_hex_and_elf_and_jumps() {
+    let memory = erased_flash_image("msp430-hex-elf.flash");
+    let sim = msp430_board(&["--flash-image", &memory]);
+
+    let code = random_bytes(10_000, 31);
+    let hex = msp430_hex("msp430.hex", &code, &[0x5A; 8]);
+    let err = ok(&flash(&hex, &sim.pty, &["--chip", "msp430f168", "--go"])).stderr;
+    assert!(err.contains("chip 0xf169 (MSP430F168), BSL 1.61"), "{err}");
+    assert!(err.contains("mass-erased; wrote 10040 bytes in"), "{err}");
+    assert!(err.contains("verified"), "{err}");
+    assert!(err.contains("jumped to 0x4000"), "{err}");
+    let mem = msp430_memory(&memory);
+    assert!(mem[0x4000..0x4000 + code.len()] == code[..]);
+    assert_eq!(&mem[0x1000..0x1008], &[0x5A; 8]);
+
+    // An MSP430 ELF (EM_MSP430): .text at 0xC000 ending in the vectors (reset: 0xC000),
+    // .data loaded at 0xB000.
+    let data = random_bytes(100, 33);
+    let text = [
+        random_bytes(0x1000, 34),
+        vec![0xFF; 0x3FE0 - 0x1000],
+        [0x00, 0xC0].repeat(16),
+    ]
+    .concat();
+    let elf = firmware_file(
+        "msp430.elf",
+        elf32(105, 0x0200, 0xC000, &text, 0xB000, &data),
+    );
+    let err = ok(&flash(&elf, &sim.pty, &["--chip", "msp430f168", "--go"])).stderr;
+    assert!(err.contains("jumped to 0xc000"), "{err}");
+    let mem = msp430_memory(&memory);
+    assert!(mem[0xC000..0x10000] == text[..]);
+    assert!(mem[0xB000..0xB000 + 100] == data[..]);
+    // Mass erase took the hex's code away.
+    assert!(mem[0x4000..0xB000].iter().all(|&b| b == 0xFF));
+    sim.wait_for_log("Go 0xc000", std::time::Duration::from_secs(10));
+    let log = sim_stderr(sim);
+    assert!(log.contains("Go 0x4000"), "{log}");
+    assert!(log.contains("Go 0xc000"), "{log}");
+}
+
+/// A wrong `--password` is refused by name and changes nothing; the run without it
+/// (mass erase) succeeds, and so does one with the right password, which keeps what the
+/// new image does not touch.
+#[test]
+fn msp430_wrong_password_is_named_and_the_board_recovers() {
+    let memory = erased_flash_image("msp430-password.flash");
+    let sim = msp430_board(&["--flash-image", &memory]);
+    let old = msp430_hex("old.hex", &random_bytes(2048, 41), &[]);
+    ok(&flash(&old, &sim.pty, &["--chip", "msp430f168"]));
+    let before = msp430_memory(&memory);
+
+    let mut other_vectors = random_bytes(32, 42);
+    other_vectors[30..].copy_from_slice(&[0x00, 0x40]);
+    let wrong = firmware_file("wrong.hex", to_hex(0xFFE0, &other_vectors));
+    let new = msp430_hex("new.hex", &random_bytes(100, 43), &[]);
+    let args = flash(
+        &new,
+        &sim.pty,
+        &["--chip", "msp430f168", "--password", &wrong],
+    );
+    let err = fails(&args);
+    assert!(
+        err.contains(&format!(
+            "RX password: the BSL refused the password from {wrong}"
+        )),
+        "{err}"
+    );
+    assert!(
+        msp430_memory(&memory) == before,
+        "a refused password changed the flash"
+    );
+
+    let err = ok(&flash(
+        &new,
+        &sim.pty,
+        &["--chip", "msp430f168", "--password", &old],
+    ))
+    .stderr;
+    assert!(err.contains("erased segments [0x4000, 0xfe00]"), "{err}");
+    let mem = msp430_memory(&memory);
+    // The old image's second KiB (another segment) is kept.
+    assert!(mem[0x4200..0x4800] == before[0x4200..0x4800]);
+
+    let err = ok(&flash(&new, &sim.pty, &["--chip", "msp430f168"])).stderr;
+    assert!(err.contains("mass-erased"), "{err}");
+    assert!(msp430_memory(&memory)[0x4200..0x4800]
+        .iter()
+        .all(|&b| b == 0xFF));
+}
+
+/// Answers with wrong checksums: the error names the command and what was wrong; the
+/// same command on a clean line then flashes the board.
+#[test]
+fn msp430_checksum_errors_are_named_and_the_board_recovers() {
+    let memory = erased_flash_image("msp430-checksum.flash");
+    let hex = msp430_hex("checksum.hex", &random_bytes(3000, 51), &[]);
+    let sim = msp430_board(&["--flash-image", &memory, "--corrupt-answers"]);
+    let args = flash(&hex, &sim.pty, &["--chip", "msp430f168"]);
+    let err = fails(&args);
+    assert!(
+        err.contains("TX BSL version (version): the chip's answer is damaged (checksum"),
+        "{err}"
+    );
+    drop(sim);
+    // The board on a clean line (a new pty: the port path is the sim's).
+    let sim = msp430_board(&["--flash-image", &memory]);
+    let err = ok(&flash(&hex, &sim.pty, &["--chip", "msp430f168"])).stderr;
+    assert!(err.contains("verified"), "{err}");
+}
+
+/// An image reaching past the end of flash is refused before the board is touched,
+/// naming the range and the chip's map.
+#[test]
+fn msp430_a_write_past_flash_is_refused_before_touching_the_board() {
+    let memory = erased_flash_image("msp430-past.flash");
+    let sim = msp430_board(&["--flash-image", &memory]);
+    let bin = firmware_file("past.bin", random_bytes(0x200, 61));
+    let err = fails(&flash(
+        &bin,
+        &sim.pty,
+        &["--chip", "msp430f168", "--address", "0xff00"],
+    ));
+    assert!(
+        err.contains(
+            "the image covers 0xff00..0x10100, outside the MSP430F168's flash \
+             (information memory 0x1000..0x1100, main flash 0x4000..0x10000)"
+        ),
+        "{err}"
+    );
+    assert!(msp430_memory(&memory).iter().all(|&b| b == 0xFF));
+    let err = ok(&flash(
+        &bin,
+        &sim.pty,
+        &["--chip", "msp430f168", "--address", "0xfe00"],
+    ))
+    .stderr;
+    assert!(err.contains("verified"), "{err}");
+}
+
+/// The board stops answering in the middle of the image (the sim exits after 10 RX data
+/// blocks, a board losing power): the error names the block; powered again, the same
+/// command flashes it completely.
+#[test]
+fn msp430_an_interrupted_flash_is_completed_by_a_second_run() {
+    let memory = erased_flash_image("msp430-interrupted.flash");
+    let code = random_bytes(8192, 71);
+    let hex = msp430_hex("interrupted.hex", &code, &[]);
+    let sim = msp430_board(&["--flash-image", &memory, "--exit-after-writes", "10"]);
+    let args = flash(&hex, &sim.pty, &["--chip", "msp430f168"]);
+    let err = fails(&args);
+    assert!(err.contains("block at 0x00004500 failed"), "{err}");
+    let log = sim_stderr(sim);
+    assert!(log.contains("exiting after 10 writes"), "{log}");
+    let half = msp430_memory(&memory);
+    assert!(half[0x4000..0x4500] == code[..0x500]);
+    assert!(half[0x4500..0xFFE0].iter().all(|&b| b == 0xFF));
+
+    // Power back on (a new pty: the port path is the sim's).
+    let sim = msp430_board(&["--flash-image", &memory]);
+    let err = ok(&flash(&hex, &sim.pty, &["--chip", "msp430f168"])).stderr;
+    assert!(
+        err.contains("mass-erased; wrote 8224 bytes in 65 blocks, verified"),
+        "{err}"
+    );
+    drop(sim);
+    assert!(msp430_memory(&memory)[0x4000..0x6000] == code[..]);
 }
