@@ -2,7 +2,8 @@
 //!
 //! It installs what the checks need (the Cortex-M and RISC-V targets; from Debian, QEMU
 //! for the board binaries' end-to-end tests, the third-party `stm32flash` the bootloader
-//! test drives, and Verilator, Icarus, Yosys and nextpnr for the RTL)
+//! test drives, and Verilator, Icarus, Yosys and nextpnr for the RTL; from PyPI into
+//! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools)
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
@@ -164,6 +165,22 @@ const PACKAGES: &[Package] = &[
     },
 ];
 
+/// A PyPI package a test drives, installed into the workspace's Python environment
+/// (`target/pyenv`, beside the FPGA tools `cargo xtask synth` installs there).
+struct PyPiTool {
+    program: &'static str,
+    /// Pinned: the tests were written against this release's behaviour.
+    package: &'static str,
+    why: &'static str,
+}
+
+/// The PyPI tools the tests drive.
+const PYPI: &[PyPiTool] = &[PyPiTool {
+    program: "msp430-bsl",
+    package: "python-msp430-tools==0.10.0",
+    why: "the third-party MSP430 ROM BSL client `fpgfx-sim --bootloader msp430` is checked against (host-cli/tests/integration/flash.rs)",
+}];
+
 /// Whether `program` is on the PATH.
 fn on_path(program: &str) -> bool {
     std::env::var_os("PATH")
@@ -323,7 +340,20 @@ fn setup() -> Result<()> {
             run("rustup", &["target", "add", board.target])?;
         }
     }
-    install_packages()
+    install_packages()?;
+    let root = workspace_root();
+    for tool in PYPI {
+        if !synth::pyenv(&root).join("bin").join(tool.program).is_file() {
+            eprintln!(
+                "xtask setup: installing {} into {} ({})",
+                tool.package,
+                synth::pyenv(&root).display(),
+                tool.why
+            );
+        }
+        synth::ensure_pypi(&root, tool.program, tool.package)?;
+    }
+    Ok(())
 }
 
 fn test() -> Result<()> {

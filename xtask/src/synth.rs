@@ -686,19 +686,24 @@ fn tool_output_in(cwd: Option<&Path>, program: &str, args: &[String]) -> Result<
     Ok(text)
 }
 
-/// The workspace's Python environment, where PyPI's FPGA tools go (`target/pyenv`).
+/// The workspace's Python environment, where PyPI's tools go (`target/pyenv`): the FPGA
+/// tools and the third-party MSP430 BSL client.
 pub fn pyenv(root: &Path) -> PathBuf {
     root.join("target").join("pyenv")
 }
 
-/// Makes sure `program` (one of [`YOWASP`]'s) is in [`pyenv`]: a venv (Debian's
-/// python3-venv) and a pinned `pip install` of its package when it is missing. Nothing
-/// outside `target/` changes.
+/// Makes sure `program` (one of [`YOWASP`]'s) is in [`pyenv`] ([`ensure_pypi`]).
 pub fn ensure_yowasp(root: &Path, program: &str) -> Result<PathBuf> {
     let (_, package) = YOWASP
         .iter()
         .find(|(p, _)| *p == program)
         .with_context(|| format!("{program} is no PyPI tool the flow knows"))?;
+    ensure_pypi(root, program, package)
+}
+
+/// Makes sure `program` is in [`pyenv`]: a venv (Debian's python3-venv) and a pinned
+/// `pip install` of `package` when it is missing. Nothing outside `target/` changes.
+pub fn ensure_pypi(root: &Path, program: &str, package: &str) -> Result<PathBuf> {
     let env = pyenv(root);
     let path = env.join("bin").join(program);
     let stamp = env.join(format!("{}.installed", package.replace("==", "-")));
@@ -708,7 +713,7 @@ pub fn ensure_yowasp(root: &Path, program: &str) -> Result<PathBuf> {
     let env_s = env.to_string_lossy().into_owned();
     if !env.join("bin").join("pip").is_file() {
         crate::run("python3", &["-m", "venv", &env_s])
-            .context("a Python venv for PyPI's FPGA tools (Debian: apt install python3-venv)")?;
+            .context("a Python venv for the PyPI tools (Debian: apt install python3-venv)")?;
     }
     let pip = env.join("bin").join("pip").to_string_lossy().into_owned();
     crate::run(
