@@ -728,9 +728,9 @@ mod msp430_tests {
         }
         let (image, code, _) = firmware(300, 3);
         let fast = |d: Damage| {
-            let mut c = BslClient::new(d, 9600);
-            c.timeouts.sync = Duration::from_millis(1);
-            c.timeouts.ack = Duration::from_millis(1);
+            let mut c = BslClient::new(d, 115_200);
+            c.timeouts.sync = Duration::from_millis(20);
+            c.timeouts.ack = Duration::from_millis(20);
             c
         };
         let mut c = fast(Damage(wire_to(Bsl::new()), 1));
@@ -804,10 +804,10 @@ mod msp430_tests {
         }
         let (image, code, _) = firmware(1000, 5);
         // Writes: sync + frame per command: erase, password, version, then three blocks
-        // (2 each) and half of the fourth block's exchange.
-        let mut c = BslClient::new(Mute(wire_to(Bsl::new()), 6 + 6 + 1), 9600);
-        c.timeouts.sync = Duration::from_millis(1);
-        c.timeouts.ack = Duration::from_millis(1);
+        // (2 each) and the fourth block's SYNC; its frame is lost.
+        let mut c = BslClient::new(Mute(wire_to(Bsl::new()), 6 + 6 + 1), 115_200);
+        c.timeouts.sync = Duration::from_millis(20);
+        c.timeouts.ack = Duration::from_millis(20);
         let e = flash_msp430(
             &mut c,
             &image,
@@ -820,12 +820,12 @@ mod msp430_tests {
         let FlashError::Block { address, last, .. } = &e else {
             panic!("{e}");
         };
-        assert_eq!(*address, 0x4080, "{e}");
+        assert_eq!(*address, 0x4180, "{e}");
         // The block's SYNC went unanswered, and so did the rescue burst's.
         assert!(
             last.to_string().starts_with(
                 "no answer from the bootloader: sent 0x80 4 times (and one burst of 260 × \
-                 0xFF to end a half-received frame) at 9600 baud 8E1, got nothing"
+                 0xFF to end a half-received frame) at 115200 baud 8E1, got nothing"
             ),
             "{last}"
         );

@@ -59,12 +59,14 @@ pub fn wire_to<B>(chip: B) -> Wire<B> {
     }
 }
 
-/// A BSL client with millisecond timeouts on `w`.
+/// A BSL client with short timeouts on `w` (the emulator answers at once; 20 ms rather
+/// than 1 so that a test thread descheduled on a loaded machine does not time out).
 pub fn bsl_client(w: Wire<Bsl>) -> BslClient<Wire<Bsl>> {
-    let mut c = BslClient::new(w, 9600);
-    c.timeouts.sync = Duration::from_millis(1);
-    c.timeouts.ack = Duration::from_millis(1);
-    c.timeouts.erase = Duration::from_millis(1);
+    // The line rate only sizes the rescue burst's wait: a fast one keeps the tests quick.
+    let mut c = BslClient::new(w, 115_200);
+    c.timeouts.sync = Duration::from_millis(20);
+    c.timeouts.ack = Duration::from_millis(20);
+    c.timeouts.erase = Duration::from_millis(20);
     c
 }
 
