@@ -41,7 +41,9 @@ enum Command {
     /// ./fpgfx.toml, $XDG_CONFIG_HOME/fpgfx/config.toml, ~/.config/fpgfx/config.toml
     /// (keys: port, baud, timeout).
     Ports(cmd::ports::Args),
-    /// Program the board's STM32F405 through its ROM bootloader (AN3155) on --port.
+    /// Program the board's STM32F405 through its ROM bootloader (AN3155) on --port, or
+    /// with --chip msp430f168 the FITkit's MSP430 through its ROM BSL (SLAU319, 9600 baud
+    /// unless --baud).
     Flash(cmd::flash::Args),
     /// Sweep number formats × approximations (ray tracer) and sub-pixel bits × AA
     /// (rasterizer): error, host time and hardware cost, with Pareto plots.
