@@ -244,34 +244,13 @@ impl Bsl {
             Command::RxDataBlock => {
                 usize::from(req.length) == req.data.len() && self.write(address, req.data)
             }
-            Command::TxDataBlock => {
-                if let Some(bytes) = self
-                    .readable(address, length)
-                    .filter(|_| req.data.is_empty())
-                {
-                    let mut frame = [0u8; MAX_FRAME];
-                    if let Ok(n) = wire::encode_data_frame(&bytes, &mut frame) {
-                        if self.corrupt_answers {
-                            frame[n - 1] ^= 0x01;
-                        }
-                        out.extend_from_slice(&frame[..n]);
-                        self.stats.commands += 1;
-                        return;
-                    }
-                }
-                false
-            }
+            Command::TxDataBlock => match self.readable(address, length) {
+                Some(bytes) if req.data.is_empty() => return self.data_frame(&bytes, out),
+                _ => false,
+            },
             Command::TxBslVersion => {
-                let mut frame = [0u8; MAX_FRAME];
-                if let Ok(n) = wire::encode_data_frame(&self.memory[0x0FF0..0x1000], &mut frame) {
-                    if self.corrupt_answers {
-                        frame[n - 1] ^= 0x01;
-                    }
-                    out.extend_from_slice(&frame[..n]);
-                    self.stats.commands += 1;
-                    return;
-                }
-                false
+                let version = self.memory[0x0FF0..0x1000].to_vec();
+                return self.data_frame(&version, out);
             }
             Command::EraseSegment => self.erase_segment(address, req.length),
             Command::EraseCheck => match self.chip.region(address, length) {
@@ -313,6 +292,22 @@ impl Bsl {
             self.ack(out);
         } else {
             self.nak(out);
+        }
+    }
+
+    /// Answers with a data frame (its checksum spoilt under [`Bsl::corrupt_answers`]).
+    fn data_frame(&mut self, data: &[u8], out: &mut Vec<u8>) {
+        let mut frame = [0u8; MAX_FRAME];
+        match wire::encode_data_frame(data, &mut frame) {
+            Ok(n) => {
+                if self.corrupt_answers {
+                    frame[n - 1] ^= 0x01;
+                }
+                out.extend_from_slice(&frame[..n]);
+                self.stats.commands += 1;
+            }
+            // Reads are limited to a frame's worth before they get here.
+            Err(_) => self.nak(out),
         }
     }
 

@@ -346,12 +346,16 @@ impl<T: Transport> BslClient<T> {
     }
 }
 
-/// The BSL's addresses are 16 bits (the F168 has nothing above 0xFFFF).
+/// The BSL's addresses are 16 bits (the F168 has nothing above 0xFFFF; a layout keeps
+/// images below it, so this only catches a caller's mistake).
 fn addr16(address: u32) -> Result<u16, FlashError> {
     u16::try_from(address).map_err(|_| {
-        FlashError::Io(io::Error::other(format!(
-            "address {address:#x} is above the BSL's 16-bit range"
-        )))
+        FlashError::Image(super::ImageError::OutsideFlash {
+            start: address,
+            end: u64::from(address) + 1,
+            chip: "MSP430F168",
+            map: "the ROM BSL addresses 0x0000..0x10000".into(),
+        })
     })
 }
 
