@@ -518,7 +518,7 @@ mod tests {
         let data = pattern(1024, 5);
         let image = Image::from_pieces(&[(bl::FLASH_BASE, data.clone())]).unwrap();
         let mut c = Client::new(Flip(wire(), 0), 115_200);
-        c.timeouts.ack = Duration::from_millis(1);
+        c.timeouts.ack = Duration::from_millis(20);
         let e = flash(&mut c, &image, OPTS, &mut ()).unwrap_err();
         assert_eq!(
             e.to_string(),
@@ -530,7 +530,7 @@ mod tests {
         );
         // --no-verify does not notice.
         let mut c = Client::new(Flip(wire(), 0), 115_200);
-        c.timeouts.ack = Duration::from_millis(1);
+        c.timeouts.ack = Duration::from_millis(20);
         let no_verify = FlashOptions {
             verify: false,
             ..OPTS
@@ -559,7 +559,7 @@ mod tests {
         }
         let image = Image::from_pieces(&[(bl::FLASH_BASE, vec![1, 2, 3, 4])]).unwrap();
         let mut c = Client::new(Other(wire()), 115_200);
-        c.timeouts.ack = Duration::from_millis(1);
+        c.timeouts.ack = Duration::from_millis(20);
         let e = flash(&mut c, &image, OPTS, &mut ()).unwrap_err();
         assert!(matches!(e, FlashError::UnknownChip(0x410)), "{e}");
         assert!(e.to_string().contains("0x410"), "{e}");

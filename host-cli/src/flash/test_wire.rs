@@ -70,11 +70,12 @@ pub fn bsl_client(w: Wire<Bsl>) -> BslClient<Wire<Bsl>> {
     c
 }
 
-/// A client with millisecond timeouts: the emulator answers at once.
+/// A client with short timeouts: the emulator answers at once, and 20 ms (not 1) keeps a
+/// descheduled test on a loaded machine from timing out before its first read.
 pub fn client(w: Wire) -> Client<Wire> {
     let mut c = Client::new(w, 115_200);
-    c.timeouts.sync = Duration::from_millis(1);
-    c.timeouts.ack = Duration::from_millis(1);
+    c.timeouts.sync = Duration::from_millis(20);
+    c.timeouts.ack = Duration::from_millis(20);
     c
 }
 
