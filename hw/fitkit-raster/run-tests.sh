@@ -73,6 +73,14 @@ if cmp -s rtl/fifo36.v "$BUILD/fifo36_broken.v"; then
     exit 1
 fi
 prove_fails fitkit_fifo36_broken fifo36 "$BUILD/fifo36_broken.v" -set DEPTH 4
+# and one whose room flip-flop stays set when the last free record is written
+sed "s/                room_r    <= ~tent_last;/                room_r    <= 1'b1;/" \
+    rtl/fifo36.v >"$BUILD/fifo36_room_broken.v"
+if cmp -s rtl/fifo36.v "$BUILD/fifo36_room_broken.v"; then
+    echo "formal: the breakage did not apply to rtl/fifo36.v"
+    exit 1
+fi
+prove_fails fitkit_fifo36_room_broken fifo36 "$BUILD/fifo36_room_broken.v" -set DEPTH 4
 # and the slave with the CS_n synchroniser reset to high (the bug that took a reset
 # mid-transaction for a new CS_n fall) must fail its reset property
 sed "s/cs_s   <= 3'b000;/cs_s   <= 3'b111;/" rtl/spi_slave.v >"$BUILD/spi_slave_broken.v"

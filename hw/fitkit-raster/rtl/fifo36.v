@@ -64,13 +64,24 @@ module fifo36 #(
     // counters beside the pointers, so room and the flags are a comparison of a register
     // (no pointer difference in the path to DATA_WE's enables).
     reg [AW:0]  used_tent, used_comm;
+    // used_tent != DEPTH as a flip-flop of its own: the decoder's write strobe and the
+    // counts' updates both wait on it
+    reg         room_r;
 
-    wire        do_write  = DATA_WE & room;
+    wire        do_write  = DATA_WE & room_r;
     wire        avail     = wr_commit != rd_ptr;
     wire        do_read   = avail & (~out_valid | FIFO_NEXT);
     wire        take      = FIFO_NEXT & out_valid;   // a record leaves
+    // The counts' candidate next values and flags, each from registers alone; the
+    // strobes (a write, a take, COMMIT, DISCARD) only choose among them, so DATA_WE's
+    // and FIFO_NEXT's paths meet no carry chain.
+    wire [AW:0] tent_up   = used_tent + 1'b1;
+    wire [AW:0] tent_dn   = used_tent - 1'b1;
+    wire [AW:0] comm_dn   = used_comm - 1'b1;
+    wire        tent_last = used_tent == DEPTH_C - 1'b1;   // one write from full
+    wire        comm_full = used_comm == DEPTH_C;
 
-    assign room       = used_tent != DEPTH_C;
+    assign room       = room_r;
     assign occupancy  = used_comm;
     assign free_count = DEPTH_C - used_comm;
     assign FIFO_FREE  = free_count >= PACKET_C;
@@ -93,13 +104,22 @@ module fifo36 #(
             out_valid <= 1'b0;
             used_tent <= {(AW+1){1'b0}};
             used_comm <= {(AW+1){1'b0}};
+            room_r    <= 1'b1;
         end else begin
             // the counts follow the pointers: a write adds a tentative record, COMMIT
             // makes the tentative ones committed, DISCARD drops them, a take removes one
-            if (DISCARD) used_tent <= used_comm - {{AW{1'b0}}, take};
-            else used_tent <= used_tent + {{AW{1'b0}}, do_write} - {{AW{1'b0}}, take};
-            if (COMMIT) used_comm <= used_tent - {{AW{1'b0}}, take};
-            else used_comm <= used_comm - {{AW{1'b0}}, take};
+            if (DISCARD) begin
+                used_tent <= take ? comm_dn : used_comm;
+                room_r    <= take | ~comm_full;
+            end else if (do_write & ~take) begin
+                used_tent <= tent_up;
+                room_r    <= ~tent_last;
+            end else if (~do_write & take) begin
+                used_tent <= tent_dn;
+                room_r    <= 1'b1;
+            end
+            if (COMMIT) used_comm <= take ? tent_dn : used_tent;
+            else if (take) used_comm <= comm_dn;
             if (DISCARD) wr_ptr <= wr_commit;
             else if (do_write) wr_ptr <= wr_ptr + 1'b1;
             if (COMMIT) wr_commit <= wr_ptr;

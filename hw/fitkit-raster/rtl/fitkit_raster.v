@@ -52,12 +52,12 @@ module fitkit_raster #(
 
     // SPI.
     wire       cs_start, cs_end, cs_partial, rx_valid, tx_load, bit_start;
-    wire [7:0] rx_byte, rx_index, byte_index;
+    wire [7:0] rx_byte, byte_index;
     reg  [7:0] tx_byte;
     spi_slave u_spi (
         .clk(clk), .rst(rst), .spi_sck(spi_sck), .spi_cs_n(spi_cs_n), .spi_mosi(spi_mosi),
         .spi_miso(spi_miso), .cs_start(cs_start), .cs_end(cs_end), .cs_partial(cs_partial),
-        .rx_valid(rx_valid), .rx_byte(rx_byte), .rx_index(rx_index), .byte_index(byte_index),
+        .rx_valid(rx_valid), .rx_byte(rx_byte), .byte_index(byte_index),
         .tx_load(tx_load), .tx_byte(tx_byte), .bit_start(bit_start)
     );
 
@@ -192,7 +192,7 @@ module fitkit_raster #(
     );
     readback u_rb (
         .clk(clk), .rst(crst), .cs_start(cs_start), .rx_valid(rx_valid), .rx_byte(rx_byte),
-        .rx_index(rx_index), .chan(chan), .chan_valid(chan_valid), .tx_load(tx_load),
+        .chan(chan), .chan_valid(chan_valid), .tx_load(tx_load),
         .byte_index(byte_index), .bit_start(bit_start), .tx_byte(rb_byte), .rd_req(rd_req),
         .rd_addr(rd_addr), .rd_ack(rd_ack), .rd_valid(rd_valid), .rd_data(rd_data),
         .underrun(underrun)

@@ -22,7 +22,6 @@ module readback (
     input  wire        cs_start,
     input  wire        rx_valid,
     input  wire [7:0]  rx_byte,
-    input  wire [7:0]  rx_index,
     input  wire [7:0]  chan,
     input  wire        chan_valid,
     input  wire        tx_load,
@@ -52,12 +51,19 @@ module readback (
 
     // registered: the channel is known bytes before a pixel slot, and byte_index changes
     // on a byte's last rising SCK edge, at least 4 clock cycles before the tx_load of the
-    // next byte (docs/rtl.md, SPI framing), so one cycle late is early enough
-    reg active, pix;
+    // next byte (docs/rtl.md, SPI framing), so one cycle late is early enough. A byte the
+    // slave completes (rx_valid) is the one byte_index counted the cycle before (the
+    // slave loads its rx_index from it with rx_valid), so the start address's byte
+    // selects are flags of byte_index, registered with rx_valid: no compare lies between
+    // the slave's strobe and the address's enables.
+    reg active, pix, addr_slot, last_slot;
     always @(posedge clk) begin
-        active <= ~rst & chan_valid & (chan == `FITKIT_ADDR_READ);
-        pix    <= ~rst & (byte_index >= FIRST_PIXEL);
+        active    <= ~rst & chan_valid & (chan == `FITKIT_ADDR_READ);
+        pix       <= ~rst & (byte_index >= FIRST_PIXEL);
+        addr_slot <= ~rst & (byte_index >= 8'd1) & (byte_index <= LAST_ADDR);
+        last_slot <= ~rst & (byte_index == LAST_ADDR);
     end
+    wire addr_byte = rx_valid & active & addr_slot;   // a start-address byte came
     wire pop    = active & tx_load & pix;
     wire arrive = rd_valid & ~drop;
     // a slot sent as 0 now; with it, the bytes to drop (the next arriving is the oldest).
@@ -103,9 +109,9 @@ module readback (
                 owed    <= 1'b0;
                 drop    <= (pend & ~rd_valid) | rd_ack;
             end else begin
-                if (rx_valid && active && rx_index >= 8'd1 && rx_index <= LAST_ADDR) begin
+                if (addr_byte) begin
                     addr <= {addr[9:0], rx_byte};
-                    en   <= rx_index == LAST_ADDR;
+                    en   <= last_slot;
                 end
                 // Queue: pop the head and / or push at the tail.
                 case ({push, pop & (cnt != 2'd0)})
@@ -155,7 +161,6 @@ module readback (
     reg  [17:0] f_flight_addr = 18'd0, f_slot = 18'd0;
     (* anyconst *) reg [17:0] f_a;
     (* anyconst *) reg [7:0]  f_d;
-    wire addr_byte = rx_valid && active && rx_index >= 8'd1 && rx_index <= LAST_ADDR;
     always @(*) begin
         if (rd_ack) assume (rd_req);
         if (rd_valid) assume (f_flight && !rd_ack);
@@ -174,7 +179,7 @@ module readback (
             end else if (rd_valid) begin
                 f_flight <= 1'b0;
             end
-            if (!cs_start && addr_byte && rx_index == LAST_ADDR) f_slot <= {addr[9:0], rx_byte};
+            if (!cs_start && addr_byte && last_slot) f_slot <= {addr[9:0], rx_byte};
             else if (pop) f_slot <= f_slot + 18'd1;
         end
     end

@@ -11,8 +11,11 @@
 //   spi_sck, spi_cs_n, spi_mosi  asynchronous pins; spi_miso is 0 while spi_cs_n is high.
 //   cs_start / cs_end            one-cycle pulses when CS_n falls / rises; cs_partial is
 //                                valid with cs_end: bits of an unfinished byte were clocked.
-//   rx_valid, rx_byte, rx_index  a byte completed (8th rising SCK edge); rx_index is its
-//                                position in the transaction (0 = address), saturating at 255.
+//   rx_valid, rx_byte            a byte completed (8th rising SCK edge); its position in
+//                                the transaction (0 = address) is byte_index of the cycle
+//                                before rx_valid (byte_index counts it with rx_valid), so a
+//                                unit registers its byte-position flags from byte_index and
+//                                has them with rx_valid.
 //   byte_index                   bytes completed so far in this transaction (the index of
 //                                the byte now being shifted), saturating at 255.
 //   tx_load                      combinational strobe: tx_byte is sampled now as byte
@@ -36,7 +39,6 @@ module spi_slave (
     output reg        cs_partial,
     output reg        rx_valid,
     output reg  [7:0] rx_byte,
-    output reg  [7:0] rx_index,
     output wire [7:0] byte_index,
     output wire       tx_load,
     input  wire [7:0] tx_byte,
@@ -94,7 +96,6 @@ module spi_slave (
             miso_r     <= 1'b0;
             cs_partial <= 1'b0;
             rx_byte    <= 8'd0;
-            rx_index   <= 8'd0;
         end else if (cs_fall) begin
             active   <= 1'b1;
             bitcnt   <= 3'd0;
@@ -115,7 +116,6 @@ module spi_slave (
                 if (bitcnt == 3'd7) begin
                     rx_valid <= 1'b1;
                     rx_byte  <= {rx_sh, mosi_s[1]};
-                    rx_index <= nbytes;
                     if (nbytes != 8'hFF) nbytes <= nbytes + 8'd1;
                     nnz <= 1'b1;
                 end

@@ -49,9 +49,9 @@
 //          coverage from the f sign bits) into a 2-entry queue; the emitter hands a
 //          step's covered pixels to frag_* one per cycle, lowest first. A row's covered
 //          pixels are contiguous (the triangle is convex), so a step is its first
-//          pixel's x and a count. The lanes' clock enables are flip-flops (steps
-//          left and the queue's room, computed a cycle ahead), never the fragment
-//          handshake.
+//          pixel's x and a count (thermometer-coded: no adder after the lanes). The
+//          lanes' clock enables are flip-flops (steps left and the queue's room,
+//          computed a cycle ahead), never the fragment handshake.
 //
 // Ports: start (one cycle, in idle) latches the vertices (9-bit unsigned pixels), color,
 // the frame (wm1 = width - 1, hm1 = height - 1) and cull; frag_* is a valid/ready stream of
@@ -94,9 +94,7 @@ module tri_unit #(
 );
     localparam integer LG = (LANES == 8) ? 3 : (LANES == 4) ? 2 : (LANES == 2) ? 1 : 0;
     localparam integer L  = 1 << LG;
-    localparam integer CW = LG + 1;          // bits of a step's pixel count (0..L)
     localparam [8:0]    L9 = L[8:0];
-    localparam [CW:0]   C1 = 1, C2 = 2;      // counts one and two, a bit wider than CW
     generate
         if (L != LANES) begin : bad_parameter
             tri_unit_lanes_must_be_1_2_4_or_8 unsupported();
@@ -303,15 +301,19 @@ module tri_unit #(
         push <= ~rst & push_d;
         lmv  <= rst ? {L{1'b0}} : ({L{ld_d | push_d}} | ladd_d);
     end
-    reg [CW-1:0] m_cnt;
+    // A step's pixel count as a thermometer code, m_th[k] = at least k + 1 covered, so
+    // no carry chain lies between the lanes' sign bits and the queue. The covered lanes
+    // are contiguous (each edge's f is linear along the row, the box's tail a prefix of
+    // the lanes), so at least k + 1 are covered exactly when two lanes k apart both are.
+    reg [L-1:0]  m_th;
     reg [LG:0]   m_first;        // one bit more than a lane index, so LG = 0 has a bit
-    integer q;
+    integer q, k;
     always @* begin
-        m_cnt   = {CW{1'b0}};
+        m_th    = {L{1'b0}};
         m_first = {(LG+1){1'b0}};
         for (q = L - 1; q >= 0; q = q - 1) begin
-            m_cnt = m_cnt + {{(CW-1){1'b0}}, mask[q]};
             if (mask[q]) m_first = q[LG:0];
+            for (k = 0; q + k < L; k = k + 1) m_th[k] = m_th[k] | (mask[q] & mask[q + k]);
         end
     end
 
@@ -319,7 +321,7 @@ module tri_unit #(
     reg [8:0]    qx [0:1];
     reg [LG:0]   qf [0:1];
     reg [8:0]    qy [0:1];
-    reg [CW-1:0] qc [0:1];
+    reg [L-1:0]  qt [0:1];       // the count, thermometer-coded
     reg          ql [0:1];
     reg          qw, qr;         // write and read slots
 
@@ -327,7 +329,12 @@ module tri_unit #(
     reg          ev, ez, eo, el; // holds a step; of no, of one pixel; the last step
     reg          fz;             // ~ev | ez: free whatever frag_ready
     reg          qne;            // qn != 0
-    reg [CW-1:0] ec;
+    reg [L-1:0]  et;             // pixels left of the step, thermometer-coded
+    // the head's count and the emitter's, two bits wider so that one and two pixels
+    // (thermometer 1 and 11) are codes for every LANES
+    localparam [L+1:0] T1 = 1, T2 = 3;
+    wire [L+1:0] qth = {2'b00, qt[qr]};
+    wire [L+1:0] etw = {2'b00, et};
     reg [8:0]    ex, ey;
     // E moves when it can without a fragment (fz) or the fragment is taken: go is the
     // only gate frag_ready passes, and what E does then is chosen by registers alone
@@ -364,7 +371,7 @@ module tri_unit #(
             ti <= 9'd0; tj <= 9'd0; ccol <= 9'd0; crow <= 9'd0;
             row_end <= 1'b0; last_row <= 1'b0; trun <= 1'b0;
             qn <= 2'd0; qw <= 1'b0; qr <= 1'b0;
-            ev <= 1'b0; ez <= 1'b0; eo <= 1'b0; el <= 1'b0; ec <= {CW{1'b0}};
+            ev <= 1'b0; ez <= 1'b0; eo <= 1'b0; el <= 1'b0; et <= {L{1'b0}};
             fz <= 1'b1; qne <= 1'b0;
             ex <= 9'd0; ey <= 9'd0;
         end else begin
@@ -437,7 +444,7 @@ module tri_unit #(
                         qx[qw] <= ti;
                         qf[qw] <= m_first;
                         qy[qw] <= tj;
-                        qc[qw] <= m_cnt;
+                        qt[qw] <= m_th;
                         ql[qw] <= last;
                         qw     <= ~qw;
                         trun   <= ~last;
@@ -462,10 +469,10 @@ module tri_unit #(
                             ev <= 1'b1;
                             ex <= qx[qr] + {{(8-LG){1'b0}}, qf[qr]};
                             ey <= qy[qr];
-                            ec <= qc[qr];
-                            ez <= qc[qr] == {CW{1'b0}};
-                            fz <= qc[qr] == {CW{1'b0}};
-                            eo <= {1'b0, qc[qr]} == C1;
+                            et <= qt[qr];
+                            ez <= ~qth[0];
+                            fz <= ~qth[0];
+                            eo <= qth == T1;
                             el <= ql[qr];
                         end else if (fr) begin
                             ev <= 1'b0;
@@ -473,8 +480,8 @@ module tri_unit #(
                         end else begin
                             // one of the step's several pixels went; the next is x + 1
                             ex <= ex + 9'd1;
-                            ec <= ec - 1'b1;
-                            eo <= {1'b0, ec} == C2;
+                            et <= et >> 1;
+                            eo <= etw == T2;
                         end
                     end
                     if (ev & el & free) state <= IDLE;

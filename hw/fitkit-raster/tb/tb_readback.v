@@ -30,7 +30,10 @@ module tb_readback;
     reg spi_sck = 1'b0, spi_cs_n = 1'b1, spi_mosi = 1'b0;
     wire spi_miso;
     wire cs_start, cs_end, cs_partial, rx_valid, tx_load, bit_start;
-    wire [7:0] rx_byte, rx_index, byte_index;
+    wire [7:0] rx_byte, byte_index;
+    // a completed byte's position: byte_index of the cycle before rx_valid
+    reg  [7:0] rx_index = 8'd0;
+    always @(posedge clk) rx_index <= byte_index;
     wire [7:0] rb_tx;
     reg  [7:0] chan = 8'd0;
     reg        chan_valid = 1'b0;
@@ -40,7 +43,7 @@ module tb_readback;
     spi_slave u_spi (
         .clk(clk), .rst(rst), .spi_sck(spi_sck), .spi_cs_n(spi_cs_n), .spi_mosi(spi_mosi),
         .spi_miso(spi_miso), .cs_start(cs_start), .cs_end(cs_end), .cs_partial(cs_partial),
-        .rx_valid(rx_valid), .rx_byte(rx_byte), .rx_index(rx_index), .byte_index(byte_index),
+        .rx_valid(rx_valid), .rx_byte(rx_byte), .byte_index(byte_index),
         .tx_load(tx_load), .tx_byte(slave_tx), .bit_start(bit_start)
     );
 
@@ -62,7 +65,7 @@ module tb_readback;
 
     readback dut (
         .clk(clk), .rst(rst), .cs_start(cs_start), .rx_valid(rx_valid), .rx_byte(rx_byte),
-        .rx_index(rx_index), .chan(chan), .chan_valid(chan_valid), .tx_load(tx_load),
+        .chan(chan), .chan_valid(chan_valid), .tx_load(tx_load),
         .byte_index(byte_index), .bit_start(bit_start), .tx_byte(rb_tx), .rd_req(rd_req),
         .rd_addr(rd_addr), .rd_ack(rd_ack), .rd_valid(rd_valid), .rd_data(rd_data),
         .underrun(underrun)

@@ -24,13 +24,16 @@ module tb_spi;
     reg spi_sck = 1'b0, spi_cs_n = 1'b1, spi_mosi = 1'b0;
     wire spi_miso;
     wire cs_start, cs_end, cs_partial, rx_valid, tx_load, bit_start;
-    wire [7:0] rx_byte, rx_index, byte_index;
+    wire [7:0] rx_byte, byte_index;
+    // a completed byte's position: byte_index of the cycle before rx_valid
+    reg  [7:0] rx_index = 8'd0;
+    always @(posedge clk) rx_index <= byte_index;
     wire [7:0] tx_byte = (byte_index == 8'd0) ? 8'd0 : byte_index * 8'd37 + 8'd5;
 
     spi_slave dut (
         .clk(clk), .rst(rst), .spi_sck(spi_sck), .spi_cs_n(spi_cs_n), .spi_mosi(spi_mosi),
         .spi_miso(spi_miso), .cs_start(cs_start), .cs_end(cs_end), .cs_partial(cs_partial),
-        .rx_valid(rx_valid), .rx_byte(rx_byte), .rx_index(rx_index), .byte_index(byte_index),
+        .rx_valid(rx_valid), .rx_byte(rx_byte), .byte_index(byte_index),
         .tx_load(tx_load), .tx_byte(tx_byte), .bit_start(bit_start)
     );
 
