@@ -32,8 +32,9 @@ verilator --lint-only -Wall -Irtl -GTRI_UNIT=0 rtl/*.v --top-module fitkit_raste
 verilator --lint-only -Wall -Irtl -GLINE_UNIT=0 rtl/*.v --top-module fitkit_raster
 verilator --lint-only -Wall -Irtl -GLINE_UNIT=0 -GTRI_SMALL=1 rtl/*.v --top-module fitkit_raster
 verilator --lint-only -Wall -Irtl -GTRI_SMALL=1 rtl/*.v --top-module fitkit_raster
-verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top_line
-verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top_tri
+verilator --lint-only -Wall -Irtl -GTRI_UNIT=0 rtl/*.v sim/*.v --top-module fitkit_sim_top
+verilator --lint-only -Wall -Irtl -GLINE_UNIT=0 -GTRI_SMALL=1 rtl/*.v sim/*.v \
+    --top-module fitkit_sim_top
 # a parameter outside what the block builds stops the build, naming the rule
 for bad in -GTRI_LANES=3 -GTRI_UNIT=2 "-GLINE_UNIT=0 -GTRI_UNIT=0" "-GTRI_SMALL=1 -GTRI_LANES=8"; do
     # shellcheck disable=SC2086 # $bad is one or two -G options

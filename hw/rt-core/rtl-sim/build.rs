@@ -9,7 +9,10 @@ use std::path::PathBuf;
 fn main() {
     let manifest = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("set by cargo"));
     verilate::Model {
-        tops: &["rt_math_top", "rt_isect", "rt_cast", "rt_device"],
+        tops: ["rt_math_top", "rt_isect", "rt_cast", "rt_device"]
+            .into_iter()
+            .map(verilate::Top::plain)
+            .collect(),
         rtl: manifest.join("../rtl"),
         rtl_override: "FPGFX_RT_RTL_DIR",
         sim: vec![manifest.join("../sim")],

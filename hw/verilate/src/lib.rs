@@ -19,12 +19,35 @@ use std::process::Command;
 /// is missing, so installing it triggers the rebuild the crate's error message asks for.
 const DEBIAN_VERILATOR: &str = "/usr/bin/verilator";
 
+/// One Verilated model: a sim top's module with parameters, under a class name of its
+/// own, so one top built with several parameter sets needs no wrapper module per set.
+#[derive(Debug, Clone)]
+pub struct Top<'a> {
+    /// The C++ class, less its `V` (Verilator's `--prefix`): what the shim includes.
+    pub class: &'a str,
+    /// The top module (`module <module>` must be in one of the sources).
+    pub module: &'a str,
+    /// Its parameters (Verilator's `-G<name>=<value>`).
+    pub params: Vec<(&'a str, u32)>,
+}
+
+impl<'a> Top<'a> {
+    /// A top built as written: its class is its module's name.
+    pub fn plain(module: &'a str) -> Self {
+        Top {
+            class: module,
+            module,
+            params: Vec::new(),
+        }
+    }
+}
+
 /// What to Verilate and what to call the result: one or more sim tops of one block, each
-/// its own Verilated model (class `V<top>`), in one library with one copy of Verilator's
+/// its own Verilated model (class `V<class>`), in one library with one copy of Verilator's
 /// runtime.
 pub struct Model<'a> {
-    /// The sim tops (each `module <top>` must be in one of the sources).
-    pub tops: &'a [&'a str],
+    /// The sim tops.
+    pub tops: Vec<Top<'a>>,
     /// The synthesisable folder (its `*.v`, and its headers on the include path).
     pub rtl: PathBuf,
     /// An environment variable that, when set, replaces `rtl` (a scratch copy with a
@@ -64,9 +87,9 @@ impl Model<'_> {
         };
         println!("cargo::rerun-if-changed={}", verilator.display());
         let has_tops = self.tops.iter().all(|top| {
-            sources
-                .iter()
-                .any(|p| fs::read_to_string(p).is_ok_and(|t| t.contains(&format!("module {top}"))))
+            sources.iter().any(|p| {
+                fs::read_to_string(p).is_ok_and(|t| t.contains(&format!("module {}", top.module)))
+            })
         });
         if !has_tops {
             missing("rtl");
@@ -76,7 +99,11 @@ impl Model<'_> {
         let verilated = out.join("verilated");
         // A stale tree would leave classes of removed modules to be compiled.
         let _ = fs::remove_dir_all(&verilated);
-        let mdirs: Vec<PathBuf> = self.tops.iter().map(|top| verilated.join(top)).collect();
+        let mdirs: Vec<PathBuf> = self
+            .tops
+            .iter()
+            .map(|top| verilated.join(top.class))
+            .collect();
         for (top, mdir) in self.tops.iter().zip(&mdirs) {
             // Verilator makes its own folder but not the one above it
             fs::create_dir_all(mdir).unwrap_or_else(|e| panic!("{}: {e}", mdir.display()));
@@ -97,7 +124,14 @@ impl Model<'_> {
                 } else {
                     &[][..]
                 })
-                .args(["--top-module", top, "-Wno-fatal", "--Mdir"])
+                .args(["--top-module", top.module, "--prefix"])
+                .arg(format!("V{}", top.class))
+                .args(
+                    top.params
+                        .iter()
+                        .map(|(name, value)| format!("-G{name}={value}")),
+                )
+                .args(["-Wno-fatal", "--Mdir"])
                 .arg(mdir)
                 // The modules include headers that sit beside them (a generated map), so a
                 // scratch copy of the folder brings its own.
@@ -108,11 +142,12 @@ impl Model<'_> {
             // Verilator's warnings go to a log, not to cargo's output.
             let mut text = run.stdout.clone();
             text.extend_from_slice(&run.stderr);
-            let _ = fs::write(out.join(format!("verilator-{top}.log")), &text);
+            let _ = fs::write(out.join(format!("verilator-{}.log", top.class)), &text);
             if !run.status.success() {
                 panic!(
-                    "verilator failed on {} with top {top} ({}):\n{}",
+                    "verilator failed on {} with top {} ({}):\n{}",
                     rtl.display(),
+                    top.class,
                     run.status,
                     String::from_utf8_lossy(&text)
                 );

@@ -18,8 +18,11 @@
 
 #![warn(missing_docs)]
 
+mod build_table;
 mod ffi;
 mod spi;
+
+pub use build_table::Build;
 
 pub use spi::{RtlDelay, RtlSpi, SpiConfig, SpiError, MIN_CS_HIGH, MIN_HALF_PERIOD};
 
@@ -35,57 +38,7 @@ pub const RAM_STRIDE: u32 = 512;
 /// few cycles also flush the SPI synchronisers.
 pub const RESET_CYCLES: u64 = 4;
 
-/// One Verilated build of the block: the top-level parameters of `fitkit_raster` it was
-/// built with. The crate Verilates the four of [`Build::ALL`]; each has its own sim top
-/// in `hw/fitkit-raster/sim/` (its parameters written there, once) and its place in
-/// [`Build::ALL`] is the index the shim takes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Build {
-    /// The name `cargo xtask synth` gives the same variant.
-    pub name: &'static str,
-    /// `TRI_LANES`: the triangle unit's pixel tests per cycle.
-    pub tri_lanes: u32,
-    /// `LINE_UNIT`: the block has a line unit.
-    pub line_unit: bool,
-    /// `TRI_UNIT`: the block has a triangle unit.
-    pub tri_unit: bool,
-    /// `TRI_SMALL`: the triangle unit is `tri_small` (the XC3S50's: `TRI_LANES` = 1's
-    /// pixels and cycles in fewer LUTs).
-    pub tri_small: bool,
-}
-
 impl Build {
-    /// The seed's block: both units, one pixel test per cycle (`fitkit_sim_top`).
-    pub const DEFAULT: Build = Build {
-        name: "default",
-        tri_lanes: 1,
-        line_unit: true,
-        tri_unit: true,
-        tri_small: false,
-    };
-    /// Eight pixel tests per cycle (`fitkit_sim_top8`).
-    pub const TRI_LANES_8: Build = Build {
-        name: "tri-lanes-8",
-        tri_lanes: 8,
-        ..Build::DEFAULT
-    };
-    /// Lines only, for the seed's XC3S50 (`fitkit_sim_top_line`).
-    pub const LINE: Build = Build {
-        name: "line",
-        tri_unit: false,
-        ..Build::DEFAULT
-    };
-    /// Triangles only, on the small triangle unit, for the seed's XC3S50
-    /// (`fitkit_sim_top_tri`).
-    pub const TRI: Build = Build {
-        name: "tri",
-        line_unit: false,
-        tri_small: true,
-        ..Build::DEFAULT
-    };
-    /// Every build the crate Verilates, in the shim's order.
-    pub const ALL: [Build; 4] = [Build::DEFAULT, Build::TRI_LANES_8, Build::LINE, Build::TRI];
-
     /// The build with `TRI_LANES` = `lanes` and both units, if one is Verilated.
     pub fn with_tri_lanes(lanes: u32) -> Result<Build, RtlError> {
         Build::ALL
