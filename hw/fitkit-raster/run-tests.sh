@@ -66,6 +66,7 @@ prove fitkit_spi_decoder_line spi_decoder rtl/spi_decoder.v -set TRI_UNIT 0
 prove fitkit_spi_decoder_tri spi_decoder rtl/spi_decoder.v -set LINE_UNIT 0
 prove fitkit_readback readback rtl/readback.v
 prove fitkit_status status rtl/status.v
+prove fitkit_cmd_exec cmd_exec rtl/cmd_exec.v
 # a FIFO whose COMMIT shows one record too many must fail, with its waveform
 sed 's/if (COMMIT) wr_commit <= wr_ptr;/if (COMMIT) wr_commit <= wr_ptr + 1'"'"'b1;/' \
     rtl/fifo36.v >"$BUILD/fifo36_broken.v"
@@ -115,6 +116,14 @@ if cmp -s rtl/readback.v "$BUILD/readback_broken.v"; then
     exit 1
 fi
 prove_fails fitkit_readback_broken readback "$BUILD/readback_broken.v"
+# and an executor whose pop flag stays set when a one-record packet leaves IDLE
+sed 's/                    popping <= two;/                    popping <= 1'"'"'b1;/' \
+    rtl/cmd_exec.v >"$BUILD/cmd_exec_broken.v"
+if cmp -s rtl/cmd_exec.v "$BUILD/cmd_exec_broken.v"; then
+    echo "formal: the breakage did not apply to rtl/cmd_exec.v"
+    exit 1
+fi
+prove_fails fitkit_cmd_exec_broken cmd_exec "$BUILD/cmd_exec_broken.v"
 # the triangle set-up's serial multiplier: the product after its last bit, at two shapes,
 # and one that forgets the +1 of the sign bit's negation must fail
 prove fitkit_mul_seq_a4b5 mul_seq rtl/mul_seq.v -set AW 4 -set BW 5

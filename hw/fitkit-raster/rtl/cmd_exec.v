@@ -61,13 +61,17 @@ module cmd_exec (
     localparam [8:0]   SIDE_M1  = FRAME_M1[8:0];
 
     reg [3:0]  state;
+    wire       two = (DATA_OUT[37:36] == T_LINE) | (DATA_OUT[37:36] == T_TRI);  // records
     reg [1:0]  tag;
     reg [35:0] r0;
     reg [35:9] r1;       // record 1 without the padding bits
     reg [7:0]  bg;
     reg        drawn;    // a line or triangle unit's done, one cycle late
+    // state is IDLE or GET1 (this FSM pops records), as a flip-flop of its own: FIFO_NEXT
+    // gates the input FIFO's read and output register, a unit's width away
+    reg        popping;
 
-    assign FIFO_NEXT = DATA_VLD & ((state == IDLE) | (state == GET1));
+    assign FIFO_NEXT = DATA_VLD & popping;
     assign packet    = {r0[34:0], r1[35:9]};
     assign busy      = state != IDLE;
 
@@ -81,6 +85,7 @@ module cmd_exec (
         drawn      <= ~rst & (line_done | tri_done);
         if (rst) begin
             state      <= IDLE;
+            popping    <= 1'b1;
             tag        <= 2'd0;
             r0         <= 36'd0;
             r1         <= 27'd0;
@@ -93,14 +98,15 @@ module cmd_exec (
         end else begin
             case (state)
                 IDLE: if (DATA_VLD) begin
-                    r0    <= DATA_OUT[35:0];
-                    tag   <= DATA_OUT[37:36];
-                    state <= (DATA_OUT[37:36] == T_LINE || DATA_OUT[37:36] == T_TRI) ? GET1
-                                                                                  : DISPATCH;
+                    r0      <= DATA_OUT[35:0];
+                    tag     <= DATA_OUT[37:36];
+                    state   <= two ? GET1 : DISPATCH;
+                    popping <= two;
                 end
                 GET1: if (DATA_VLD) begin
-                    r1    <= DATA_OUT[35:9];
-                    state <= DISPATCH;
+                    r1      <= DATA_OUT[35:9];
+                    state   <= DISPATCH;
+                    popping <= 1'b0;
                 end
                 DISPATCH: begin
                     case (tag)
@@ -136,6 +142,7 @@ module cmd_exec (
                     setup_done <= 1'b1;
                     any_done   <= 1'b1;
                     state      <= IDLE;
+                    popping    <= 1'b1;
                 end
                 WAIT_CB: if (clr_done) state <= DRAW;
                 DRAW: begin
@@ -147,15 +154,33 @@ module cmd_exec (
                     pkt_done <= 1'b1;
                     any_done <= 1'b1;
                     state    <= IDLE;
+                    popping  <= 1'b1;
                 end
                 WAIT_CLR: if (clr_done) begin
                     pkt_done <= 1'b1;
                     any_done <= 1'b1;
                     state    <= IDLE;
+                    popping  <= 1'b1;
                 end
-                default: state <= IDLE;
+                default: begin
+                    state   <= IDLE;
+                    popping <= 1'b1;
+                end
             endcase
         end
     end
+
+`ifdef FORMAL
+    // From the first reset on, the pop flag is the state's decode, whatever the FIFO and
+    // the units do (every input is free), and the state is one of the FSM's.
+    reg reset_seen = 1'b0;
+    always @(posedge clk) if (rst) reset_seen <= 1'b1;
+    always @(*) begin
+        if (reset_seen) begin
+            assert (popping == ((state == IDLE) | (state == GET1)));
+            assert (state <= WAIT_CLR);
+        end
+    end
+`endif
 endmodule
 `default_nettype wire

@@ -138,8 +138,9 @@ module readback (
                 // slave's strobe reaches skip through no carry chain
                 if (!none_owed) begin
                     skip <= (miss == arrive) ? skip : miss ? skip_up : skip_dn;
-                    // whether the new count is not 0, from the old one's value
-                    owed <= (miss == arrive) ? owed : miss ? (skip_up != 18'd0)
+                    // whether the new count is not 0, from the old one's value (compares
+                    // of the register, no sum in the way)
+                    owed <= (miss == arrive) ? owed : miss ? (skip != 18'h3FFFF)
                                                            : (skip != 18'd1);
                 end
                 if (active && bit_start && missing) begin
