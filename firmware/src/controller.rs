@@ -5,6 +5,9 @@
 //! so the host never sends a request the controller has no room for, and the engine only
 //! pushes FIFO records the FPGA says it has room for. Nothing is dropped for lack of space.
 
+use core::mem::MaybeUninit;
+use core::ptr::addr_of_mut;
+
 use embedded_io::{Read, ReadReady, Write};
 use heapless::Deque;
 use protocol::bus::BusLayout;
@@ -16,8 +19,19 @@ use crate::engine::Engine;
 use crate::fpga::FpgaBus;
 
 /// Requests the controller buffers between the link and the engine. Each slot holds a
-/// whole [`HostFrame`] (about 1.3 KiB for a raster batch), so four cost ~5 KiB of RAM.
+/// request as received (at most [`MAX_PAYLOAD`] bytes; decoded it would be a
+/// [`HostFrame`], about 1.3 KiB for a raster batch), so four cost ~1 KiB of RAM.
+/// The default of [`Controller`]'s `INBOX` parameter; a board short of RAM (the MSP430)
+/// picks fewer with [`Controller::sized`].
 pub const INBOX: usize = 4;
+
+/// Frames in flight each way on the host link: the default of [`Controller`]'s `WINDOW`
+/// parameter, the window [`Link`] has by default.
+pub const WINDOW: usize = 8;
+
+/// Ray-tracer registers the engine mirrors: the default of [`Controller`]'s `SHADOW`
+/// parameter (see [`Engine`]).
+pub const SHADOW: usize = crate::engine::SHADOW_WORDS;
 
 /// What stopped the controller: only transport failures; protocol errors are answered.
 // Exhaustive on purpose: one variant per transport parameter, so a caller whose host link
@@ -34,16 +48,29 @@ pub enum ControllerError<H, B> {
 }
 
 /// The controller: host link `H`, FPGA bus `B`.
-pub struct Controller<H, B: FpgaBus> {
+///
+/// The const parameters size its RAM, so that one program serves a 128 KiB Cortex-M4 and
+/// an 8 KiB MSP430: `INBOX` requests queued (the credit the link advertises, and
+/// [`Caps::queue_depth`] should say the same), a link `WINDOW` (a power of two, 4..=128:
+/// each slot holds a [`MAX_PAYLOAD`] frame each way) and `SHADOW` mirrored ray-tracer
+/// registers (0 for a board without a ray tracer, which refuses animation steps).
+pub struct Controller<
+    H,
+    B: FpgaBus,
+    const INBOX: usize = { crate::controller::INBOX },
+    const WINDOW: usize = { crate::controller::WINDOW },
+    const SHADOW: usize = { crate::controller::SHADOW },
+> {
     host: H,
-    link: Link,
-    engine: Engine<B>,
-    inbox: Deque<(u16, HostFrame), INBOX>,
+    link: Link<WINDOW>,
+    engine: Engine<B, SHADOW>,
+    /// Requests as received (postcard bytes), decoded one at a time when handled.
+    inbox: Deque<(u16, heapless::Vec<u8, MAX_PAYLOAD>), INBOX>,
     /// Sequence number the next delivered request gets in error reports: the link
     /// delivers in order, so this counts the link's data frames.
     next_seq: u16,
-    /// Requests refused before the engine saw them (undecodable, or sent without credit),
-    /// answered in order with the rest.
+    /// Requests refused before the engine saw them (sent without credit), answered
+    /// before the queued ones.
     malformed: Deque<(u16, ErrorCode), INBOX>,
     /// An encoded answer the link has not accepted yet (window full or no credit).
     outgoing: heapless::Vec<u8, MAX_PAYLOAD>,
@@ -55,7 +82,7 @@ where
     B: FpgaBus,
 {
     /// A controller for a target with capabilities `caps` whose raster block reads
-    /// `layout` records.
+    /// `layout` records, with the default sizes ([`INBOX`], [`WINDOW`], [`SHADOW`]).
     pub fn new(
         host: H,
         bus: B,
@@ -63,6 +90,31 @@ where
         layout: &'static BusLayout,
         ident: &'static str,
     ) -> Self {
+        Self::sized(host, bus, caps, layout, ident)
+    }
+}
+
+impl<H, B, const INBOX: usize, const WINDOW: usize, const SHADOW: usize>
+    Controller<H, B, INBOX, WINDOW, SHADOW>
+where
+    H: Read + ReadReady + Write,
+    B: FpgaBus,
+{
+    // The free slots are the link's credit, a byte; an empty inbox could never take a
+    // request.
+    const INBOX_OK: () = assert!(INBOX >= 1 && INBOX <= 255, "INBOX must be in 1..=255");
+
+    /// [`Controller::new`] with the sizes its type names: how a board with little RAM
+    /// picks a shorter inbox, a narrower window or no register shadow.
+    pub fn sized(
+        host: H,
+        bus: B,
+        caps: Caps,
+        layout: &'static BusLayout,
+        ident: &'static str,
+    ) -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::INBOX_OK;
         let config = Config {
             rx_credit: INBOX as u8,
             ..Config::default()
@@ -78,6 +130,40 @@ where
         }
     }
 
+    /// [`Controller::sized`] built where it will live: a board whose RAM is little more
+    /// than the controller (the MSP430's 8 KiB) cannot afford the controller-sized
+    /// temporary and copy that moving a returned value into a `static` costs. Each field
+    /// is written in place; the largest temporary is then the link.
+    pub fn init_in<'a>(
+        slot: &'a mut MaybeUninit<Self>,
+        host: H,
+        bus: B,
+        caps: Caps,
+        layout: &'static BusLayout,
+        ident: &'static str,
+    ) -> &'a mut Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::INBOX_OK;
+        let config = Config {
+            rx_credit: INBOX as u8,
+            ..Config::default()
+        };
+        let p = slot.as_mut_ptr();
+        // SAFETY: `p` points to writable memory for a `Self`; every field is written
+        // exactly once through a raw pointer (no reference to uninitialised memory is
+        // made) before the slot is assumed initialised.
+        unsafe {
+            addr_of_mut!((*p).host).write(host);
+            addr_of_mut!((*p).link).write(Link::new(config));
+            addr_of_mut!((*p).engine).write(Engine::new(bus, caps, layout, ident));
+            addr_of_mut!((*p).inbox).write(Deque::new());
+            addr_of_mut!((*p).next_seq).write(0);
+            addr_of_mut!((*p).malformed).write(Deque::new());
+            addr_of_mut!((*p).outgoing).write(heapless::Vec::new());
+            slot.assume_init_mut()
+        }
+    }
+
     /// The host link, e.g. to plug a new connection into a socket-backed one.
     pub fn host(&mut self) -> &mut H {
         &mut self.host
@@ -85,7 +171,7 @@ where
 
     /// The engine: the way to its bus (a board reconnects its FPGA link through it) and
     /// to whether a host has shaken hands.
-    pub fn engine(&mut self) -> &mut Engine<B> {
+    pub fn engine(&mut self) -> &mut Engine<B, SHADOW> {
         &mut self.engine
     }
 
@@ -97,14 +183,8 @@ where
         if self.engine.ready() {
             if let Some((seq, code)) = self.malformed.pop_front() {
                 self.engine.refuse(code, seq, 0);
-            } else if let Some((seq, frame)) = self.inbox.pop_front() {
-                let link = self.link.counters();
-                if let Err(e) = self.engine.handle(seq, &frame, link) {
-                    // The host gets an answer (sent on the next poll) and the caller the
-                    // transport's error, to log it and decide whether to reset the FPGA.
-                    self.engine.refuse(ErrorCode::Device, seq, 0);
-                    return Err(ControllerError::Fpga(e));
-                }
+            } else {
+                self.handle_next()?;
             }
         }
         let free = (INBOX - self.inbox.len() - self.malformed.len()) as u8;
@@ -115,6 +195,36 @@ where
         self.transmit(now_ms)
     }
 
+    /// Decodes and handles the oldest queued request, if any.
+    // Not inlined, like `receive`: the decoded frame and the engine's answers would
+    // otherwise share `poll`'s frame with every other step's buffers.
+    #[inline(never)]
+    fn handle_next(&mut self) -> Result<(), ControllerError<H::Error, B::Error>> {
+        let Some((seq, bytes)) = self.inbox.front() else {
+            return Ok(());
+        };
+        let seq = *seq;
+        let link = self.link.counters();
+        let handled = match decode::<HostFrame>(bytes) {
+            Ok(frame) => self.engine.handle(seq, &frame, link),
+            Err(_) => {
+                self.engine.refuse(ErrorCode::Malformed, seq, 0);
+                Ok(())
+            }
+        };
+        self.inbox.pop_front();
+        handled.map_err(|e| {
+            // The host gets an answer (sent on the next poll) and the caller the
+            // transport's error, to log it and decide whether to reset the FPGA.
+            self.engine.refuse(ErrorCode::Device, seq, 0);
+            ControllerError::Fpga(e)
+        })
+    }
+
+    // Not inlined, like `handle_next`, `send` and `transmit`: inlined into `poll`, their
+    // buffers and the decoded request add up instead of taking turns. On the MSP430 (8 KiB
+    // of RAM) that was 5.2 KB of stack in one frame; apart, the deepest path is 6.2 KB.
+    #[inline(never)]
     fn receive(&mut self, now_ms: u64) -> Result<(), ControllerError<H::Error, B::Error>> {
         let mut buf = [0u8; 64];
         let n = if self.host.read_ready().map_err(ControllerError::Host)? {
@@ -130,17 +240,15 @@ where
                 Some(Event::Data(payload)) => {
                     let seq = self.next_seq;
                     self.next_seq = self.next_seq.wrapping_add(1);
-                    match decode::<HostFrame>(payload) {
-                        // Credit kept the inbox from filling; a peer that ignores it
-                        // gets its request refused, not silently dropped.
-                        Ok(frame) => {
-                            if self.inbox.push_back((seq, frame)).is_err() {
-                                let _ = self.malformed.push_back((seq, ErrorCode::BadState));
-                            }
-                        }
-                        Err(_) => {
-                            let _ = self.malformed.push_back((seq, ErrorCode::Malformed));
-                        }
+                    // Kept as received, decoded when handled: a slot then costs the
+                    // payload's bytes, not a decoded `HostFrame`'s (four times as many),
+                    // and no decoded frame is copied through this function's stack. The
+                    // link never delivers more than MAX_PAYLOAD bytes.
+                    let bytes = heapless::Vec::from_slice(payload).unwrap_or_default();
+                    // Credit kept the inbox from filling; a peer that ignores it gets its
+                    // request refused, not silently dropped.
+                    if self.inbox.push_back((seq, bytes)).is_err() {
+                        let _ = self.malformed.push_back((seq, ErrorCode::BadState));
                     }
                 }
                 Some(Event::PeerReset { discarded }) => {
@@ -160,6 +268,7 @@ where
         Ok(())
     }
 
+    #[inline(never)]
     fn send(&mut self, now_ms: u64) -> Result<(), ControllerError<H::Error, B::Error>> {
         loop {
             if self.outgoing.is_empty() {
@@ -182,6 +291,7 @@ where
         }
     }
 
+    #[inline(never)]
     fn transmit(&mut self, now_ms: u64) -> Result<(), ControllerError<H::Error, B::Error>> {
         let mut out = [0u8; MAX_FRAME];
         while let Some(n) = self.link.poll_transmit(now_ms, &mut out) {

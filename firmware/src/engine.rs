@@ -35,7 +35,7 @@ struct ReadJob {
 /// The controller's message semantics over an [`FpgaBus`]. Only the [`crate::Controller`]
 /// drives it; callers reach it through [`crate::Controller::engine`] to get at the bus (a
 /// board reconnects its FPGA link that way) or to see whether a host has shaken hands.
-pub struct Engine<B: FpgaBus> {
+pub struct Engine<B: FpgaBus, const SHADOW: usize = SHADOW_WORDS> {
     bus: B,
     caps: Caps,
     layout: &'static BusLayout,
@@ -47,7 +47,7 @@ pub struct Engine<B: FpgaBus> {
     counters: DeviceCounters,
     /// What the ray tracer's registers hold, so an animation step can compute the next
     /// value of a register without reading it back over the bus.
-    shadow: [u32; SHADOW_WORDS],
+    shadow: [u32; SHADOW],
     /// The frame to start again when one is done (ViRAY's auto-restart).
     auto: Option<StartFrame>,
     animation: Animation,
@@ -57,10 +57,12 @@ pub struct Engine<B: FpgaBus> {
 }
 
 /// Ray-tracer registers mirrored in the controller (2 KiB): the whole map for the
-/// default 8 objects and 2 lights, with room to spare.
-const SHADOW_WORDS: usize = 512;
+/// default 8 objects and 2 lights, with room to spare. A board without a ray tracer
+/// mirrors none (`SHADOW` = 0): its animation steps are refused like those on a binary32
+/// image, since nothing says the registers hold Q16.16.
+pub(crate) const SHADOW_WORDS: usize = 512;
 
-impl<B: FpgaBus> Engine<B> {
+impl<B: FpgaBus, const SHADOW: usize> Engine<B, SHADOW> {
     /// An engine for a target with these capabilities whose raster block reads records in
     /// `layout`. `ident` goes into the hello ("fpgfx-firmware 0.1.0 stm32f405").
     pub(crate) fn new(
@@ -81,7 +83,7 @@ impl<B: FpgaBus> Engine<B> {
             outbox: Deque::new(),
             read: None,
             counters: DeviceCounters::default(),
-            shadow: [0; SHADOW_WORDS],
+            shadow: [0; SHADOW],
             auto: None,
             animation: Animation::default(),
             running: 0,
@@ -131,6 +133,9 @@ impl<B: FpgaBus> Engine<B> {
     /// Handles one request. `seq` identifies it in error answers; `link` is the
     /// controller's link counters, reported by [`HostFrame::GetStats`].
     /// Returns an error only when the FPGA transport itself fails.
+    // Not inlined: its answers' temporaries and the caller's decoded request would share
+    // one stack frame (several KB on the MSP430, whose RAM is 8 KiB).
+    #[inline(never)]
     pub(crate) fn handle(
         &mut self,
         seq: u16,
@@ -168,8 +173,8 @@ impl<B: FpgaBus> Engine<B> {
                 } else {
                     self.bus.write_regs(r.offset, &r.words)?;
                     self.counters.bus_words += r.words.len() as u32;
-                    let start = usize::from(r.offset).min(SHADOW_WORDS);
-                    let end = (start + r.words.len()).min(SHADOW_WORDS);
+                    let start = usize::from(r.offset).min(SHADOW);
+                    let end = (start + r.words.len()).min(SHADOW);
                     self.shadow[start..end].copy_from_slice(&r.words[..end - start]);
                 }
             }
@@ -201,7 +206,7 @@ impl<B: FpgaBus> Engine<B> {
                 // The steps add and rotate Q16.16 words; on a binary32 image they would
                 // write other numbers than the host asked for, so they are refused.
                 let format = hdr::VALUE_FORMAT;
-                let fixed = self.shadow[format] == ValueFormat::Q16_16.code();
+                let fixed = self.shadow.get(format) == Some(&ValueFormat::Q16_16.code());
                 let animates = !a.ramps.is_empty() || !a.orbits.is_empty();
                 match bad {
                     Some(i) => self.error(ErrorCode::OutOfRange, seq, i as u32),
@@ -241,7 +246,7 @@ impl<B: FpgaBus> Engine<B> {
                 self.auto = None;
                 self.animation = Animation::default();
                 self.running = 0;
-                self.shadow = [0; SHADOW_WORDS];
+                self.shadow = [0; SHADOW];
                 self.setup = None;
                 self.read = None;
                 self.outbox.clear();
@@ -265,7 +270,7 @@ impl<B: FpgaBus> Engine<B> {
         for i in 0..self.animation.ramps.len() {
             let r = self.animation.ramps[i];
             let reg = usize::from(r.reg);
-            if reg < SHADOW_WORDS {
+            if reg < SHADOW {
                 self.shadow[reg] = r.apply(self.shadow[reg]);
                 self.bus.write_regs(r.reg, &[self.shadow[reg]])?;
             }
@@ -273,7 +278,7 @@ impl<B: FpgaBus> Engine<B> {
         for i in 0..self.animation.orbits.len() {
             let o = self.animation.orbits[i];
             let (xr, zr) = (usize::from(o.x_reg), usize::from(o.z_reg));
-            if xr < SHADOW_WORDS && zr < SHADOW_WORDS {
+            if xr < SHADOW && zr < SHADOW {
                 let (x, z) = o.apply(self.shadow[xr], self.shadow[zr]);
                 self.shadow[xr] = x;
                 self.shadow[zr] = z;

@@ -28,7 +28,7 @@ mod log;
 mod mmio;
 
 pub use canvas::{Accelerated, Canvas, CanvasCounters, CanvasError};
-pub use controller::{Controller, ControllerError, INBOX};
+pub use controller::{Controller, ControllerError, INBOX, SHADOW, WINDOW};
 pub use engine::Engine;
 pub use fitkit_spi::{FitkitSpi, FitkitSpiError};
 pub use fpga::FpgaBus;
