@@ -10,10 +10,24 @@ fn main() {
         .map(std::path::Path::to_path_buf)
         .unwrap_or_default();
     println!("cargo:rustc-link-search={}", root.display());
-    for script in ["memory.x", "memory-microblaze-v.x"] {
+    for script in [
+        "memory.x",
+        "memory-microblaze-v.x",
+        "msp430.x",
+        "msp430f168.x",
+        "msp430f2617.x",
+        "msp430sim.x",
+    ] {
         println!("cargo:rerun-if-changed={}", root.join(script).display());
     }
     println!("cargo:rerun-if-env-changed=FPGFX_CORE_HZ");
+    println!("cargo:rerun-if-env-changed=FPGFX_MSP430_PART");
+    // The MSP430 binary has its own start-up and no defmt: only its part's memory map,
+    // the F168 (the FITkit's) unless FPGFX_MSP430_PART=f2617 asks for the fallback part.
+    if std::env::var_os("CARGO_FEATURE_BOARD_MSP430").is_some() {
+        let part = std::env::var("FPGFX_MSP430_PART").unwrap_or_else(|_| "f168".into());
+        println!("cargo:rustc-link-arg-bin=fpgfx-firmware-msp430=-Tmsp430{part}.x");
+    }
     let boards = [
         (
             "CARGO_FEATURE_BOARD_STM32",
