@@ -11,7 +11,7 @@ use core::ptr::addr_of_mut;
 use embedded_io::{Read, ReadReady, Write};
 use heapless::Deque;
 use protocol::bus::BusLayout;
-use protocol::frame::{decode, encode, Caps, ErrorCode, HostFrame};
+use protocol::frame::{decode, encode, Caps, ErrorCode, Request};
 use protocol::link::{Config, Event, Link, MAX_FRAME};
 use protocol::MAX_PAYLOAD;
 
@@ -205,8 +205,10 @@ where
         };
         let seq = *seq;
         let link = self.link.counters();
-        let handled = match decode::<HostFrame>(bytes) {
-            Ok(frame) => self.engine.handle(seq, &frame, link),
+        // A `Request`, not a `HostFrame`: a raster batch is checked but stays in `bytes`,
+        // so the decoded value is a texture chunk's size, not eight commands'.
+        let handled = match decode::<Request>(bytes) {
+            Ok(frame) => self.engine.handle(seq, &frame, bytes, link),
             Err(_) => {
                 self.engine.refuse(ErrorCode::Malformed, seq, 0);
                 Ok(())

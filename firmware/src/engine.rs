@@ -8,8 +8,9 @@ use heapless::{Deque, Vec};
 
 use protocol::bus::{BusError, BusLayout, PackOptions};
 use protocol::frame::{
-    Animation, Block, Caps, DeviceCounters, DeviceFrame, ErrorCode, ErrorReport, Hello, HostFrame,
-    LinkCounters, ReadChunk, ReadDone, ReadRequest, StartFrame, Stats, READ_CHUNK,
+    raster_commands, Animation, Block, Caps, DeviceCounters, DeviceFrame, ErrorCode, ErrorReport,
+    Hello, HostFrame, LinkCounters, ReadChunk, ReadDone, ReadRequest, Request, StartFrame, Stats,
+    READ_CHUNK,
 };
 use protocol::link::{Crc32Digest, CRC32};
 use protocol::raster::{RasterCmd, RasterSetup};
@@ -17,9 +18,12 @@ use protocol::scene::{hdr, ValueFormat};
 
 use crate::fpga::{push_command, FpgaBus, PushError};
 
-/// Answers waiting for the link. Each request produces at most two (an error, or a hello,
-/// a stats or a synced answer), so four never overflow between two polls.
-const OUTBOX: usize = 4;
+/// Answers waiting for the link. A request is handled only once the outbox is empty
+/// ([`Engine::ready`]) and queues at most two (a hello and a handshake error; otherwise
+/// one error, stats or synced answer, or a device error after a failed bus call), and a
+/// read-back's error is queued only when the outbox is empty, so two never overflow. Each
+/// slot is a decoded `DeviceFrame` (232 B on the MSP430), which is why it is not four.
+const OUTBOX: usize = 2;
 
 /// A read-back in progress: streamed one chunk per poll so that it never needs a buffer
 /// the size of the framebuffer, and interleaves with other traffic.
@@ -130,8 +134,10 @@ impl<B: FpgaBus, const SHADOW: usize> Engine<B, SHADOW> {
         self.outbox.is_empty()
     }
 
-    /// Handles one request. `seq` identifies it in error answers; `link` is the
-    /// controller's link counters, reported by [`HostFrame::GetStats`].
+    /// Handles one request: `frame` decoded from `payload`, the bytes as received, where
+    /// a raster batch's commands still are (a [`Request`] checks them but does not hold
+    /// them). `seq` identifies it in error answers; `link` is the controller's link
+    /// counters, reported by [`HostFrame::GetStats`].
     /// Returns an error only when the FPGA transport itself fails.
     // Not inlined: its answers' temporaries and the caller's decoded request would share
     // one stack frame (several KB on the MSP430, whose RAM is 8 KiB).
@@ -139,7 +145,8 @@ impl<B: FpgaBus, const SHADOW: usize> Engine<B, SHADOW> {
     pub(crate) fn handle(
         &mut self,
         seq: u16,
-        frame: &HostFrame,
+        frame: &Request,
+        payload: &[u8],
         link: LinkCounters,
     ) -> Result<(), B::Error> {
         if let HostFrame::Hello(peer) = frame {
@@ -152,7 +159,7 @@ impl<B: FpgaBus, const SHADOW: usize> Engine<B, SHADOW> {
         match frame {
             HostFrame::Hello(_) => {}
             HostFrame::RasterSetup(setup) => self.raster_setup(seq, setup)?,
-            HostFrame::Raster(cmds) => self.raster(seq, cmds)?,
+            HostFrame::Raster(_) => self.raster(seq, payload)?,
             HostFrame::Texture(t) => {
                 let words = (t.data.len() / 4) as u64;
                 if t.data.len() % 4 != 0 {
@@ -342,12 +349,24 @@ impl<B: FpgaBus, const SHADOW: usize> Engine<B, SHADOW> {
         Ok(())
     }
 
-    fn raster(&mut self, seq: u16, cmds: &[RasterCmd]) -> Result<(), B::Error> {
+    /// Pushes the raster batch in `payload` (decoded as a [`Request`], so every command
+    /// is known to decode), one command on the stack at a time.
+    fn raster(&mut self, seq: u16, payload: &[u8]) -> Result<(), B::Error> {
         let Some(setup) = self.setup else {
             self.error(ErrorCode::BadState, seq, 0);
             return Ok(());
         };
-        for (i, cmd) in cmds.iter().enumerate() {
+        let Ok(cmds) = raster_commands(payload) else {
+            self.error(ErrorCode::Malformed, seq, 0);
+            return Ok(());
+        };
+        for (i, cmd) in cmds.enumerate() {
+            // The request decoded, so this cannot fail; if it did, the batch stops here.
+            let Ok(cmd) = cmd else {
+                self.error(ErrorCode::Malformed, seq, i as u32);
+                return Ok(());
+            };
+            let cmd = &cmd;
             // The one value the packer cannot judge: a seed must lie in this frame's
             // framebuffer, or the FPGA's fill unit would fault.
             if let RasterCmd::Fill(f) = cmd {

@@ -482,18 +482,24 @@ pub struct ReadRequest {
 }
 
 /// Messages from the host to the controller.
+///
+/// `R` is how a [`HostFrame::Raster`] batch is held once decoded: by default the commands
+/// themselves, which is what the host builds and tests compare; a controller decodes a
+/// [`Request`] instead (`R` = [`CheckedBatch`]), whose batch stays in the payload, so
+/// that a decoded request never holds eight commands at once. Every other variant, and
+/// the encoding, is the same type either way, so the two cannot drift apart.
 // No alloc means no boxing: the largest variant (a full raster batch, ~1.3 KiB) sets the
-// size of the controller's single receive slot, which is bounded and accounted for.
+// size of the decoded message; a controller avoids it with `Request`.
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Schema)]
-pub enum HostFrame {
+pub enum HostFrame<R = Vec<RasterCmd, RASTER_BATCH>> {
     /// Must come first: the controller refuses every other request with
     /// [`ErrorCode::Handshake`] until a hello's version and schema hash agree with its own.
     Hello(Hello),
     /// Frame-wide raster state.
     RasterSetup(RasterSetup),
     /// A batch of raster commands, executed in order.
-    Raster(Vec<RasterCmd, RASTER_BATCH>),
+    Raster(R),
     /// Texel data for the shared texture memory.
     Texture(TextureWrite),
     /// Ray-tracer register writes.
@@ -513,6 +519,53 @@ pub enum HostFrame {
     Reset,
     /// Set what changes between auto-restarted frames.
     Animate(Animation),
+}
+
+/// A [`HostFrame`] as a controller decodes it: a raster batch is checked (every command
+/// decodes, at most [`RASTER_BATCH`] of them, nothing trails) but left in the payload,
+/// to be walked one command at a time with [`raster_commands`]. A decoded `HostFrame`
+/// is the size of its largest variant, the batch (1 076 B on a 16-bit MCU); a `Request`
+/// is that of the next largest (a texture chunk), and decoding it builds one command at
+/// a time instead of the whole batch. On the MSP430, whose RAM is 8 KiB, that is the
+/// difference between fitting and not (docs/firmware.md, "MSP430").
+pub type Request = HostFrame<CheckedBatch>;
+
+/// The raster batch of a decoded [`Request`]: its command count, the commands checked
+/// and left in the payload ([`raster_commands`] walks them). Decoding fails exactly where
+/// decoding the commands themselves would: a malformed command, or more than
+/// [`RASTER_BATCH`] of them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CheckedBatch {
+    /// Commands in the batch.
+    pub count: u8,
+}
+
+impl<'de> Deserialize<'de> for CheckedBatch {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        /// Walks the sequence, one command on the stack at a time.
+        struct Walk;
+        impl<'de> serde::de::Visitor<'de> for Walk {
+            type Value = CheckedBatch;
+            fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
+                f.write_str("a raster batch")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<CheckedBatch, A::Error> {
+                let mut count = 0usize;
+                while seq.next_element::<RasterCmd>()?.is_some() {
+                    count += 1;
+                    // As heapless's Vec<_, RASTER_BATCH> refuses a longer sequence.
+                    if count > RASTER_BATCH {
+                        return Err(serde::de::Error::invalid_length(count, &self));
+                    }
+                }
+                Ok(CheckedBatch { count: count as u8 })
+            }
+        }
+        d.deserialize_seq(Walk)
+    }
 }
 
 /// Counters kept by each end of a [`crate::link`].

@@ -92,7 +92,7 @@ fn wire_cost_gap(regs: &Regs, gap: usize) -> WireCost {
     for (seq, w) in diff_with_gap(&empty, regs, gap).enumerate() {
         c.words += w.words.len();
         c.writes += 1;
-        let msg = HostFrame::Regs(w);
+        let msg: HostFrame = HostFrame::Regs(w);
         if let Ok(p) = encode(&msg, &mut payload) {
             let header = Header {
                 kind: Kind::Data,

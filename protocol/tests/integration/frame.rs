@@ -473,7 +473,7 @@ fn worst_case_messages_fit_a_frame() {
         assert_eq!(len, msg.as_bytes().len());
         assert!(len <= MAX_PAYLOAD, "{cmd:?}: {len}");
     }
-    let big = [
+    let big: [HostFrame; 4] = [
         HostFrame::Regs(RegWrite {
             offset: u16::MAX,
             words: Vec::from_slice(&[u32::MAX; REG_WRITE_WORDS]).expect("cap"),

@@ -8,7 +8,7 @@
 //! random bytes almost never reach.
 
 use proptest::prelude::*;
-use protocol::frame::{decode, raster_commands, HostFrame, RasterBatcher};
+use protocol::frame::{decode, raster_commands, HostFrame, RasterBatcher, Request};
 use protocol::link::{decode_frame, encode_frame, Config, Event, Header, Kind, Link, MAX_FRAME};
 use protocol::raster::{RasterCmd, Rgb};
 use protocol::MAX_PAYLOAD;
@@ -133,7 +133,9 @@ proptest! {
 
     /// A damaged message payload (a valid `HostFrame::Raster` batch, then damaged) gives
     /// a message or an error; the in-place batch walker gives at most the announced
-    /// number of commands plus one error, never a panic or an endless iteration.
+    /// number of commands plus one error, never a panic or an endless iteration. A
+    /// controller's [`Request`] accepts exactly the payloads a `HostFrame` does, and its
+    /// checked batch walks to the same commands.
     #[test]
     fn damaged_batches_decode_or_fail(
         cmds in proptest::collection::vec(raster_cmd(), 1..8),
@@ -148,7 +150,14 @@ proptest! {
         for batch in batches {
             let mut bytes = batch.as_bytes().to_vec();
             apply(&mut bytes, &dmg);
-            let _ = decode::<HostFrame>(&bytes);
+            let frame = decode::<HostFrame>(&bytes);
+            let request = decode::<Request>(&bytes);
+            prop_assert_eq!(frame.is_ok(), request.is_ok(), "HostFrame {:?}, Request {:?}", frame, request);
+            if let (Ok(HostFrame::Raster(cmds)), Ok(Request::Raster(checked))) = (&frame, &request) {
+                prop_assert_eq!(usize::from(checked.count), cmds.len());
+                let walked: Result<Vec<RasterCmd>, _> = raster_commands(&bytes).expect("a batch").collect();
+                prop_assert_eq!(walked.expect("checked"), cmds.to_vec());
+            }
             if let Ok(it) = raster_commands(&bytes) {
                 let mut n = 0;
                 for c in it {
@@ -209,6 +218,38 @@ proptest! {
         prop_assert_eq!(&got[..], &payloads[..got.len()]);
         if clean {
             prop_assert_eq!(got.len(), payloads.len(), "an undamaged stream is delivered whole");
+        }
+    }
+}
+
+/// A batch of one command more than [`protocol::frame::RASTER_BATCH`] is refused by a
+/// controller's [`Request`] as by a `HostFrame` (whose vector cannot hold it), and a
+/// full batch is accepted by both.
+#[test]
+fn request_refuses_the_batches_host_frame_refuses() {
+    let cmd = RasterCmd::Clear(Rgb::new(1, 2, 3));
+    let mut one = [0u8; 16];
+    let cmd_bytes = postcard::to_slice(&cmd, &mut one)
+        .expect("encodes")
+        .to_vec();
+    for n in [
+        protocol::frame::RASTER_BATCH,
+        protocol::frame::RASTER_BATCH + 1,
+    ] {
+        // HostFrame::Raster's variant index, the count, the commands.
+        let mut bytes = vec![2u8, n as u8];
+        for _ in 0..n {
+            bytes.extend_from_slice(&cmd_bytes);
+        }
+        let full = n == protocol::frame::RASTER_BATCH;
+        assert_eq!(decode::<HostFrame>(&bytes).is_ok(), full, "{n} commands");
+        match decode::<Request>(&bytes) {
+            Ok(Request::Raster(checked)) => {
+                assert!(full, "{n} commands accepted");
+                assert_eq!(usize::from(checked.count), n);
+            }
+            Ok(other) => panic!("decoded as {other:?}"),
+            Err(_) => assert!(!full, "{n} commands refused"),
         }
     }
 }
