@@ -23,9 +23,18 @@ fn main() {
     println!("cargo:rerun-if-env-changed=FPGFX_CORE_HZ");
     println!("cargo:rerun-if-env-changed=FPGFX_MSP430_PART");
     // The MSP430 binary has its own start-up and no defmt: only its part's memory map,
-    // the F168 (the FITkit's) unless FPGFX_MSP430_PART=f2617 asks for the fallback part.
+    // and its part's registers (`msp430_f2617` selects `src/bin/msp430/f2617.rs`, else
+    // the F168's). The F168 (FITkit 1.x) unless FPGFX_MSP430_PART says f2617 (FITkit
+    // 2.x) or sim (the F168's registers on mspdebug's flat memory).
+    println!("cargo::rustc-check-cfg=cfg(msp430_f2617)");
     if std::env::var_os("CARGO_FEATURE_BOARD_MSP430").is_some() {
         let part = std::env::var("FPGFX_MSP430_PART").unwrap_or_else(|_| "f168".into());
+        if !["f168", "f2617", "sim"].contains(&part.as_str()) {
+            panic!("FPGFX_MSP430_PART={part}: expected f168, f2617 or sim");
+        }
+        if part == "f2617" {
+            println!("cargo:rustc-cfg=msp430_f2617");
+        }
         println!("cargo:rustc-link-arg-bin=fpgfx-firmware-msp430=-Tmsp430{part}.x");
     }
     let boards = [

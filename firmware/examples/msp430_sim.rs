@@ -3,19 +3,23 @@
 //! controller code built for the host.
 //!
 //! `cargo run -p firmware --example msp430_sim -- ELF [OUT_DIR]` (docs/firmware.md,
-//! "MSP430"). mspdebug's `sim` models the CPU and flat memory but no USART, so:
+//! "MSP430"). The part comes from the ELF's `FPGFX_PART` (168 or 2617), so the run
+//! drives the registers the binary was built for. mspdebug's `sim` models the CPU and
+//! flat memory but no USART or USCI, so:
 //!
 //! * two `gpio` devices with an interrupt number set (which makes them eight plain byte
-//!   registers) stand in for USART0 (0x70–0x77) and USART1 (0x78–0x7F), so that the
-//!   receive buffers hold what the harness writes there;
-//! * a `tracer` prints every peripheral write: the bytes written to U0TXBUF (0x77) are
-//!   the host link's output, those to U1TXBUF (0x7F) the SPI's MOSI, and P5OUT (0x31)
+//!   registers) stand in for the host UART (F168: USART0 at 0x70–0x77; F2617: USCI_A0 at
+//!   0x60–0x67) and the SPI (F168: USART1 at 0x78–0x7F; F2617: USCI_B1 at 0xD8–0xDF),
+//!   so that the receive buffers hold what the harness writes there;
+//! * a `tracer` prints every peripheral write: the bytes written to the UART's transmit
+//!   buffer are the host link's output, those to the SPI's its MOSI, and P5OUT (0x31)
 //!   bit 0 is the FPGA's chip select;
 //! * the firmware calls `fpgfx_host_rx_idle` when the host link has no byte and
 //!   `fpgfx_spi_rx_wait` while an SPI byte is shifted: the harness breaks on both, writes
-//!   the next host byte into U0RXBUF and sets URXIFG0 in IFG1, or the MISO byte into
-//!   U1RXBUF and sets URXIFG1 in IFG2. MISO answers a status read with the block idle and
-//!   its FIFO empty (the canned status of `vectors`' recorder), every other byte with 0.
+//!   the next host byte into the UART's receive buffer and sets its receive flag, or the
+//!   MISO byte into the SPI's and sets its flag (the transmit flags are set and stay
+//!   set). MISO answers a status read with the block idle and its FIFO empty (the canned
+//!   status of `vectors`' recorder), every other byte with 0.
 //!
 //! The host end of the link is `protocol::link::Link`, as in `fpgfx`. Written to
 //! OUT_DIR (default `target/msp430-sim`): `spi.txt` (one CS-low transaction per line, MOSI
@@ -107,6 +111,71 @@ fn idle_status() -> [u8; STATUS_BYTES] {
         ..Status::default()
     }
     .encode()
+}
+
+/// Where a part keeps what the harness plays: a serial port's register block (the
+/// simulated gpio's base), its receive and transmit buffers, and its flag register with
+/// the receive and transmit bits.
+struct Port {
+    base: u16,
+    rxbuf: u16,
+    txbuf: u16,
+    flags: u16,
+    rx: u8,
+    tx: u8,
+}
+
+/// The host UART and the FPGA's SPI of one part.
+struct PartMap {
+    name: &'static str,
+    host: Port,
+    spi: Port,
+}
+
+/// The two parts' serial ports (msp430mcu's msp430f168.h and msp430x26x.h), by the
+/// `FPGFX_PART` code the binary carries.
+fn part_map(code: u16) -> Option<PartMap> {
+    match code {
+        168 => Some(PartMap {
+            name: "MSP430F168 (USART0 UART, USART1 SPI)",
+            host: Port {
+                base: 0x70,
+                rxbuf: 0x76,
+                txbuf: 0x77,
+                flags: 0x02,
+                rx: 0x40,
+                tx: 0x80,
+            },
+            spi: Port {
+                base: 0x78,
+                rxbuf: 0x7E,
+                txbuf: 0x7F,
+                flags: 0x03,
+                rx: 0x10,
+                tx: 0x20,
+            },
+        }),
+        2617 => Some(PartMap {
+            name: "MSP430F2617 (USCI_A0 UART, USCI_B1 SPI)",
+            host: Port {
+                base: 0x60,
+                rxbuf: 0x66,
+                txbuf: 0x67,
+                flags: 0x03,
+                rx: 0x01,
+                tx: 0x02,
+            },
+            spi: Port {
+                base: 0xD8,
+                rxbuf: 0xDE,
+                txbuf: 0xDF,
+                flags: 0x07,
+                rx: 0x04,
+                tx: 0x08,
+            },
+        }),
+        _ => None,
+    }
 }
 
 /// mspdebug reading commands from a pipe: each command's output ends at the next
@@ -218,7 +287,9 @@ enum SpiEvent {
     Byte(u8),
 }
 
-fn parse_trace(lines: &[String], trace: &mut Trace) -> Option<String> {
+fn parse_trace(lines: &[String], map: &PartMap, trace: &mut Trace) -> Option<String> {
+    let host_tx = format!("0x{:04x}", map.host.txbuf);
+    let spi_tx = format!("0x{:04x}", map.spi.txbuf);
     let mut stop = None;
     let mut after_regs = false;
     for line in lines {
@@ -232,11 +303,12 @@ fn parse_trace(lines: &[String], trace: &mut Trace) -> Option<String> {
                 continue;
             };
             let value = u8::from_str_radix(value.trim_start_matches("0x"), 16).unwrap_or(0);
-            match addr {
-                "0x0077" => trace.host_out.push(value),
-                "0x007f" => trace.spi.push(SpiEvent::Byte(value)),
-                "0x0031" => trace.spi.push(SpiEvent::Select(value & 1 == 0)),
-                _ => {}
+            if addr == host_tx {
+                trace.host_out.push(value);
+            } else if addr == spi_tx {
+                trace.spi.push(SpiEvent::Byte(value));
+            } else if addr == "0x0031" {
+                trace.spi.push(SpiEvent::Select(value & 1 == 0));
             }
         } else if l.contains("( PC:") {
             after_regs = true;
@@ -354,26 +426,34 @@ fn simulate(elf: &str, out: &std::path::Path) -> Result<(Vec<Vec<u8>>, Vec<Strin
     let mut sim = Mspdebug::start()?;
     let mut summary = Vec::new();
     sim.cmd(&format!("prog {elf}"))?;
+    let (_, code) = sim.read("FPGFX_PART", 2)?;
+    let code = match code[..] {
+        [lo, hi, ..] => u16::from_le_bytes([lo, hi]),
+        _ => return Err("FPGFX_PART: short read".into()),
+    };
+    let map = part_map(code).ok_or_else(|| format!("FPGFX_PART {code}: not a known part"))?;
+    summary.push(format!("part: {}", map.name));
     for c in [
-        "simio add gpio usart0",
-        "simio config usart0 base 0x70",
-        "simio config usart0 irq 14",
-        "simio add gpio usart1",
-        "simio config usart1 base 0x78",
-        "simio config usart1 irq 15",
-        "simio add timer timer_a 3",
-        "simio config timer_a base 0x160",
-        "simio add tracer trace",
-        "simio config trace verbose",
-        "setbreak fpgfx_host_rx_idle",
-        "setbreak fpgfx_spi_rx_wait",
-        "setbreak fpgfx_exit",
-        // UTXIFG0 and UTXIFG1: both transmitters always ready.
-        "mw 0x0002 80",
-        "mw 0x0003 20",
+        "simio add gpio host".to_string(),
+        format!("simio config host base 0x{:x}", map.host.base),
+        "simio config host irq 14".into(),
+        "simio add gpio spi".into(),
+        format!("simio config spi base 0x{:x}", map.spi.base),
+        "simio config spi irq 15".into(),
+        "simio add timer timer_a 3".into(),
+        "simio config timer_a base 0x160".into(),
+        "simio add tracer trace".into(),
+        "simio config trace verbose".into(),
+        "setbreak fpgfx_host_rx_idle".into(),
+        "setbreak fpgfx_spi_rx_wait".into(),
+        "setbreak fpgfx_exit".into(),
     ] {
-        sim.cmd(c)?;
+        sim.cmd(&c)?;
     }
+    // Both transmitters always ready. (On the F2617 the host's flags share IFG2 with
+    // nothing the harness plays; on the F168 the two ports' flags are IFG1 and IFG2.)
+    sim.cmd(&format!("mw 0x{:04x} {:02x}", map.host.flags, map.host.tx))?;
+    sim.cmd(&format!("mw 0x{:04x} {:02x}", map.spi.flags, map.spi.tx))?;
     let status = idle_status();
     let mut host = Host::new();
     let mut trace = Trace::default();
@@ -385,7 +465,7 @@ fn simulate(elf: &str, out: &std::path::Path) -> Result<(Vec<Vec<u8>>, Vec<Strin
     loop {
         runs += 1;
         let lines = sim.cmd("run")?;
-        let Some(stop) = parse_trace(&lines, &mut trace) else {
+        let Some(stop) = parse_trace(&lines, &map, &mut trace) else {
             // A simulator error (an unknown opcode after a wild jump: the stack has run
             // into .bss, say) ends `run` without a breakpoint.
             let tail = lines[lines.len().saturating_sub(3)..].join(" | ");
@@ -416,8 +496,9 @@ fn simulate(elf: &str, out: &std::path::Path) -> Result<(Vec<Vec<u8>>, Vec<Strin
                 }
                 match host.wire.pop_front() {
                     Some(b) => {
-                        sim.cmd(&format!("mw 0x0076 {b:02x}"))?;
-                        sim.cmd("mw 0x0002 c0")?;
+                        sim.cmd(&format!("mw 0x{:04x} {b:02x}", map.host.rxbuf))?;
+                        let flags = map.host.rx | map.host.tx;
+                        sim.cmd(&format!("mw 0x{:04x} {flags:02x}", map.host.flags))?;
                         host_bytes_in += 1;
                         stalled = 0;
                     }
@@ -450,8 +531,9 @@ fn simulate(elf: &str, out: &std::path::Path) -> Result<(Vec<Vec<u8>>, Vec<Strin
                     Some(&ADDR_STATUS) if i >= 2 => status.get(i - 2).copied().unwrap_or(0),
                     _ => 0,
                 };
-                sim.cmd(&format!("mw 0x007e {miso:02x}"))?;
-                sim.cmd("mw 0x0003 30")?;
+                sim.cmd(&format!("mw 0x{:04x} {miso:02x}", map.spi.rxbuf))?;
+                let flags = map.spi.rx | map.spi.tx;
+                sim.cmd(&format!("mw 0x{:04x} {flags:02x}", map.spi.flags))?;
                 miso_bytes += 1;
             }
             "fpgfx_exit" => {

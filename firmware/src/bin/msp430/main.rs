@@ -1,9 +1,10 @@
-//! The FITkit's MSP430 (MSP430F168's registers and memory map; `FPGFX_MSP430_PART=f2617`
-//! links for the MSP430F2617's map, `sim` for mspdebug's simulator, the only one this
-//! program fits today: docs/firmware.md, "MSP430"): host link on USART0 (UART), the
-//! FITkit raster block on USART1 (SPI master) through [`FitkitSpi`], polled, no
-//! interrupts. The F2617's serial ports are USCI modules at other addresses: on that
-//! part only the memory map is right.
+//! The FITkit's MSP430 board binary: the controller with the host link on the part's
+//! UART and the FITkit raster block on its SPI through [`FitkitSpi`], polled, no
+//! interrupts. `FPGFX_MSP430_PART` picks the part at build time: `f2617` (FITkit 2.x,
+//! `f2617.rs`: USCI_A0 and USCI_B1, `msp430f2617.x`), `f168` (FITkit 1.x, `f168.rs`:
+//! USART0 and USART1, `msp430f168.x`, which this program does not fit:
+//! docs/firmware.md, "MSP430"), or `sim` (the F168's registers on mspdebug's flat
+//! memory, `msp430sim.x`, to run the F168's register code in the simulator).
 //!
 //! Nightly only (rustc's `msp430-none-elf` has no prebuilt core): `cargo +nightly build
 //! -Zbuild-std=core --target msp430-none-elf -p firmware --features board-msp430
@@ -12,8 +13,9 @@
 //! crate for the part and which brings nothing else this polled program uses.
 //!
 //! Everything is polled because mspdebug's simulator, the only MSP430 this is run on
-//! here, models no USART: the simulator harness (`firmware/examples/msp430_sim.rs`) breaks
-//! on [`fpgfx_host_rx_idle`] and [`fpgfx_spi_rx_wait`] to hand the firmware its next byte.
+//! here, models neither USART nor USCI: the simulator harness
+//! (`firmware/examples/msp430_sim.rs`) breaks on [`fpgfx_host_rx_idle`] and
+//! [`fpgfx_spi_rx_wait`] to hand the firmware its next byte.
 #![no_std]
 #![no_main]
 #![feature(asm_experimental_arch)]
@@ -42,55 +44,28 @@ const CORE_HZ: u32 = 7_372_800;
 /// Host link baud rate.
 const BAUD: u32 = 115_200;
 
-type Fpga = FitkitSpi<Usart1Spi, CycleDelay>;
-type Board = Controller<Usart0, Fpga, INBOX, WINDOW, SHADOW>;
+type Fpga = FitkitSpi<FpgaSpi, CycleDelay>;
+type Board = Controller<HostUart, Fpga, INBOX, WINDOW, SHADOW>;
 
-// Register addresses (msp430mcu's msp430f168.h).
-const IE1: u16 = 0x00;
-const IFG1: u16 = 0x02;
-const IFG2: u16 = 0x03;
-const ME1: u16 = 0x04;
-const ME2: u16 = 0x05;
-const P3SEL: u16 = 0x1B;
+#[cfg(not(msp430_f2617))]
+mod f168;
+#[cfg(not(msp430_f2617))]
+use f168 as part;
+#[cfg(msp430_f2617)]
+mod f2617;
+#[cfg(msp430_f2617)]
+use f2617 as part;
+
+// Registers both parts have at the same addresses (msp430mcu's msp430f168.h and
+// msp430x26x.h).
 const P5OUT: u16 = 0x31;
 const P5DIR: u16 = 0x32;
-const P5SEL: u16 = 0x33;
-const U0CTL: u16 = 0x70;
-const U0TCTL: u16 = 0x71;
-const U0RCTL: u16 = 0x72;
-const U0MCTL: u16 = 0x73;
-const U0BR0: u16 = 0x74;
-const U0BR1: u16 = 0x75;
-const U0RXBUF: u16 = 0x76;
-const U0TXBUF: u16 = 0x77;
-const U1CTL: u16 = 0x78;
-const U1TCTL: u16 = 0x79;
-const U1RCTL: u16 = 0x7A;
-const U1MCTL: u16 = 0x7B;
-const U1BR0: u16 = 0x7C;
-const U1BR1: u16 = 0x7D;
-const U1RXBUF: u16 = 0x7E;
-const U1TXBUF: u16 = 0x7F;
 const TACTL: u16 = 0x160;
 const TAR: u16 = 0x170;
 const WDTCTL: u16 = 0x120;
 
-// Bits.
-const URXIFG0: u8 = 0x40;
-const UTXIFG0: u8 = 0x80;
-const URXIFG1: u8 = 0x10;
-const UTXIFG1: u8 = 0x20;
-const UTXE0: u8 = 0x80;
-const URXE0: u8 = 0x40;
-const USPIE1: u8 = 0x10;
-const SWRST: u8 = 0x01;
-const MM: u8 = 0x02;
-const SYNC: u8 = 0x04;
-const CHAR: u8 = 0x10;
-const SSEL1: u8 = 0x20;
-const CKPH: u8 = 0x80;
-const STC: u8 = 0x02;
-/// P5.0: the FPGA's chip select (active low); P5.1–3 are SIMO1, SOMI1, UCLK1.
+/// P5.0: the FPGA's chip select (active low) on both parts; P5.1–3 are the SPI's data
+/// and clock pins.
 const CS: u8 = 0x01;
 /// Timer_A: ACLK (the 32 768 Hz watch crystal), continuous mode, cleared.
 const TACTL_ACLK_CONT: u16 = 0x0100 | 0x0020 | 0x0004;
@@ -133,38 +108,33 @@ pub extern "C" fn fpgfx_spi_rx_wait() {
     unsafe { write_volatile(addr_of_mut!(FPGFX_WAITING), 2) };
 }
 
+/// The part this binary drives (168 or 2617): the simulator harness reads it to know
+/// which registers to play.
+#[no_mangle]
+#[used]
+pub static FPGFX_PART: u16 = part::PART;
+
 /// Which hook the program last waited in (1 host byte, 2 SPI byte), for a debugger.
 #[no_mangle]
 pub static mut FPGFX_WAITING: u16 = 0;
 
-/// USART0 in UART mode, the host link: 8N1 at [`BAUD`] from SMCLK.
-struct Usart0;
+/// The host link: the part's UART (`part::host_init`), 8N1 at [`BAUD`].
+struct HostUart;
 
-impl Usart0 {
+impl HostUart {
     fn init() -> Self {
-        wr(U0CTL, CHAR | SWRST);
-        wr(U0TCTL, SSEL1);
-        wr(U0RCTL, 0);
-        let div = CORE_HZ / BAUD;
-        wr(U0BR0, div as u8);
-        wr(U0BR1, (div >> 8) as u8);
-        wr(U0MCTL, 0);
-        set(ME1, UTXE0 | URXE0);
-        set(P3SEL, 0x30);
-        clear(U0CTL, SWRST);
-        // Polled: no receive or transmit interrupt.
-        clear(IE1, URXIFG0 | UTXIFG0);
-        Usart0
+        part::host_init();
+        HostUart
     }
 }
 
-impl embedded_io::ErrorType for Usart0 {
+impl embedded_io::ErrorType for HostUart {
     type Error = Infallible;
 }
 
-impl embedded_io::ReadReady for Usart0 {
+impl embedded_io::ReadReady for HostUart {
     fn read_ready(&mut self) -> Result<bool, Infallible> {
-        let ready = rd(IFG1) & URXIFG0 != 0;
+        let ready = part::host_rx_ready();
         if !ready {
             fpgfx_host_rx_idle();
         }
@@ -172,32 +142,28 @@ impl embedded_io::ReadReady for Usart0 {
     }
 }
 
-impl embedded_io::Read for Usart0 {
+impl embedded_io::Read for HostUart {
     fn read(&mut self, buf: &mut [u8]) -> Result<usize, Infallible> {
         let mut n = 0;
         while n < buf.len() {
-            if rd(IFG1) & URXIFG0 == 0 {
+            if !part::host_rx_ready() {
                 if n > 0 {
                     break;
                 }
                 fpgfx_host_rx_idle();
                 continue;
             }
-            buf[n] = rd(U0RXBUF);
-            // Reading RXBUF clears the flag on silicon; clearing it here too keeps the
-            // simulator (whose flag is plain memory) in step.
-            clear(IFG1, URXIFG0);
+            buf[n] = part::host_rx();
             n += 1;
         }
         Ok(n)
     }
 }
 
-impl embedded_io::Write for Usart0 {
+impl embedded_io::Write for HostUart {
     fn write(&mut self, buf: &[u8]) -> Result<usize, Infallible> {
         for &b in buf {
-            while rd(IFG1) & UTXIFG0 == 0 {}
-            wr(U0TXBUF, b);
+            part::host_tx(b);
         }
         Ok(buf.len())
     }
@@ -207,44 +173,28 @@ impl embedded_io::Write for Usart0 {
     }
 }
 
-/// USART1 in SPI master mode (mode 0, 8 bits, MSB first) with P5.0 as chip select: the
+/// The part's SPI master (mode 0, 8 bits, MSB first) with P5.0 as chip select: the
 /// embedded-hal device [`FitkitSpi`] drives the raster block through.
-struct Usart1Spi;
+struct FpgaSpi;
 
-impl Usart1Spi {
+impl FpgaSpi {
     fn init() -> Self {
-        wr(U1CTL, CHAR | SYNC | MM | SWRST);
-        wr(U1TCTL, CKPH | SSEL1 | STC);
-        wr(U1RCTL, 0);
-        // SMCLK / 2: the block samples SPI at f_clk / 8 or slower, f_clk being 50 MHz.
-        wr(U1BR0, 2);
-        wr(U1BR1, 0);
-        wr(U1MCTL, 0);
-        set(ME2, USPIE1);
-        set(P5SEL, 0x0E);
+        part::spi_init();
         set(P5OUT, CS);
         set(P5DIR, CS);
-        clear(U1CTL, SWRST);
-        Usart1Spi
+        FpgaSpi
     }
 
     fn exchange(&mut self, out: u8) -> u8 {
-        while rd(IFG2) & UTXIFG1 == 0 {}
-        wr(U1TXBUF, out);
-        while rd(IFG2) & URXIFG1 == 0 {
-            fpgfx_spi_rx_wait();
-        }
-        let b = rd(U1RXBUF);
-        clear(IFG2, URXIFG1);
-        b
+        part::spi_exchange(out)
     }
 }
 
-impl ErrorType for Usart1Spi {
+impl ErrorType for FpgaSpi {
     type Error = Infallible;
 }
 
-impl SpiDevice for Usart1Spi {
+impl SpiDevice for FpgaSpi {
     fn transaction(&mut self, operations: &mut [Operation<'_, u8>]) -> Result<(), Infallible> {
         clear(P5OUT, CS);
         for op in operations {
@@ -365,7 +315,7 @@ pub static FPGFX_SIZES: [u16; 9] = [
     core::mem::size_of::<protocol::link::Link<WINDOW>>() as u16,
     core::mem::size_of::<protocol::frame::DeviceFrame>() as u16,
     core::mem::size_of::<firmware::Engine<Fpga, SHADOW>>() as u16,
-    core::mem::size_of::<Controller<Usart0, Fpga>>() as u16,
+    core::mem::size_of::<Controller<HostUart, Fpga>>() as u16,
 ];
 
 extern "C" {
@@ -449,8 +399,8 @@ fn init() -> (&'static mut Board, Clock) {
     // The watchdog is already held by the start-up code.
     let _ = WDTCTL;
     let clock = Clock::init();
-    let host = Usart0::init();
-    let fpga = FitkitSpi::new(Usart1Spi::init(), CycleDelay);
+    let host = HostUart::init();
+    let fpga = FitkitSpi::new(FpgaSpi::init(), CycleDelay);
     // SAFETY: init runs once; nothing else touches CONTROLLER.
     let slot = unsafe { &mut *addr_of_mut!(CONTROLLER) };
     let controller = Board::init_in(slot, host, fpga, caps(), &FITKIT, "fpgfx-firmware msp430");
