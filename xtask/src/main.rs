@@ -1,7 +1,8 @@
 //! `cargo xtask test` — the README's test command and the only thing `.ci/run` calls.
 //!
-//! It installs what the checks need (the Cortex-M and RISC-V targets; from Debian, QEMU
-//! for the board binaries' end-to-end tests, the third-party `stm32flash` the bootloader
+//! It installs what the checks need (the Cortex-M and RISC-V targets and the pinned
+//! nightly the MSP430 binary builds with; from Debian, QEMU for the board binaries'
+//! end-to-end tests, mspdebug for the MSP430's simulator run, the third-party `stm32flash` the bootloader
 //! test drives, and Verilator, Icarus, Yosys and nextpnr for the RTL; from PyPI into
 //! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools)
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
@@ -137,6 +138,12 @@ const PACKAGES: &[Package] = &[
         program: "stm32flash",
         package: "stm32flash",
         why: "the third-party AN3155 client `fpgfx-sim --bootloader` is checked against (host-cli/tests/integration/flash.rs)",
+        needs: None,
+    },
+    Package {
+        program: "mspdebug",
+        package: "mspdebug",
+        why: "runs the MSP430F2617 board binary in its simulator (firmware/tests/msp430.rs)",
         needs: None,
     },
     Package {
@@ -330,6 +337,52 @@ fn release_codename() -> Option<String> {
         .filter(|v| !v.is_empty())
 }
 
+/// The file naming the nightly the MSP430 binary is built with (read by
+/// `firmware/tests/msp430.rs` too). Pinned to a date, not `nightly`: the target is tier 3
+/// and builds its `core` from rust-src with `-Zbuild-std`, `panic=immediate-abort` and
+/// `asm_experimental_arch` are unstable, so a later nightly may break or resize the build
+/// (every figure in docs/firmware.md was measured with this one).
+const MSP430_TOOLCHAIN_FILE: &str = "firmware/msp430-toolchain";
+
+/// The pinned MSP430 nightly's name.
+fn msp430_toolchain() -> Result<String> {
+    let file = workspace_root().join(MSP430_TOOLCHAIN_FILE);
+    let name = std::fs::read_to_string(&file)
+        .with_context(|| format!("cannot read {}", file.display()))?;
+    Ok(name.trim().to_string())
+}
+
+/// Installs the pinned nightly with rust-src if it or its rust-src is missing.
+fn install_msp430_toolchain() -> Result<()> {
+    let toolchain = msp430_toolchain()?;
+    let plus = format!("+{toolchain}");
+    let installed = |component| {
+        prints(
+            "rustup",
+            &[&plus, "component", "list", "--installed"],
+            component,
+        )
+    };
+    if installed("rust-src") && installed("clippy") {
+        return Ok(());
+    }
+    eprintln!(
+        "xtask setup: installing the Rust toolchain {toolchain} with rust-src and clippy (the MSP430 board binary builds its core with it and is linted with it)"
+    );
+    run(
+        "rustup",
+        &[
+            "toolchain",
+            "install",
+            &toolchain,
+            "--profile",
+            "minimal",
+            "--component",
+            "rust-src,clippy",
+        ],
+    )
+}
+
 fn setup() -> Result<()> {
     for board in BOARDS {
         if !prints("rustup", &["target", "list", "--installed"], board.target) {
@@ -340,6 +393,7 @@ fn setup() -> Result<()> {
             run("rustup", &["target", "add", board.target])?;
         }
     }
+    install_msp430_toolchain()?;
     install_packages()?;
     let root = workspace_root();
     for tool in PYPI {
@@ -393,6 +447,38 @@ fn test() -> Result<()> {
         let mut build = vec!["build"];
         build.extend(common);
         run(&cargo, &build)?;
+    }
+    // The MSP430 binary: nightly, so linted here through rustup's `cargo +TOOLCHAIN`
+    // (the workspace's stable cargo cannot); once per part's register module. The
+    // build and its simulator run are `firmware/tests/msp430.rs`, among the tests below.
+    let plus = format!("+{}", msp430_toolchain()?);
+    for part in ["f2617", "f168"] {
+        eprintln!("+ FPGFX_MSP430_PART={part}");
+        let status = Command::new("cargo")
+            .env("FPGFX_MSP430_PART", part)
+            .env_remove("RUSTUP_TOOLCHAIN")
+            .args([
+                &plus,
+                "clippy",
+                "-q",
+                "-Zbuild-std=core",
+                "--target",
+                "msp430-none-elf",
+                "-p",
+                "firmware",
+                "--features",
+                "board-msp430",
+                "--profile",
+                "firmware",
+                "--",
+                "-D",
+                "warnings",
+            ])
+            .status()
+            .context("could not start cargo")?;
+        if !status.success() {
+            bail!("clippy on the MSP430 binary (FPGFX_MSP430_PART={part}) failed with {status}");
+        }
     }
     rtl_checks()?;
     run(&cargo, &["test", "--workspace"])?;
