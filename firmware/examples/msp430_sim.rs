@@ -41,7 +41,8 @@ use firmware::{Controller, FitkitSpi};
 use protocol::bus::FITKIT;
 use protocol::fitkit_spi::{Status, ADDR_STATUS, FIFO_RECORDS, FLAG_FIFO_EMPTY, STATUS_BYTES};
 use protocol::frame::{
-    decode, encode, Block, Caps, DeviceFrame, Hello, HostFrame, Numeric, StartFrame,
+    decode, encode, Block, Caps, DeviceFrame, Hello, HostFrame, Numeric, PixelFormat, Plane,
+    ReadRequest, Rect, StartFrame,
 };
 use protocol::link::{Config, Event, Link, MAX_FRAME};
 use protocol::raster::{
@@ -56,7 +57,8 @@ const SYNC_TOKEN: u32 = 7;
 /// The board's core clock, to turn simulated cycles into the host link's milliseconds.
 const CORE_KHZ: u64 = 7_373;
 
-/// The job: handshake, a 64 × 48 frame, a clear, a line and a triangle, start, sync.
+/// The job: handshake, a 64 × 48 frame, a clear, a line and a triangle, start, a
+/// read-back, statistics, sync.
 fn job() -> Vec<HostFrame> {
     let p = |x, y| Point { x, y };
     let cmds = [
@@ -100,6 +102,20 @@ fn job() -> Vec<HostFrame> {
             auto_restart: false,
             aovs: false,
         }),
+        // A read-back of four rows as RGB888 (768 B: four chunks) and the statistics, so
+        // that the stack's high-water mark covers the answers' paths too, not only the
+        // requests'.
+        HostFrame::Read(ReadRequest {
+            plane: Plane::Color,
+            rect: Rect {
+                x: 0,
+                y: 0,
+                w: 64,
+                h: 4,
+            },
+            format: PixelFormat::Rgb888,
+        }),
+        HostFrame::GetStats,
         HostFrame::Sync(SYNC_TOKEN),
     ]
 }
@@ -393,10 +409,13 @@ impl Host {
         Ok(())
     }
 
+    /// Every answer the job asks for has come: the read-back's end, the statistics and
+    /// the sync (which may overtake the read-back's chunks).
     fn done(&self) -> bool {
-        self.answers
-            .iter()
-            .any(|a| matches!(a, DeviceFrame::Synced(SYNC_TOKEN)))
+        let has = |f: fn(&DeviceFrame) -> bool| self.answers.iter().any(f);
+        has(|a| matches!(a, DeviceFrame::Synced(SYNC_TOKEN)))
+            && has(|a| matches!(a, DeviceFrame::ReadDone(_)))
+            && has(|a| matches!(a, DeviceFrame::Stats(_)))
     }
 }
 
@@ -563,7 +582,15 @@ fn simulate(elf: &str, out: &std::path::Path) -> Result<Simulated, Error> {
         trace.cycles,
         errors
     ));
-    summary.push(format!("answers: {:?}", host.answers));
+    let answers: Vec<String> = host
+        .answers
+        .iter()
+        .map(|a| match a {
+            DeviceFrame::Chunk(c) => format!("Chunk(offset {}, {} B)", c.offset, c.data.len()),
+            other => format!("{other:?}"),
+        })
+        .collect();
+    summary.push(format!("answers: {}", answers.join(", ")));
     let hex = |b: &[u8]| b.iter().map(|x| format!("{x:02x}")).collect::<Vec<_>>();
     std::fs::write(
         out.join("host-in.hex"),
@@ -650,7 +677,7 @@ fn reference() -> Result<Vec<Vec<u8>>, Error> {
     }
     let caps = Caps {
         raster: true,
-        pixel_formats: protocol::frame::PixelFormat::Rgb332.bit(),
+        pixel_formats: PixelFormat::Rgb332.bit() | PixelFormat::Rgb888.bit(),
         max_width: 512,
         max_height: 512,
         queue_depth: 1,
