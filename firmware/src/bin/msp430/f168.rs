@@ -48,6 +48,33 @@ const SSEL1: u8 = 0x20;
 const CKPH: u8 = 0x80;
 const STC: u8 = 0x02;
 
+const IFG1_OFIFG: u8 = 0x02;
+const BCSCTL1: u16 = 0x57;
+const BCSCTL2: u16 = 0x58;
+/// BCSCTL1: XT2 off (set at reset).
+const XT2OFF: u8 = 0x80;
+/// BCSCTL2: MCLK from XT2 (SELM_2), SMCLK from XT2 (SELS).
+const SELM_XT2: u8 = 0x80;
+const SELS: u8 = 0x08;
+
+/// MCLK and SMCLK from XT2, the FITkit's 7.3728 MHz crystal ([`CORE_HZ`], which the
+/// baud and SPI divisors assume), once the oscillator has settled (SLAU049, "Basic Clock
+/// Module": clear OFIFG until it stays clear). At reset both run from the DCO (~800 kHz).
+pub fn clock_init() {
+    clear(BCSCTL1, XT2OFF);
+    loop {
+        clear(IFG1, IFG1_OFIFG);
+        // ≥ 50 µs at the DCO's reset frequency for the fault flag to come back.
+        for i in 0..64u16 {
+            core::hint::black_box(i);
+        }
+        if rd(IFG1) & IFG1_OFIFG == 0 {
+            break;
+        }
+    }
+    wr(BCSCTL2, SELM_XT2 | SELS);
+}
+
 /// USART0 as an 8N1 UART at [`BAUD`] from SMCLK, polled (no interrupt enabled).
 pub fn host_init() {
     wr(U0CTL, CHAR | SWRST);

@@ -398,6 +398,7 @@ extern "C" fn main() -> ! {
 fn init() -> (&'static mut Board, Clock) {
     // The watchdog is already held by the start-up code.
     let _ = WDTCTL;
+    part::clock_init();
     let clock = Clock::init();
     let host = HostUart::init();
     let fpga = FitkitSpi::new(FpgaSpi::init(), CycleDelay);
