@@ -20,7 +20,8 @@ use crate::fpga::FpgaBus;
 
 /// Requests the controller buffers between the link and the engine. Each slot holds a
 /// request as received (at most [`MAX_PAYLOAD`] bytes; decoded it would be a
-/// [`HostFrame`], about 1.3 KiB for a raster batch), so four cost ~1 KiB of RAM.
+/// [`HostFrame`](protocol::frame::HostFrame), about 1.3 KiB for a raster batch; handled, a
+/// [`Request`]: the batch is walked in place), so four cost ~1 KiB of RAM.
 /// The default of [`Controller`]'s `INBOX` parameter; a board short of RAM (the MSP430)
 /// picks fewer with [`Controller::sized`].
 pub const INBOX: usize = 4;
