@@ -42,10 +42,10 @@ use protocol::bus::FITKIT;
 use protocol::fitkit_spi::{Status, ADDR_STATUS, FIFO_RECORDS, FLAG_FIFO_EMPTY, STATUS_BYTES};
 use protocol::frame::{
     decode, encode, Block, Caps, DeviceFrame, Hello, HostFrame, Numeric, PixelFormat, Plane,
-    ReadRequest, Rect, StartFrame,
+    RasterBatcher, ReadRequest, Rect, StartFrame,
 };
 use protocol::link::{Config, Event, Link, MAX_FRAME};
-use protocol::raster::{
+pub use protocol::raster::{
     Aa, AaPattern, Cull, Line, LineAlgo, Point, RasterCmd, RasterSetup, Rgb, Shade, Traversal,
     Triangle,
 };
@@ -59,7 +59,7 @@ const CORE_KHZ: u64 = 7_373;
 
 /// The job: handshake, a 64 × 48 frame, a clear, a line and a triangle, start, a
 /// read-back, statistics, sync.
-fn job() -> Vec<HostFrame> {
+pub fn job() -> Vec<HostFrame> {
     let p = |x, y| Point { x, y };
     let cmds = [
         RasterCmd::Clear(Rgb::new(0, 0, 255)),
@@ -95,6 +95,19 @@ fn job() -> Vec<HostFrame> {
             traversal: Traversal::BoundingBox,
         }),
         HostFrame::Raster(heapless::Vec::from_slice(&cmds).expect("3 ≤ RASTER_BATCH")),
+    ]
+    .into_iter()
+    // A read-back of four rows as RGB888 (768 B: four chunks) and the statistics, so
+    // that the stack's high-water mark covers the answers' paths too, not only the
+    // requests'.
+    .chain(tail(64, 4))
+    .collect()
+}
+
+/// What every job ends with: start, a read-back of the first `rows` rows of a frame
+/// `width` wide as RGB888, the statistics and the sync the harness waits for.
+fn tail(width: u16, rows: u16) -> [HostFrame; 4] {
+    [
         HostFrame::Start(StartFrame {
             frame_id: 1,
             block: Block::Raster,
@@ -102,22 +115,40 @@ fn job() -> Vec<HostFrame> {
             auto_restart: false,
             aovs: false,
         }),
-        // A read-back of four rows as RGB888 (768 B: four chunks) and the statistics, so
-        // that the stack's high-water mark covers the answers' paths too, not only the
-        // requests'.
         HostFrame::Read(ReadRequest {
             plane: Plane::Color,
             rect: Rect {
                 x: 0,
                 y: 0,
-                w: 64,
-                h: 4,
+                w: width,
+                h: rows,
             },
             format: PixelFormat::Rgb888,
         }),
         HostFrame::GetStats,
         HostFrame::Sync(SYNC_TOKEN),
     ]
+}
+
+/// A raster job's frames as `fpgfx raster` sends them: handshake, the set-up, the
+/// commands in batches as [`RasterBatcher`] cuts them, then [`tail`] with one row read
+/// back.
+pub fn job_frames(setup: RasterSetup, cmds: &[RasterCmd]) -> Result<Vec<HostFrame>, Error> {
+    let mut frames = vec![
+        HostFrame::Hello(Hello::new(Caps::default(), "fpgfx msp430-sim host")),
+        HostFrame::RasterSetup(setup),
+    ];
+    let mut batcher = RasterBatcher::new();
+    for cmd in cmds {
+        if let Some(batch) = batcher.push(cmd).map_err(|e| format!("{e:?}"))? {
+            frames.push(batch.to_frame()?);
+        }
+    }
+    if let Some(batch) = batcher.finish() {
+        frames.push(batch.to_frame()?);
+    }
+    frames.extend(tail(setup.width, 1));
+    Ok(frames)
 }
 
 fn idle_status() -> [u8; STATUS_BYTES] {
@@ -368,10 +399,10 @@ struct Host {
 }
 
 impl Host {
-    fn new() -> Self {
+    fn new(frames: &[HostFrame]) -> Self {
         Self {
             link: Link::new(Config::default()),
-            todo: job().into(),
+            todo: frames.iter().cloned().collect(),
             answers: Vec::new(),
             wire: VecDeque::new(),
             sent_bytes: Vec::new(),
@@ -445,7 +476,7 @@ fn stack_used(sim: &mut Mspdebug, ebss: u32, top: u32) -> Result<u32, Error> {
 /// (high-water mark, room).
 type Simulated = (Vec<Vec<u8>>, Vec<String>, u16, (u32, u32));
 
-fn simulate(elf: &str, out: &std::path::Path) -> Result<Simulated, Error> {
+fn simulate(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result<Simulated, Error> {
     let mut sim = Mspdebug::start()?;
     let mut summary = Vec::new();
     sim.cmd(&format!("prog {elf}"))?;
@@ -478,7 +509,7 @@ fn simulate(elf: &str, out: &std::path::Path) -> Result<Simulated, Error> {
     sim.cmd(&format!("mw 0x{:04x} {:02x}", map.host.flags, map.host.tx))?;
     sim.cmd(&format!("mw 0x{:04x} {:02x}", map.spi.flags, map.spi.tx))?;
     let status = idle_status();
-    let mut host = Host::new();
+    let mut host = Host::new(frames);
     let mut trace = Trace::default();
     let mut fed = 0usize;
     let (mut host_bytes_in, mut miso_bytes, mut runs) = (0usize, 0usize, 0usize);
@@ -610,7 +641,7 @@ fn simulate(elf: &str, out: &std::path::Path) -> Result<Simulated, Error> {
 
 /// The same job through the same controller built for this host, on an SPI device that
 /// records MOSI and answers status reads as the harness does.
-fn reference() -> Result<Vec<Vec<u8>>, Error> {
+fn reference(frames: &[HostFrame]) -> Result<Vec<Vec<u8>>, Error> {
     struct Recorder(Rc<RefCell<Vec<Vec<u8>>>>);
     impl ErrorType for Recorder {
         type Error = Infallible;
@@ -688,8 +719,8 @@ fn reference() -> Result<Vec<Vec<u8>>, Error> {
     let fpga = FitkitSpi::new(Recorder(recorded.clone()), NoDelay);
     let mut c: Controller<Pipe, _, 1, 4, 0> =
         Controller::sized(Pipe::default(), fpga, caps, &FITKIT, "reference");
-    let mut host = Host::new();
-    for now in 0..10_000 {
+    let mut host = Host::new(frames);
+    for now in 0..100_000 {
         host.output(now)?;
         c.host().rx.extend(host.wire.drain(..));
         c.poll(now).map_err(|e| format!("{e:?}"))?;
@@ -730,14 +761,22 @@ pub struct Report {
     pub stack: u32,
     /// Bytes between the end of .bss and the top of RAM.
     pub stack_room: u32,
+    /// The MSP430's MOSI transactions, one per chip-select period, status reads and
+    /// read-backs included.
+    pub spi: Vec<Vec<u8>>,
 }
 
 /// Runs `elf` under mspdebug's simulator and the same job through the host build,
 /// writing the files named in the module docs into `out`. Used by this example's `main`
 /// and by `firmware/tests/msp430.rs`.
 pub fn run(elf: &str, out: &std::path::Path) -> Result<Report, Error> {
+    run_job(elf, out, &job())
+}
+
+/// As [`run`], with the host sending `frames` (which must end as [`tail`] does).
+pub fn run_job(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result<Report, Error> {
     std::fs::create_dir_all(out)?;
-    let (spi, mut summary, part, (stack, stack_room)) = simulate(elf, out)?;
+    let (spi, mut summary, part, (stack, stack_room)) = simulate(elf, out, frames)?;
     let text: Vec<String> = spi
         .iter()
         .map(|t| t.iter().map(|b| format!("{b:02x}")).collect::<String>())
@@ -749,7 +788,7 @@ pub fn run(elf: &str, out: &std::path::Path) -> Result<Report, Error> {
             .cloned()
             .collect()
     };
-    let reference = reference()?;
+    let reference = reference(frames)?;
     let same = !writes(&spi).is_empty() && writes(&spi) == writes(&reference);
     summary.push(format!(
         "SPI: {} transactions ({} writes, {} status reads); the host build of the same job \
@@ -768,5 +807,6 @@ pub fn run(elf: &str, out: &std::path::Path) -> Result<Report, Error> {
         same,
         stack,
         stack_room,
+        spi,
     })
 }
