@@ -591,8 +591,24 @@ fn simulate(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result<Si
                 miso_bytes += 1;
             }
             "fpgfx_exit" => {
-                let (_, code) = sim.read("FPGFX_EXIT_CODE", 2)?;
-                return Err(format!("the firmware stopped with exit code {code:?}").into());
+                // The stop is at the function's entry, before it records its argument:
+                // the code is still in R12, the EABI's first argument register.
+                let code = lines
+                    .iter()
+                    .find_map(|l| l.split("R12: ").nth(1))
+                    .and_then(|r| r.split_whitespace().next())
+                    .and_then(|v| u16::from_str_radix(v.trim_end_matches(')'), 16).ok())
+                    .ok_or("no R12 in the stop's registers")?;
+                let why = match code {
+                    1 => "a panic: an overflow, an index out of bounds or an unwrap",
+                    3 => "a float operation",
+                    _ => "an unknown cause",
+                };
+                return Err(format!(
+                    "the firmware stopped with exit code {code} ({why}) at cycle {}",
+                    trace.cycles
+                )
+                .into());
             }
             other => return Err(format!("run stopped in {other}").into()),
         }
