@@ -474,9 +474,14 @@ fn stack_used(sim: &mut Mspdebug, ebss: u32, top: u32) -> Result<u32, Error> {
 /// summary reports.
 /// The MOSI transactions, the summary's lines, the part's code and the stack's
 /// (high-water mark, room).
-type Simulated = (Vec<Vec<u8>>, Vec<String>, u16, (u32, u32));
+type Simulated = (Vec<Vec<u8>>, Vec<String>, u16, (u32, u32), Vec<DeviceFrame>);
 
-fn simulate(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result<Simulated, Error> {
+fn simulate(
+    elf: &str,
+    out: &std::path::Path,
+    frames: &[HostFrame],
+    noise: &[u8],
+) -> Result<Simulated, Error> {
     let mut sim = Mspdebug::start()?;
     let mut summary = Vec::new();
     sim.cmd(&format!("prog {elf}"))?;
@@ -510,10 +515,16 @@ fn simulate(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result<Si
     sim.cmd(&format!("mw 0x{:04x} {:02x}", map.spi.flags, map.spi.tx))?;
     let status = idle_status();
     let mut host = Host::new(frames);
+    host.wire.extend(noise);
     let mut trace = Trace::default();
     let mut fed = 0usize;
     let (mut host_bytes_in, mut miso_bytes, mut runs) = (0usize, 0usize, 0usize);
     let mut stalled = 0;
+    // The host's clock: the simulated cycles, plus a millisecond for every stop at which
+    // neither end had anything to say. The simulator spends a few cycles per such stop
+    // where a board would wait in real time, and the host's retransmission (a frame
+    // lost to line noise) is due only after its timeout.
+    let mut idle_ms = 0u64;
     let (ebss, top) = stack_area(&mut sim)?;
     let mut init_used = None;
     loop {
@@ -525,7 +536,7 @@ fn simulate(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result<Si
             let tail = lines[lines.len().saturating_sub(3)..].join(" | ");
             return Err(format!("run stopped outside the hooks: {tail}").into());
         };
-        let now = trace.cycles / CORE_KHZ;
+        let now = trace.cycles / CORE_KHZ + idle_ms;
         if init_used.is_none() {
             // Start-up is over (the controller waits for its first byte): what the stack
             // reached so far is start-up's; refill below the live frames to see the
@@ -558,6 +569,7 @@ fn simulate(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result<Si
                     }
                     None => {
                         stalled += 1;
+                        idle_ms += 1;
                         if stalled > 5000 {
                             return Err("the host link stalled: nothing to send, no answer".into());
                         }
@@ -652,12 +664,13 @@ fn simulate(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result<Si
         summary,
         code,
         (job_used, top - ebss),
+        host.answers,
     ))
 }
 
 /// The same job through the same controller built for this host, on an SPI device that
 /// records MOSI and answers status reads as the harness does.
-fn reference(frames: &[HostFrame]) -> Result<Vec<Vec<u8>>, Error> {
+fn reference(frames: &[HostFrame], noise: &[u8]) -> Result<Vec<Vec<u8>>, Error> {
     struct Recorder(Rc<RefCell<Vec<Vec<u8>>>>);
     impl ErrorType for Recorder {
         type Error = Infallible;
@@ -736,6 +749,7 @@ fn reference(frames: &[HostFrame]) -> Result<Vec<Vec<u8>>, Error> {
     let mut c: Controller<Pipe, _, 1, 4, 0> =
         Controller::sized(Pipe::default(), fpga, caps, &FITKIT, "reference");
     let mut host = Host::new(frames);
+    host.wire.extend(noise);
     for now in 0..100_000 {
         host.output(now)?;
         c.host().rx.extend(host.wire.drain(..));
@@ -780,19 +794,28 @@ pub struct Report {
     /// The MSP430's MOSI transactions, one per chip-select period, status reads and
     /// read-backs included.
     pub spi: Vec<Vec<u8>>,
+    /// Its answers over the host link, in order.
+    pub answers: Vec<DeviceFrame>,
 }
 
 /// Runs `elf` under mspdebug's simulator and the same job through the host build,
 /// writing the files named in the module docs into `out`. Used by this example's `main`
 /// and by `firmware/tests/msp430.rs`.
 pub fn run(elf: &str, out: &std::path::Path) -> Result<Report, Error> {
-    run_job(elf, out, &job())
+    run_job(elf, out, &job(), &[])
 }
 
-/// As [`run`], with the host sending `frames` (which must end as [`tail`] does).
-pub fn run_job(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result<Report, Error> {
+/// As [`run`], with the host sending `frames` (which must end as [`tail`] does), after
+/// the raw bytes `noise` (a line's garbage, an over-long frame: what the board's link
+/// must discard).
+pub fn run_job(
+    elf: &str,
+    out: &std::path::Path,
+    frames: &[HostFrame],
+    noise: &[u8],
+) -> Result<Report, Error> {
     std::fs::create_dir_all(out)?;
-    let (spi, mut summary, part, (stack, stack_room)) = simulate(elf, out, frames)?;
+    let (spi, mut summary, part, (stack, stack_room), answers) = simulate(elf, out, frames, noise)?;
     let text: Vec<String> = spi
         .iter()
         .map(|t| t.iter().map(|b| format!("{b:02x}")).collect::<String>())
@@ -804,7 +827,7 @@ pub fn run_job(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result
             .cloned()
             .collect()
     };
-    let reference = reference(frames)?;
+    let reference = reference(frames, noise)?;
     let same = !writes(&spi).is_empty() && writes(&spi) == writes(&reference);
     summary.push(format!(
         "SPI: {} transactions ({} writes, {} status reads); the host build of the same job \
@@ -824,5 +847,6 @@ pub fn run_job(elf: &str, out: &std::path::Path, frames: &[HostFrame]) -> Result
         stack,
         stack_room,
         spi,
+        answers,
     })
 }

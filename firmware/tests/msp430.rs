@@ -202,7 +202,7 @@ fn gallery(elf: &Path, prefix: &str) {
         let frames = harness::job_frames(job.setup, &job.cmds).expect("the job's frames");
         let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("job");
         let out = elf.with_file_name(format!("{prefix}-{stem}.out"));
-        let report = harness::run_job(&elf.to_string_lossy(), &out, &frames)
+        let report = harness::run_job(&elf.to_string_lossy(), &out, &frames, &[])
             .unwrap_or_else(|e| panic!("{file}: the simulator run: {e}"));
         let writes: Vec<Vec<u8>> = report
             .spi
@@ -221,5 +221,38 @@ fn gallery(elf: &Path, prefix: &str) {
     assert!(
         carried.iter().any(|s| s == "fitkit"),
         "fitkit.toml must be among the jobs the FITkit carries: {carried:?}"
+    );
+}
+
+/// A frame longer than any buffer of the board's link (here 3 000 bytes without a
+/// delimiter, past `MAX_FRAME`) before the job: the link discards it and counts an
+/// overflow, nothing overruns a buffer, and the job after it runs as without it.
+#[test]
+fn msp430_f2617_discards_an_over_long_frame_and_runs_the_job_after_it() {
+    let elf = f2617();
+    let noise = vec![0x55u8; 3_000];
+    assert!(noise.len() > protocol::link::MAX_FRAME);
+    let out = elf.with_file_name("over-long.out");
+    let report = harness::run_job(&elf.to_string_lossy(), &out, &harness::job(), &noise)
+        .unwrap_or_else(|e| panic!("the simulator run: {e}"));
+    assert!(report.same, "{:?}", report.summary);
+    let stats = report
+        .answers
+        .iter()
+        .find_map(|a| match a {
+            protocol::frame::DeviceFrame::Stats(s) => Some(*s),
+            _ => None,
+        })
+        .expect("the job's statistics");
+    assert!(
+        stats.link.overflows >= 1,
+        "the board's link counted no overflow: {:?}",
+        stats.link
+    );
+    assert!(
+        report.stack + 512 <= report.stack_room,
+        "stack {} B of {} B",
+        report.stack,
+        report.stack_room
     );
 }
