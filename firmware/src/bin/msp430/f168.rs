@@ -3,14 +3,13 @@
 //! TI SLAU049 chapters 13 and 14). P3.4/P3.5 are UTXD0/URXD0, P5.1–P5.3 SIMO1, SOMI1 and
 //! UCLK1; P5.0, the FPGA's chip select, is a plain output (`main.rs`).
 
-use super::{clear, fpgfx_spi_rx_wait, rd, set, wr, BAUD, CORE_HZ};
+use super::{clear, fpgfx_spi_rx_wait, rd, set, wr, BAUD, CORE_HZ, IFG1};
 
 /// What `FPGFX_PART` holds for this part, so that the simulator harness drives the
 /// registers this binary was built for.
 pub const PART: u16 = 168;
 
 const IE1: u16 = 0x00;
-const IFG1: u16 = 0x02;
 const IFG2: u16 = 0x03;
 const ME1: u16 = 0x04;
 const ME2: u16 = 0x05;
@@ -48,31 +47,10 @@ const SSEL1: u8 = 0x20;
 const CKPH: u8 = 0x80;
 const STC: u8 = 0x02;
 
-const IFG1_OFIFG: u8 = 0x02;
-const BCSCTL1: u16 = 0x57;
-const BCSCTL2: u16 = 0x58;
-/// BCSCTL1: XT2 off (set at reset).
-const XT2OFF: u8 = 0x80;
-/// BCSCTL2: MCLK from XT2 (SELM_2), SMCLK from XT2 (SELS).
-const SELM_XT2: u8 = 0x80;
-const SELS: u8 = 0x08;
-
-/// MCLK and SMCLK from XT2, the FITkit's 7.3728 MHz crystal ([`CORE_HZ`], which the
-/// baud and SPI divisors assume), once the oscillator has settled (SLAU049, "Basic Clock
-/// Module": clear OFIFG until it stays clear). At reset both run from the DCO (~800 kHz).
+/// MCLK and SMCLK from XT2, the FITkit's 7.3728 MHz crystal (SLAU049, "Basic Clock
+/// Module"); at reset both run from the DCO (~800 kHz). The F1xx needs no range set.
 pub fn clock_init() {
-    clear(BCSCTL1, XT2OFF);
-    loop {
-        clear(IFG1, IFG1_OFIFG);
-        // ≥ 50 µs at the DCO's reset frequency for the fault flag to come back.
-        for i in 0..64u16 {
-            core::hint::black_box(i);
-        }
-        if rd(IFG1) & IFG1_OFIFG == 0 {
-            break;
-        }
-    }
-    wr(BCSCTL2, SELM_XT2 | SELS);
+    super::clock_from_xt2();
 }
 
 /// USART0 as an 8N1 UART at [`BAUD`] from SMCLK, polled (no interrupt enabled).

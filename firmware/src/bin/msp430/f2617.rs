@@ -50,36 +50,15 @@ const UCMSB: u8 = 0x20;
 const UCMST: u8 = 0x08;
 const UCSYNC: u8 = 0x01;
 
-const IFG1: u16 = 0x02;
-const IFG1_OFIFG: u8 = 0x02;
-const BCSCTL1: u16 = 0x57;
-const BCSCTL2: u16 = 0x58;
 const BCSCTL3: u16 = 0x53;
-/// BCSCTL1: XT2 off (set at reset).
-const XT2OFF: u8 = 0x80;
-/// BCSCTL2: MCLK from XT2 (SELM_2), SMCLK from XT2 (SELS).
-const SELM_XT2: u8 = 0x80;
-const SELS: u8 = 0x08;
 /// BCSCTL3: XT2 is a 3–16 MHz crystal (XT2S_2).
 const XT2S_3_16MHZ: u8 = 0x80;
 
-/// MCLK and SMCLK from XT2, the FITkit's 7.3728 MHz crystal ([`CORE_HZ`], which the
-/// baud and SPI divisors assume), once the oscillator has settled (SLAU144, "Basic Clock
-/// Module+": clear OFIFG until it stays clear). At reset both run from the DCO (~1 MHz).
+/// MCLK and SMCLK from XT2, the FITkit's 7.3728 MHz crystal (SLAU144, "Basic Clock
+/// Module+"), once XT2's range is set for it; at reset both run from the DCO (~1 MHz).
 pub fn clock_init() {
     set(BCSCTL3, XT2S_3_16MHZ);
-    clear(BCSCTL1, XT2OFF);
-    loop {
-        clear(IFG1, IFG1_OFIFG);
-        // ≥ 50 µs at the DCO's reset frequency for the fault flag to come back.
-        for i in 0..64u16 {
-            core::hint::black_box(i);
-        }
-        if rd(IFG1) & IFG1_OFIFG == 0 {
-            break;
-        }
-    }
-    wr(BCSCTL2, SELM_XT2 | SELS);
+    super::clock_from_xt2();
 }
 
 /// USCI_A0 as an 8N1 UART at [`BAUD`] from SMCLK (7.3728 MHz / 115 200 = 64 exactly, so

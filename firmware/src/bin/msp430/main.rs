@@ -90,6 +90,35 @@ fn clear(addr: u16, bits: u8) {
     wr(addr, rd(addr) & !bits);
 }
 
+/// The basic clock module's registers both parts share (SLAU049 and SLAU144).
+const IFG1: u16 = 0x02;
+const IFG1_OFIFG: u8 = 0x02;
+const BCSCTL1: u16 = 0x57;
+const BCSCTL2: u16 = 0x58;
+/// BCSCTL1: XT2 off (set at reset).
+const XT2OFF: u8 = 0x80;
+/// BCSCTL2: MCLK from XT2 (SELM_2), SMCLK from XT2 (SELS).
+const SELM_XT2: u8 = 0x80;
+const SELS: u8 = 0x08;
+
+/// Switches MCLK and SMCLK to XT2, the FITkit's 7.3728 MHz crystal ([`CORE_HZ`], which
+/// the baud and SPI divisors assume), once the oscillator has settled: the fault flag is
+/// cleared until it stays clear. A part's `clock_init` calls it after its own settings.
+fn clock_from_xt2() {
+    clear(BCSCTL1, XT2OFF);
+    loop {
+        clear(IFG1, IFG1_OFIFG);
+        // ≥ 50 µs at the DCO's reset frequency for the fault flag to come back.
+        for i in 0..64u16 {
+            core::hint::black_box(i);
+        }
+        if rd(IFG1) & IFG1_OFIFG == 0 {
+            break;
+        }
+    }
+    wr(BCSCTL2, SELM_XT2 | SELS);
+}
+
 /// Called whenever the host link has no byte: a place for the simulator to stop and
 /// deliver one (`setbreak fpgfx_host_rx_idle`). Never inlined, so the symbol exists.
 #[no_mangle]
@@ -455,46 +484,32 @@ core::arch::global_asm!(
 /// msp430-elf-gcc is not in Debian. Each is written with one-bit shifts, adds and
 /// compares only, so that none calls itself.
 mod mspabi {
-    #[no_mangle]
-    extern "C" fn __mspabi_mpyi(a: u16, b: u16) -> u16 {
-        let (mut a, mut b, mut r) = (a, b, 0u16);
-        while b != 0 {
-            if b & 1 != 0 {
-                r = r.wrapping_add(a);
+    /// Shift-and-add multiplication, the low half of the product: one helper per width.
+    macro_rules! mul {
+        ($(#[$doc:meta])* $name:ident, $t:ty) => {
+            $(#[$doc])*
+            #[no_mangle]
+            extern "C" fn $name(a: $t, b: $t) -> $t {
+                let (mut a, mut b, mut r) = (a, b, 0 as $t);
+                while b != 0 {
+                    if b & 1 != 0 {
+                        r = r.wrapping_add(a);
+                    }
+                    a <<= 1;
+                    b >>= 1;
+                }
+                r
             }
-            a <<= 1;
-            b >>= 1;
-        }
-        r
+        };
     }
-
-    #[no_mangle]
-    extern "C" fn __mspabi_mpyl(a: u32, b: u32) -> u32 {
-        let (mut a, mut b, mut r) = (a, b, 0u32);
-        while b != 0 {
-            if b & 1 != 0 {
-                r = r.wrapping_add(a);
-            }
-            a <<= 1;
-            b >>= 1;
-        }
-        r
-    }
-
-    /// Called through the 64-bit shims below (C convention: `a` in R12–R15, `b` on the
-    /// stack).
-    #[no_mangle]
-    extern "C" fn fpgfx_mul64(a: u64, b: u64) -> u64 {
-        let (mut a, mut b, mut r) = (a, b, 0u64);
-        while b != 0 {
-            if b & 1 != 0 {
-                r = r.wrapping_add(a);
-            }
-            a <<= 1;
-            b >>= 1;
-        }
-        r
-    }
+    mul!(__mspabi_mpyi, u16);
+    mul!(__mspabi_mpyl, u32);
+    mul!(
+        /// Called through the 64-bit shims below (C convention: `a` in R12–R15, `b` on
+        /// the stack).
+        fpgfx_mul64,
+        u64
+    );
 
     macro_rules! divmod {
         ($name:ident, $t:ty, $bits:expr) => {
