@@ -347,6 +347,25 @@ pub const FITKIT_ICE40_LANES8: Design = Design {
     ..FITKIT_ICE40
 };
 
+/// The line-only FITkit block (the XC3S50's `line` design) on the iCE40, placed: the
+/// 100 MHz target holds for every variant the block builds.
+pub const FITKIT_ICE40_LINE: Design = Design {
+    variant: "line",
+    params: &[("TRI_UNIT", "0")],
+    ..FITKIT_ICE40
+};
+
+/// The triangle-only FITkit block on the small triangle unit (the XC3S50's `tri`
+/// design) on the iCE40: placed on request only. Its set-up multiplier is one MULT18X18
+/// on the part it was made for; the HX8K has no multiplier, so there it is LUTs and a
+/// third of 100 MHz (docs/synthesis.md). An iCE40 build takes `tri_unit`.
+pub const FITKIT_ICE40_TRI: Design = Design {
+    variant: "tri",
+    params: &[("LINE_UNIT", "0"), ("TRI_SMALL", "1")],
+    gate: Gate::Manual,
+    ..FITKIT_ICE40
+};
+
 /// The FITkit block on the ECP5-85F.
 pub const FITKIT_ECP5: Design = Design {
     family: &ECP5,
@@ -371,17 +390,20 @@ pub const FITKIT_XC3S: Design = Design {
 /// The line-only FITkit block (`TRI_UNIT` = 0) for the XC3S50: seed 000 built lines and
 /// triangles as two designs because one did not fit the part, and so does fpgfx.
 pub const FITKIT_XC3S_LINE: Design = Design {
-    variant: "line",
-    params: &[("TRI_UNIT", "0")],
-    ..FITKIT_XC3S
+    family: &XC3S50,
+    mhz: 0,
+    seeds: &[],
+    ..FITKIT_ICE40_LINE
 };
 
 /// The triangle-only FITkit block (`LINE_UNIT` = 0) for the XC3S50, on the small triangle
-/// unit (`TRI_SMALL` = 1: its set-up's products through two of the part's MULT18X18s).
+/// unit (`TRI_SMALL` = 1: its set-up's products through one of the part's MULT18X18s).
 pub const FITKIT_XC3S_TRI: Design = Design {
-    variant: "tri",
-    params: &[("LINE_UNIT", "0"), ("TRI_SMALL", "1")],
-    ..FITKIT_XC3S
+    family: &XC3S50,
+    mhz: 0,
+    seeds: &[],
+    gate: Gate::Placed,
+    ..FITKIT_ICE40_TRI
 };
 
 /// The ray-casting core's folder.
@@ -438,6 +460,8 @@ pub const RT_CORE_KU5P: Design = Design {
 pub const DESIGNS: &[Design] = &[
     FITKIT_ICE40,
     FITKIT_ICE40_LANES8,
+    FITKIT_ICE40_LINE,
+    FITKIT_ICE40_TRI,
     FITKIT_ECP5,
     FITKIT_GOWIN,
     FITKIT_XC3S,
