@@ -25,7 +25,7 @@ use serde::Serialize;
 use sim_target::raster::{FbWrite, Stats};
 
 use super::{fill, job_hash, FileEntry, VectorFile, VectorSet, VectorsError};
-use jobs::raster::Packet;
+use jobs::raster::{Packet, RasterJob};
 
 /// The testbench template: sizes and expected counters are `@NAME@` placeholders.
 const TESTBENCH: &str = include_str!("../../hw/fitkit-raster/vectors/tb_fpgfx.v");
@@ -47,20 +47,21 @@ const COORD_BITS: u32 = 12;
 /// SPI stream, the Verilog testbench and its run scripts; the other layouts have no
 /// SPI framing and no RTL here, so their sets stop at records, fragments and frame.
 pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet, VectorsError> {
-    let mut job = jobs::raster::parse(job_text, file)?;
+    let Trace {
+        job,
+        spi: transactions,
+        records,
+        writes,
+        frame,
+        stats,
+    } = trace(job_text, file, layout)?;
     let fitkit = layout == LayoutId::Fitkit;
-    if fitkit {
-        // Coverage is the same for every traversal; the counters are the RTL's only for
-        // the one its triangle unit walks.
-        job.setup.traversal = Traversal::BoundingBox;
-    }
     let bus = layout.layout();
-    let packets = jobs::raster::pack_job(&job, file, bus)?;
-    // The controller's refusals first: they name what the user can change.
-    let transactions = fitkit
-        .then(|| spi_transactions(&job.setup, &packets, file))
-        .transpose()?;
-    let model = run_model(&job.setup, &packets, bus, file)?;
+    let model = ModelRun {
+        writes,
+        frame,
+        stats,
+    };
     let format = if fitkit {
         PixelFormat::Rgb332
     } else {
@@ -87,10 +88,6 @@ pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet,
     if let Some(t) = &transactions {
         files.extend(spi_files(t, &origin));
     }
-    let records: Vec<(u8, Vec<u64>)> = match &transactions {
-        Some(t) => t.iter().map(|t| decoder_records(t)).collect(),
-        None => packets.iter().map(|(_, r)| (0, r.to_vec())).collect(),
-    };
     files.push(fifo_file(&records, bus, &origin));
 
     let color_bits = 4 * format.digits() as u32;
@@ -231,6 +228,64 @@ pub fn raster(job_text: &str, file: &str, layout: LayoutId) -> Result<VectorSet,
         entry: None,
     });
     Ok(VectorSet { files })
+}
+
+/// A raster job run through the golden model on one bus layout: everything a vector set
+/// is written from, in memory, for a front end that wants the data rather than the files
+/// (the Python package's scoreboard hands it to a cocotb testbench).
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct Trace {
+    /// The job as run: on the FITkit with the bounding-box traversal its RTL walks, so
+    /// that the counters are the RTL's; on the other layouts as the file says.
+    pub job: RasterJob,
+    /// The SPI write transactions of the controller's FITkit driver, the set-up's first,
+    /// each one CS_n-low period (address byte and payload); `None` off the FITkit, whose
+    /// other layouts have no SPI framing.
+    pub spi: Option<Vec<Vec<u8>>>,
+    /// The input FIFO's records, one entry per packet: the FIFO tag (the FITkit's SPI
+    /// channel, else 0) and the packet's records, in the order they are pushed.
+    pub records: Vec<(u8, Vec<u64>)>,
+    /// Every framebuffer write in the order the block's memory port issues them, the
+    /// set-up's clear first.
+    pub writes: Vec<FbWrite>,
+    /// The final frame, row-major.
+    pub frame: Vec<Rgb>,
+    /// The block's counters after the job (the set-up's clear counted).
+    pub stats: Stats,
+}
+
+/// Runs `job_text` (the raster job `file`, as `fpgfx raster` reads it) through the golden
+/// model on `layout`, as [`raster`] does before it writes the files: the packets the
+/// controller packs, on the FITkit the SPI stream its driver makes of them and the records
+/// the block's decoder cuts from it, and the model's framebuffer writes, frame and counters.
+pub fn trace(job_text: &str, file: &str, layout: LayoutId) -> Result<Trace, VectorsError> {
+    let mut job = jobs::raster::parse(job_text, file)?;
+    let fitkit = layout == LayoutId::Fitkit;
+    if fitkit {
+        // Coverage is the same for every traversal; the counters are the RTL's only for
+        // the one its triangle unit walks.
+        job.setup.traversal = Traversal::BoundingBox;
+    }
+    let bus = layout.layout();
+    let packets = jobs::raster::pack_job(&job, file, bus)?;
+    // The controller's refusals first: they name what the user can change.
+    let spi = fitkit
+        .then(|| spi_transactions(&job.setup, &packets, file))
+        .transpose()?;
+    let model = run_model(&job.setup, &packets, bus, file)?;
+    let records = match &spi {
+        Some(t) => t.iter().map(|t| decoder_records(t)).collect(),
+        None => packets.iter().map(|(_, r)| (0, r.to_vec())).collect(),
+    };
+    Ok(Trace {
+        job,
+        spi,
+        records,
+        writes: model.writes,
+        frame: model.frame,
+        stats: model.stats,
+    })
 }
 
 /// `raster_setup.hex`: the frame-wide set-up the model ran, for a testbench whose DUT
