@@ -27,8 +27,8 @@ pub const LAYERS: &[&[&str]] = &[
     &["jobs"],
     // Test vectors; the C library.
     &["vectors", "fpgfx-capi"],
-    // The emulated board.
-    &["sim-board"],
+    // The emulated board; the Python package (the model for cocotb scoreboards).
+    &["sim-board", "fpgfx-python"],
     // The tool.
     &["host-cli"],
     // Automation: depends on nothing of ours.

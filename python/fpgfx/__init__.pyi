@@ -1,0 +1,101 @@
+"""Type stubs for fpgfx (the native module fpgfx._fpgfx, re-exported)."""
+
+import os
+from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+#: A raster job or a scene: its TOML text, a path to the file, or a dict of the same shape.
+Job = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+
+class Error(ValueError):
+    """A refusal: a job or scene that does not parse or that the model cannot run, or an
+    argument of the right type with an unusable value. The message names file, line and key."""
+
+class FitkitRecords:
+    """The job as the FITkit block takes it (what ``fpgfx vectors raster`` writes)."""
+
+    #: SPI write transactions, one per CS_n-low period, address byte first.
+    spi: List[bytes]
+    #: Input FIFO records per packet: (tag = SPI channel, records).
+    packets: List[Tuple[int, List[int]]]
+    #: Every framebuffer write in order: (N, 4) uint32 rows kind, x, y, RGB332 word.
+    writes: npt.NDArray[np.uint32]
+    #: The final framebuffer, (H, W) uint8 RGB332 words.
+    framebuffer: npt.NDArray[np.uint8]
+    #: The status counters of this run (bounding-box traversal, as the RTL walks).
+    counters: Dict[str, Union[int, float]]
+
+class RasterFrame:
+    """A raster job's frame and counters."""
+
+    #: (H, W, 3) uint8 RGB, the PNG ``fpgfx raster`` writes.
+    image: npt.NDArray[np.uint8]
+    #: commands, fragments, pixel_tests, block_tests, cycles_<unit>, cycles, end_cycle,
+    #: board_time_s, fifo_records, fifo_stalls, fifo_max, fragment_stalls.
+    counters: Dict[str, Union[int, float]]
+    #: With ``records=True``, the job on the FITkit layout.
+    records: Optional[FitkitRecords]
+
+class RenderFrame:
+    """A ray-traced frame, its planes and its register image."""
+
+    #: (H, W, 3) uint8 RGB, the PNG ``fpgfx render`` writes.
+    image: npt.NDArray[np.uint8]
+    #: (H, W) float32 distance to the first hit, +inf where the ray missed.
+    depth: npt.NDArray[np.float32]
+    #: (H, W, 3) float32 world-space normal, 0 where the ray missed.
+    normal: npt.NDArray[np.float32]
+    #: The register image (uint32, scene memory order).
+    regs: npt.NDArray[np.uint32]
+    #: The number format, spelled as ``--numeric`` takes it.
+    numeric: str
+
+class Comparison:
+    """The figures ``fpgfx compare`` reports for two colour frames."""
+
+    width: int
+    height: int
+    pixels: int
+    equal: int
+    within_tolerance: int
+    near_edge: int
+    missing: int
+    unexpected: int
+    differing: int
+    failures: int
+    passed: bool
+    max_error: int
+    mean_error: float
+    psnr_db: float
+    background: Optional[str]
+    mismatches: List[Dict[str, Any]]
+    mask: npt.NDArray[np.uint8]
+    def __bool__(self) -> bool: ...
+
+def raster(job: Job, *, records: bool = False, name: Optional[str] = None) -> RasterFrame:
+    """Draws a raster job as ``fpgfx raster`` does on the built-in target."""
+
+def render(
+    scene: Job,
+    numeric: str = "q16.16",
+    *,
+    size: Optional[Tuple[int, int]] = None,
+    spp: Optional[int] = None,
+    name: Optional[str] = None,
+) -> RenderFrame:
+    """Renders a scene as ``fpgfx render --numeric NUMERIC`` does on the built-in target."""
+
+def compare(
+    expected: npt.NDArray[np.uint8],
+    actual: npt.NDArray[np.uint8],
+    tolerance: float = 0,
+    *,
+    raster: Optional[Job] = None,
+    coverage_precision: Optional[int] = None,
+    max_listed: int = 10,
+) -> Comparison:
+    """Compares two (H, W, 3) uint8 frames as ``fpgfx compare`` does."""
