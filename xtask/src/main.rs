@@ -4,7 +4,8 @@
 //! nightly the MSP430 binary builds with; from Debian, QEMU for the board binaries'
 //! end-to-end tests, mspdebug for the MSP430's simulator run, the third-party `stm32flash` the bootloader
 //! test drives, and Verilator, Icarus, Yosys and nextpnr for the RTL; from PyPI into
-//! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools)
+//! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools, and maturin, numpy
+//! and pytest for the Python package, whose wheel is built and tested last)
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
@@ -49,9 +50,17 @@ fn main() -> Result<()> {
             synth::synth(&workspace_root(), &synth::Options::parse(&args[1..])?).map(|_| ())
         }
         Some("layers") => layers::check(&std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())),
+        Some("python") => {
+            // The test command's last step alone, for work on python/: its PyPI tools,
+            // then wheel, install and pytest (the fpgfx binary must be built).
+            for tool in PYPI.iter().filter(|t| t.program != "msp430-bsl") {
+                synth::ensure_pypi(&workspace_root(), tool.program, tool.package)?;
+            }
+            python_package()
+        }
         _ => {
-            eprintln!("usage: cargo xtask <test|setup|synth|layers>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME] [--variant NAME] [--family NAME] [--check | --gate | --update-baseline]
-         --check: every design placed and held to hw/synth-baseline.json; --gate: what the test command runs (docs/synthesis.md)\n  layers check that every dependency between the workspace's crates points down");
+            eprintln!("usage: cargo xtask <test|setup|synth|layers|python>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME] [--variant NAME] [--family NAME] [--check | --gate | --update-baseline]
+         --check: every design placed and held to hw/synth-baseline.json; --gate: what the test command runs (docs/synthesis.md)\n  layers check that every dependency between the workspace's crates points down\n  python build the Python package's wheel, install it into target/pyenv and run its pytest suite (needs target/debug/fpgfx)");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
@@ -182,11 +191,28 @@ struct PyPiTool {
 }
 
 /// The PyPI tools the tests drive.
-const PYPI: &[PyPiTool] = &[PyPiTool {
-    program: "msp430-bsl",
-    package: "python-msp430-tools==0.10.0",
-    why: "the third-party MSP430 ROM BSL client `fpgfx-sim --bootloader msp430` is checked against (host-cli/tests/integration/flash.rs)",
-}];
+const PYPI: &[PyPiTool] = &[
+    PyPiTool {
+        program: "msp430-bsl",
+        package: "python-msp430-tools==0.10.0",
+        why: "the third-party MSP430 ROM BSL client `fpgfx-sim --bootloader msp430` is checked against (host-cli/tests/integration/flash.rs)",
+    },
+    PyPiTool {
+        program: "maturin",
+        package: "maturin==1.16.0",
+        why: "builds the Python package's wheel (python/, docs/python.md)",
+    },
+    PyPiTool {
+        program: "numpy-config",
+        package: "numpy==2.4.6",
+        why: "the arrays the Python package takes and returns (python/)",
+    },
+    PyPiTool {
+        program: "pytest",
+        package: "pytest==9.2.0",
+        why: "runs the Python package's tests (python/tests/)",
+    },
+];
 
 /// Whether `program` is on the PATH.
 fn on_path(program: &str) -> bool {
@@ -482,6 +508,77 @@ fn test() -> Result<()> {
     }
     rtl_checks()?;
     run(&cargo, &["test", "--workspace"])?;
+    python_package()?;
     eprintln!("xtask test: all checks passed");
+    Ok(())
+}
+
+/// The Python package (`python/`, docs/python.md): its wheel built by maturin and installed
+/// into the workspace's venv (`target/pyenv`, where `setup` put maturin, numpy and pytest),
+/// then its pytest suite, which holds it to the `fpgfx` binary the workspace's tests just
+/// built. The dev profile, so that maturin finds every workspace crate already built by
+/// those tests and compiles only PyO3 (with `extension-module`) and the bindings.
+fn python_package() -> Result<()> {
+    let root = workspace_root();
+    let env = synth::pyenv(&root);
+    let bin = |p: &str| env.join("bin").join(p).to_string_lossy().into_owned();
+    let wheels = root.join("target").join("wheels");
+    // Only this build's wheel in the folder, so the install below cannot pick a stale one.
+    if let Ok(entries) = std::fs::read_dir(&wheels) {
+        for e in entries.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if name.starts_with("fpgfx-") && name.ends_with(".whl") {
+                std::fs::remove_file(e.path())
+                    .with_context(|| format!("cannot remove {}", e.path().display()))?;
+            }
+        }
+    }
+    let manifest = root.join("python").join("Cargo.toml");
+    run(
+        &bin("maturin"),
+        &[
+            "build",
+            "--quiet",
+            "--profile",
+            "dev",
+            "-m",
+            &manifest.to_string_lossy(),
+            "-o",
+            &wheels.to_string_lossy(),
+            "-i",
+            &bin("python"),
+        ],
+    )?;
+    let wheel = std::fs::read_dir(&wheels)
+        .with_context(|| format!("maturin wrote no {}", wheels.display()))?
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| {
+            let name = p.file_name().unwrap_or_default().to_string_lossy();
+            name.starts_with("fpgfx-") && name.ends_with(".whl")
+        })
+        .with_context(|| format!("maturin wrote no fpgfx wheel into {}", wheels.display()))?;
+    run(
+        &bin("pip"),
+        &[
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+            "--force-reinstall",
+            "--no-deps",
+            &wheel.to_string_lossy(),
+        ],
+    )?;
+    let fpgfx = root.join("target").join("debug").join("fpgfx");
+    eprintln!("+ FPGFX_BIN={} pytest python/tests", fpgfx.display());
+    let status = Command::new(bin("pytest"))
+        .args(["-q", "-p", "no:cacheprovider", "python/tests"])
+        .current_dir(&root)
+        .env("FPGFX_BIN", &fpgfx)
+        .status()
+        .context("could not start pytest")?;
+    if !status.success() {
+        bail!("the Python package's tests (pytest python/tests) failed with {status}");
+    }
     Ok(())
 }
