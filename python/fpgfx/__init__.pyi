@@ -9,7 +9,7 @@ import numpy.typing as npt
 __version__: str
 
 #: A raster job or a scene: its TOML text, a path to the file, or a dict of the same shape.
-Job = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+_Job = Union[str, "os.PathLike[str]", Mapping[str, Any]]
 
 class Error(ValueError):
     """A refusal: a job or scene that does not parse or that the model cannot run, or an
@@ -76,11 +76,11 @@ class Comparison:
     mask: npt.NDArray[np.uint8]
     def __bool__(self) -> bool: ...
 
-def raster(job: Job, *, records: bool = False, name: Optional[str] = None) -> RasterFrame:
+def raster(job: _Job, *, records: bool = False, name: Optional[str] = None) -> RasterFrame:
     """Draws a raster job as ``fpgfx raster`` does on the built-in target."""
 
 def render(
-    scene: Job,
+    scene: _Job,
     numeric: str = "q16.16",
     *,
     size: Optional[Tuple[int, int]] = None,
@@ -94,7 +94,7 @@ def compare(
     actual: npt.NDArray[np.uint8],
     tolerance: float = 0,
     *,
-    raster: Optional[Job] = None,
+    raster: Optional[_Job] = None,
     coverage_precision: Optional[int] = None,
     max_listed: int = 10,
 ) -> Comparison:
