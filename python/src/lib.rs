@@ -1,11 +1,11 @@
 //! fpgfx's golden model as a Python extension module (`fpgfx._fpgfx`, re-exported by the
 //! `fpgfx` package), so that a cocotb testbench can use the model as its scoreboard:
 //!
-//! * [`raster`]: a raster job (the TOML `fpgfx raster` reads, or a dict of the same shape)
+//! * `raster`: a raster job (the TOML `fpgfx raster` reads, or a dict of the same shape)
 //!   to the frame and the block's counters, and on request the FITkit's SPI stream, FIFO
 //!   records and ordered framebuffer writes;
-//! * [`render`]: a ray-tracer scene to the frame and its depth and normal planes;
-//! * [`compare()`]: two frames to the figures `fpgfx compare` reports.
+//! * `render`: a ray-tracer scene to the frame and its depth and normal planes;
+//! * `compare`: two frames to the figures `fpgfx compare` reports.
 //!
 //! Nothing here models anything: each function hands its input to the library the `fpgfx`
 //! tool runs (`vectors::raster::trace`, `vectors::render::render`, `compare::compare`), so
