@@ -695,6 +695,127 @@ pub fn read_request_writes(req: &ReadRequest) -> impl Iterator<Item = (u32, u32)
     .into_iter()
 }
 
+/// One number of the map's generated Verilog header (`RT_AXI_NAME`): what a testbench in
+/// any language needs besides the register table, from one place.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MapNumber {
+    /// Name after the `RT_AXI_` prefix.
+    pub name: &'static str,
+    /// The value: an address, a bit number, a count or a code.
+    pub value: u32,
+    /// One line saying what it is, written above it.
+    pub doc: &'static str,
+}
+
+const fn number(name: &'static str, value: u32, doc: &'static str) -> MapNumber {
+    MapNumber { name, value, doc }
+}
+
+const fn bit_of(mask: u32) -> u32 {
+    mask.trailing_zeros()
+}
+
+/// The map's numbers in the order [`write_verilog_header`] writes them (the plane,
+/// format and counter codes follow there, from their own tables), so the Verilog header
+/// and the Python package's `fpgfx.axi` constants are both generated from here.
+pub const MAP: [MapNumber; 43] = [
+    number(
+        "ADDR_BITS",
+        DEVICE_ADDR_BITS,
+        "address bits the device decodes",
+    ),
+    number("AP_CTRL", AP_CTRL, "block-level control"),
+    number("GIE", GIE, "global interrupt enable"),
+    number("IER", IER, "interrupt enable"),
+    number("ISR", ISR, "interrupt status (toggle on write)"),
+    number("NUMERIC", NUMERIC, "scalar: number format code"),
+    number("AOVS", AOVS, "scalar: bit 0 writes the AOV planes"),
+    number("AP_START", bit_of(ctrl::AP_START), "AP_CTRL bit: ap_start"),
+    number(
+        "AP_DONE",
+        bit_of(ctrl::AP_DONE),
+        "AP_CTRL bit: ap_done (clear on read)",
+    ),
+    number("AP_IDLE", bit_of(ctrl::AP_IDLE), "AP_CTRL bit: ap_idle"),
+    number(
+        "AP_READY",
+        bit_of(ctrl::AP_READY),
+        "AP_CTRL bit: ap_ready (clear on read)",
+    ),
+    number(
+        "AUTO_RESTART",
+        bit_of(ctrl::AUTO_RESTART),
+        "AP_CTRL bit: auto_restart",
+    ),
+    number("IRQ_DONE", bit_of(irq::DONE), "IER / ISR bit: ap_done"),
+    number("IRQ_READY", bit_of(irq::READY), "IER / ISR bit: ap_ready"),
+    number("SCENE_BASE", SCENE_BASE, "scene word 0"),
+    number("SCENE_WINDOW", SCENE_WINDOW, "bytes of the scene window"),
+    number(
+        "SCENE_WORDS",
+        SCENE_WORDS as u32,
+        "words of the scene image",
+    ),
+    number("SYS_ID", sys::ID, "reads DEVICE_ID"),
+    number("SYS_VERSION", sys::VERSION, "reads MAP_VERSION"),
+    number("SYS_RESET", sys::RESET, "any write: power-on state"),
+    number(
+        "SYS_RT_CYCLES",
+        sys::RT_CYCLES,
+        "last frame's cycles, low word (high at +4)",
+    ),
+    number(
+        "SYS_RT_WORK",
+        sys::RT_WORK,
+        "last frame's rays, low word (high at +4)",
+    ),
+    number(
+        "SYS_COUNTERS",
+        sys::COUNTERS,
+        "counter 0's low word; counter i at +8 i",
+    ),
+    number("COUNTER_COUNT", COUNTERS.len() as u32, "device counters"),
+    number("DEVICE_ID", DEVICE_ID, "\"FPGX\""),
+    number("MAP_VERSION", MAP_VERSION, "this map's version"),
+    number(
+        "NUMERIC_Q16_16",
+        numeric_code(Numeric::Q16_16),
+        "NUMERIC code of Q16.16",
+    ),
+    number(
+        "NUMERIC_CODES",
+        Numeric::ALL.len() as u32,
+        "NUMERIC codes that name a format",
+    ),
+    number("READ_PLANE", readback::PLANE, "read-back: plane code"),
+    number("READ_FORMAT", readback::FORMAT, "read-back: format code"),
+    number("READ_RECT_XY", readback::RECT_XY, "read-back: x | y << 16"),
+    number("READ_RECT_WH", readback::RECT_WH, "read-back: w | h << 16"),
+    number("READ_LEN", readback::LEN, "read-back: bytes, or READ_NONE"),
+    number("READ_PAGE", readback::PAGE, "read-back: the window's page"),
+    number("READ_NONE", readback::NONE, "READ_LEN without a read-back"),
+    number("READ_SLAVE", readback::BASE, "the read-back slave"),
+    number(
+        "PLANE_CODES",
+        PLANES.len() as u32,
+        "READ_PLANE codes that name a plane",
+    ),
+    number(
+        "FORMAT_CODES",
+        FORMATS.len() as u32,
+        "READ_FORMAT codes that name a format",
+    ),
+    number("READ_BASE", READ_BASE, "read-back window"),
+    number("READ_WINDOW", READ_WINDOW, "bytes of the read-back window"),
+    number(
+        "RASTER_BASE",
+        raster::BASE,
+        "the raster slave (not on this device)",
+    ),
+    number("TEXTURE_BASE", TEXTURE_BASE, "texture window"),
+    number("SLAVE_SPAN", SLAVE_SPAN, "bytes of each register slave"),
+];
+
 /// Writes `hw/rt-core/rtl/rt_axi_map.vh`, the ray-casting core's AXI4-Lite slave's view
 /// of this map: every address, bit and code the slave decodes, so the Verilog never
 /// types one the Rust defines. The test `rt_axi_map_header_matches_the_rust_map` fails
@@ -715,105 +836,12 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
     )?;
     writeln!(out, "`ifndef RT_AXI_MAP_VH")?;
     writeln!(out, "`define RT_AXI_MAP_VH")?;
-    let bit = |v: u32| v.trailing_zeros();
-    let numbers: [(&str, u32, &str); 43] = [
-        (
-            "ADDR_BITS",
-            DEVICE_ADDR_BITS,
-            "address bits the device decodes",
-        ),
-        ("AP_CTRL", AP_CTRL, "block-level control"),
-        ("GIE", GIE, "global interrupt enable"),
-        ("IER", IER, "interrupt enable"),
-        ("ISR", ISR, "interrupt status (toggle on write)"),
-        ("NUMERIC", NUMERIC, "scalar: number format code"),
-        ("AOVS", AOVS, "scalar: bit 0 writes the AOV planes"),
-        ("AP_START", bit(ctrl::AP_START), "AP_CTRL bit: ap_start"),
-        (
-            "AP_DONE",
-            bit(ctrl::AP_DONE),
-            "AP_CTRL bit: ap_done (clear on read)",
-        ),
-        ("AP_IDLE", bit(ctrl::AP_IDLE), "AP_CTRL bit: ap_idle"),
-        (
-            "AP_READY",
-            bit(ctrl::AP_READY),
-            "AP_CTRL bit: ap_ready (clear on read)",
-        ),
-        (
-            "AUTO_RESTART",
-            bit(ctrl::AUTO_RESTART),
-            "AP_CTRL bit: auto_restart",
-        ),
-        ("IRQ_DONE", bit(irq::DONE), "IER / ISR bit: ap_done"),
-        ("IRQ_READY", bit(irq::READY), "IER / ISR bit: ap_ready"),
-        ("SCENE_BASE", SCENE_BASE, "scene word 0"),
-        ("SCENE_WINDOW", SCENE_WINDOW, "bytes of the scene window"),
-        (
-            "SCENE_WORDS",
-            SCENE_WORDS as u32,
-            "words of the scene image",
-        ),
-        ("SYS_ID", sys::ID, "reads DEVICE_ID"),
-        ("SYS_VERSION", sys::VERSION, "reads MAP_VERSION"),
-        ("SYS_RESET", sys::RESET, "any write: power-on state"),
-        (
-            "SYS_RT_CYCLES",
-            sys::RT_CYCLES,
-            "last frame's cycles, low word (high at +4)",
-        ),
-        (
-            "SYS_RT_WORK",
-            sys::RT_WORK,
-            "last frame's rays, low word (high at +4)",
-        ),
-        (
-            "SYS_COUNTERS",
-            sys::COUNTERS,
-            "counter 0's low word; counter i at +8 i",
-        ),
-        ("COUNTER_COUNT", COUNTERS.len() as u32, "device counters"),
-        ("DEVICE_ID", DEVICE_ID, "\"FPGX\""),
-        ("MAP_VERSION", MAP_VERSION, "this map's version"),
-        (
-            "NUMERIC_Q16_16",
-            numeric_code(Numeric::Q16_16),
-            "NUMERIC code of Q16.16",
-        ),
-        (
-            "NUMERIC_CODES",
-            Numeric::ALL.len() as u32,
-            "NUMERIC codes that name a format",
-        ),
-        ("READ_PLANE", readback::PLANE, "read-back: plane code"),
-        ("READ_FORMAT", readback::FORMAT, "read-back: format code"),
-        ("READ_RECT_XY", readback::RECT_XY, "read-back: x | y << 16"),
-        ("READ_RECT_WH", readback::RECT_WH, "read-back: w | h << 16"),
-        ("READ_LEN", readback::LEN, "read-back: bytes, or READ_NONE"),
-        ("READ_PAGE", readback::PAGE, "read-back: the window's page"),
-        ("READ_NONE", readback::NONE, "READ_LEN without a read-back"),
-        ("READ_SLAVE", readback::BASE, "the read-back slave"),
-        (
-            "PLANE_CODES",
-            PLANES.len() as u32,
-            "READ_PLANE codes that name a plane",
-        ),
-        (
-            "FORMAT_CODES",
-            FORMATS.len() as u32,
-            "READ_FORMAT codes that name a format",
-        ),
-        ("READ_BASE", READ_BASE, "read-back window"),
-        ("READ_WINDOW", READ_WINDOW, "bytes of the read-back window"),
-        (
-            "RASTER_BASE",
-            raster::BASE,
-            "the raster slave (not on this device)",
-        ),
-        ("TEXTURE_BASE", TEXTURE_BASE, "texture window"),
-        ("SLAVE_SPAN", SLAVE_SPAN, "bytes of each register slave"),
-    ];
-    for (name, value, what) in numbers {
+    for MapNumber {
+        name,
+        value,
+        doc: what,
+    } in MAP
+    {
         writeln!(out, "// {what}")?;
         // bit numbers and counts in decimal, addresses and words in hex
         if value < 0x100 {
@@ -852,8 +880,12 @@ pub fn write_verilog_header(out: &mut impl core::fmt::Write) -> core::fmt::Resul
 }
 
 /// Writes a CamelCase name as SCREAMING_SNAKE_CASE (`DepthF32` as `DEPTH_F32`, `Rgb888`
-/// as `RGB888`): a word break where an upper-case letter follows a lower-case one.
-fn screaming(out: &mut impl core::fmt::Write, name: core::fmt::Arguments<'_>) -> core::fmt::Result {
+/// as `RGB888`): a word break where an upper-case letter follows a lower-case one. The
+/// header's plane and format names are made by it, and so are the Python package's.
+pub fn screaming(
+    out: &mut impl core::fmt::Write,
+    name: core::fmt::Arguments<'_>,
+) -> core::fmt::Result {
     struct Screaming<'a, W> {
         out: &'a mut W,
         lower: bool,

@@ -45,6 +45,9 @@ pub enum VectorsError {
     /// The device rendered the frame but has no such plane: a bug in the model.
     #[error("the golden model has no {0} plane for this frame")]
     Plane(&'static str),
+    /// The device took the start but reported no finished frame: a bug in the model.
+    #[error("the golden model rendered the frame but reported no end of frame")]
+    NoFrameDone,
     /// The manifest could not be written as TOML.
     #[error("the manifest does not serialise as TOML")]
     Manifest(#[from] toml::ser::Error),

@@ -260,20 +260,8 @@ pub struct Trace {
 /// controller packs, on the FITkit the SPI stream its driver makes of them and the records
 /// the block's decoder cuts from it, and the model's framebuffer writes, frame and counters.
 pub fn trace(job_text: &str, file: &str, layout: LayoutId) -> Result<Trace, VectorsError> {
-    let mut job = jobs::raster::parse(job_text, file)?;
-    let fitkit = layout == LayoutId::Fitkit;
-    if fitkit {
-        // Coverage is the same for every traversal; the counters are the RTL's only for
-        // the one its triangle unit walks.
-        job.setup.traversal = Traversal::BoundingBox;
-    }
-    let bus = layout.layout();
-    let packets = jobs::raster::pack_job(&job, file, bus)?;
-    // The controller's refusals first: they name what the user can change.
-    let spi = fitkit
-        .then(|| spi_transactions(&job.setup, &packets, file))
-        .transpose()?;
-    let model = run_model(&job.setup, &packets, bus, file)?;
+    let Packing { job, packets, spi } = pack(job_text, file, layout)?;
+    let model = run_model(&job.setup, &packets, layout.layout(), file)?;
     let records = match &spi {
         Some(t) => t.iter().map(|t| decoder_records(t)).collect(),
         None => packets.iter().map(|(_, r)| (0, r.to_vec())).collect(),
@@ -286,6 +274,40 @@ pub fn trace(job_text: &str, file: &str, layout: LayoutId) -> Result<Trace, Vect
         frame: model.frame,
         stats: model.stats,
     })
+}
+
+/// A raster job packed as the controller sends it, without running the model: what a
+/// testbench that drives the block itself needs ([`pack`]).
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct Packing {
+    /// The job as packed: on the FITkit with the bounding-box traversal, as in [`Trace`].
+    pub job: RasterJob,
+    /// One packet per command, in file order: the controller's channel (on the FITkit the
+    /// SPI address) and the FIFO records.
+    pub packets: Vec<Packet>,
+    /// On the FITkit, the SPI write transactions of the controller's driver: the set-up's
+    /// first, then one per packet, each one CS_n-low period (address byte and payload).
+    pub spi: Option<Vec<Vec<u8>>>,
+}
+
+/// Parses `job_text` (the raster job `file`) and packs it for `layout` as the controller
+/// does, refusing what the controller or the layout would refuse, naming the command;
+/// on the FITkit also the SPI transactions its driver makes of the packets.
+pub fn pack(job_text: &str, file: &str, layout: LayoutId) -> Result<Packing, VectorsError> {
+    let mut job = jobs::raster::parse(job_text, file)?;
+    let fitkit = layout == LayoutId::Fitkit;
+    if fitkit {
+        // Coverage is the same for every traversal; the counters are the RTL's only for
+        // the one its triangle unit walks.
+        job.setup.traversal = Traversal::BoundingBox;
+    }
+    let packets = jobs::raster::pack_job(&job, file, layout.layout())?;
+    // The controller's refusals first: they name what the user can change.
+    let spi = fitkit
+        .then(|| spi_transactions(&job.setup, &packets, file))
+        .transpose()?;
+    Ok(Packing { job, packets, spi })
 }
 
 /// `raster_setup.hex`: the frame-wide set-up the model ran, for a testbench whose DUT
@@ -514,7 +536,7 @@ fn spi_transactions(
 /// What the block's address decoder makes of one write transaction: the channel (its
 /// address byte, the FIFO tag) and the payload cut into 36-bit records, MSB first, the
 /// padding bits dropped.
-fn decoder_records(transaction: &[u8]) -> (u8, Vec<u64>) {
+pub fn decoder_records(transaction: &[u8]) -> (u8, Vec<u64>) {
     let (&address, payload) = transaction.split_first().unwrap_or((&0, &[]));
     let bits = 8 * payload.len();
     let value = payload.iter().fold(0u128, |v, &b| v << 8 | u128::from(b));

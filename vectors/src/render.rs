@@ -50,37 +50,92 @@ pub struct RenderVectors {
     pub depth: Vec<f32>,
     /// World-space normal per pixel, x, y, z interleaved (0 where the ray missed).
     pub normal: Vec<f32>,
+    /// What the frame cost, as `fpgfx render --stats` reports it.
+    pub counters: RenderCounters,
+}
+
+/// A frame's counters: the device's `FrameDone` and saturation count, the seed's ray
+/// count, and the clock count the ray-casting core's RTL reports for the same image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RenderCounters {
+    /// Rays the model traced (`RT_WORK`): primary, shadow and reflected rays that ran.
+    pub rays_traced: u64,
+    /// Rays as the seed counts them (pixels × spp × depth × (1 + lights)), traced or not:
+    /// the numerator of its Mrays/s.
+    pub rays_nominal: u64,
+    /// The HLS block's cycles at its II (`sim_target::rt::BOARD_CLOCK_HZ`), the model's
+    /// `RT_CYCLES`.
+    pub cycles: u64,
+    /// Clock edges from `ap_start` to `ap_done` of the ray-casting core in RTL
+    /// (`hw/rt-core/`, one pixel slot per clock group): its `RT_CYCLES` for this image
+    /// (`sim_target::rt::core`).
+    pub core_cycles: u64,
+    /// Results a fixed-point datapath clipped to its format's range (0 in float formats).
+    pub saturations: u64,
 }
 
 /// The bus layout of the emulated device: the built-in target's. A ray-traced frame
 /// never touches the raster FIFO, so any layout renders the same image.
 const LAYOUT: &protocol::bus::BusLayout = &protocol::bus::WIDE;
 
-/// Renders `scene` as the built-in target does and collects the vectors.
-pub fn render(scene: &Scene, opts: &Options) -> Result<RenderVectors, VectorsError> {
+/// What a DUT is given for one frame, without rendering it ([`registers`]).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Registers {
+    /// The scene as the register image carries it, at the frame size asked for: what the
+    /// device renders (materials expanded per object, numbers quantised to the image).
+    pub scene: Scene,
+    /// The register image, word by word, as the DUT's scene memory holds it.
+    pub regs: [u32; SCENE_WORDS],
+    /// The start the frame is rendered with (`aovs` set).
+    pub start: StartFrame,
+}
+
+impl Registers {
+    /// The AXI4-Lite writes of the frame, in bus order ([`axi_lite::write_sequence`]).
+    pub fn writes(&self) -> Vec<(u32, u32)> {
+        axi_lite::write_sequence(&self.regs, &self.start).collect()
+    }
+}
+
+/// The scene's register image and start in the value format the built-in target's caps
+/// ask for, as `fpgfx render --port builtin` sends them: what [`render`] renders from, for
+/// a testbench that writes the registers itself.
+pub fn registers(scene: &Scene, opts: &Options) -> Result<Registers, VectorsError> {
     let mut scene = scene.clone();
     if let Some((w, h)) = opts.size {
         scene.width = w;
         scene.height = h;
     }
-    let mut device = Device::new(LAYOUT);
-    // The registers in the value format the built-in target's caps ask for, as
-    // `fpgfx render --port builtin` sends them.
-    let format = ValueFormat::for_caps(&device.caps(), opts.numeric);
+    let format = ValueFormat::for_caps(&Device::new(LAYOUT).caps(), opts.numeric);
     let image = jobs::scene::to_regs_as(&scene, format)?;
     let mut regs = [0u32; SCENE_WORDS];
     image.to_words(&mut regs).map_err(SceneRegsError::from)?;
+    Ok(Registers {
+        scene: scene_regs::from_regs(&image)?,
+        regs,
+        start: StartFrame {
+            frame_id: 1,
+            block: Block::RayTrace,
+            numeric: opts.numeric,
+            auto_restart: false,
+            aovs: true,
+        },
+    })
+}
+
+/// Renders `scene` as the built-in target does and collects the vectors.
+pub fn render(scene: &Scene, opts: &Options) -> Result<RenderVectors, VectorsError> {
+    let Registers {
+        scene: device_scene,
+        regs,
+        start,
+    } = registers(scene, opts)?;
+    let mut device = Device::new(LAYOUT);
     // The device renders the scene the registers describe (materials expanded per object),
     // so its texture memory is that scene's, not the file's.
-    let texture = sim_target::rt::texture::memory(&scene_regs::from_regs(&image)?);
-    let start = StartFrame {
-        frame_id: 1,
-        block: Block::RayTrace,
-        numeric: opts.numeric,
-        auto_restart: false,
-        aovs: true,
-    };
-    let (width, height) = (scene.width, scene.height);
+    let texture = sim_target::rt::texture::memory(&device_scene);
+    let (width, height) = (device_scene.width, device_scene.height);
     device.write_regs(0, &regs)?;
     device.start(&start)?;
     let rect = Rect {
@@ -113,6 +168,14 @@ pub fn render(scene: &Scene, opts: &Options) -> Result<RenderVectors, VectorsErr
     };
     let depth = floats(read(Plane::Depth, PixelFormat::DepthF32, "depth")?);
     let normal = floats(read(Plane::Normal, PixelFormat::NormalF32, "normal")?);
+    let done = device.poll_done().ok_or(VectorsError::NoFrameDone)?;
+    let counters = RenderCounters {
+        rays_traced: done.work,
+        rays_nominal: sim_target::rt::nominal_rays(&device_scene, width, height, device_scene.spp),
+        cycles: done.cycles,
+        core_cycles: sim_target::rt::core::CoreFrame::of(&device_scene).cycles(),
+        saturations: device.counters().saturations,
+    };
     Ok(RenderVectors {
         width,
         height,
@@ -123,6 +186,7 @@ pub fn render(scene: &Scene, opts: &Options) -> Result<RenderVectors, VectorsErr
         kcu116,
         depth,
         normal,
+        counters,
     })
 }
 
