@@ -6,6 +6,9 @@ from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
+from . import axi as axi
+from . import fitkit as fitkit
+
 __version__: str
 
 #: A raster job or a scene: its TOML text, a path to the file, or a dict of the same shape.
@@ -51,8 +54,26 @@ class RenderFrame:
     normal: npt.NDArray[np.float32]
     #: The register image (uint32, scene memory order).
     regs: npt.NDArray[np.uint32]
+    #: The AXI4-Lite writes of the frame: (N, 2) uint32 rows address, data in bus order.
+    writes: npt.NDArray[np.uint32]
+    #: rays_traced, rays_nominal, cycles, board_time_s, core_cycles, saturations.
+    counters: Dict[str, Union[int, float]]
     #: The number format, spelled as ``--numeric`` takes it.
     numeric: str
+
+class Packet:
+    """One packet of a raster job as the controller pushes it (``pack``)."""
+
+    #: Index of the job's command; None for the FITkit's set-up packet.
+    command: Optional[int]
+    #: The command's op as the job file spells it, "setup" for the set-up.
+    op: str
+    #: The SPI address on the FITkit (``fitkit.ADDR_*``), the channel on other layouts.
+    address: int
+    #: The input FIFO's records in push order.
+    records: List[int]
+    #: On the FITkit, the whole CS_n-low write transaction, address byte first.
+    spi: Optional[bytes]
 
 class Comparison:
     """The figures ``fpgfx compare`` reports for two colour frames."""
@@ -99,3 +120,16 @@ def compare(
     max_listed: int = 10,
 ) -> Comparison:
     """Compares two (H, W, 3) uint8 frames as ``fpgfx compare`` does."""
+
+def pack(job: _Job, *, layout: str = "fitkit", name: Optional[str] = None) -> List[Packet]:
+    """Packs a raster job as the controller does (FITkit: set-up first, SPI bytes each)."""
+
+def axi_writes(
+    scene: _Job,
+    numeric: str = "q16.16",
+    *,
+    size: Optional[Tuple[int, int]] = None,
+    spp: Optional[int] = None,
+    name: Optional[str] = None,
+) -> npt.NDArray[np.uint32]:
+    """The AXI4-Lite writes that render the scene: (N, 2) uint32 rows address, data."""

@@ -5,7 +5,11 @@
 //!   to the frame and the block's counters, and on request the FITkit's SPI stream, FIFO
 //!   records and ordered framebuffer writes;
 //! * `render`: a ray-tracer scene to the frame and its depth and normal planes;
-//! * `compare`: two frames to the figures `fpgfx compare` reports.
+//! * `compare`: two frames to the figures `fpgfx compare` reports;
+//! * `pack` and `axi_writes`: what a testbench drives into a block itself (a raster
+//!   job's packets with their FITkit SPI transactions; a scene's AXI4-Lite writes), and
+//!   the submodules `fitkit` and `axi`, the two blocks' maps from the tables their
+//!   Verilog headers are generated from.
 //!
 //! Nothing here models anything: each function hands its input to the library the `fpgfx`
 //! tool runs (`vectors::raster::trace`, `vectors::render::render`, `compare::compare`), so
@@ -22,6 +26,7 @@
 
 mod compare;
 mod input;
+mod pack;
 mod raster;
 mod render;
 
@@ -83,17 +88,23 @@ impl From<vectors::VectorsError> for BindError {
     }
 }
 
-/// The module: three functions, their result classes and the exception.
+/// The module: the functions, their result classes, the two maps' submodules and the
+/// exception.
 #[pymodule]
 fn _fpgfx(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Error", m.py().get_type::<Error>())?;
     m.add_function(wrap_pyfunction!(raster::raster, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(pack::pack, m)?)?;
+    m.add_function(wrap_pyfunction!(pack::axi_writes, m)?)?;
+    m.add_submodule(&pack::fitkit_module(m.py())?)?;
+    m.add_submodule(&pack::axi_module(m.py())?)?;
     m.add_class::<raster::RasterFrame>()?;
     m.add_class::<raster::FitkitRecords>()?;
     m.add_class::<render::RenderFrame>()?;
     m.add_class::<compare::Comparison>()?;
+    m.add_class::<pack::Packet>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -11,6 +11,8 @@ use protocol::frame::Numeric;
 use protocol::names::Named;
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use vectors::render::RenderCounters;
 
 use crate::input::source;
 use crate::BindError;
@@ -32,6 +34,15 @@ pub struct RenderFrame {
     /// testbench writes over AXI4-Lite from `SCENE_BASE` on before `ap_start`.
     #[pyo3(get)]
     regs: Py<PyArray1<u32>>,
+    /// The AXI4-Lite writes of the frame, (N, 2) uint32 rows `address, data` in bus
+    /// order: the image from `SCENE_BASE` on, then `NUMERIC`, `AOVS` and `AP_CTRL`.
+    #[pyo3(get)]
+    writes: Py<PyArray2<u32>>,
+    /// What the frame cost: `rays_traced`, `rays_nominal`, `cycles` (the model's
+    /// `RT_CYCLES`), `board_time_s`, `core_cycles` (the ray-casting core's `RT_CYCLES`
+    /// for this image) and `saturations`.
+    #[pyo3(get)]
+    counters: Py<PyDict>,
     /// The number format the frame was rendered in, spelled as `--numeric` takes it.
     #[pyo3(get)]
     numeric: &'static str,
@@ -65,6 +76,63 @@ pub fn render(
     spp: Option<u32>,
     name: Option<String>,
 ) -> PyResult<RenderFrame> {
+    let (parsed, opts) = scene_and_options(py, scene, numeric, size, spp, name)?;
+    let v = py.detach(|| vectors::render::render(&parsed, &opts).map_err(BindError::from))?;
+    let (w, h) = (v.width as usize, v.height as usize);
+    let shape = |e: numpy::ndarray::ShapeError| {
+        BindError::Value(format!("internal error: plane size: {e}"))
+    };
+    let writes = crate::pack::writes_array(&v.writes())?
+        .into_pyarray(py)
+        .unbind();
+    Ok(RenderFrame {
+        image: Array3::from_shape_vec((h, w, 3), v.rgb888)
+            .map_err(shape)?
+            .into_pyarray(py)
+            .unbind(),
+        depth: Array2::from_shape_vec((h, w), v.depth)
+            .map_err(shape)?
+            .into_pyarray(py)
+            .unbind(),
+        normal: Array3::from_shape_vec((h, w, 3), v.normal)
+            .map_err(shape)?
+            .into_pyarray(py)
+            .unbind(),
+        regs: Array1::from_vec(v.regs.to_vec()).into_pyarray(py).unbind(),
+        writes,
+        counters: counters(py, &v.counters)?.unbind(),
+        numeric: opts.numeric.spellings()[0],
+    })
+}
+
+/// The frame's counters by name (`vectors::render::RenderCounters`), plus `board_time_s`
+/// at the HLS block's clock.
+fn counters<'py>(py: Python<'py>, c: &RenderCounters) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("rays_traced", c.rays_traced)?;
+    d.set_item("rays_nominal", c.rays_nominal)?;
+    d.set_item("cycles", c.cycles)?;
+    d.set_item(
+        "board_time_s",
+        c.cycles as f64 / sim_target::rt::BOARD_CLOCK_HZ,
+    )?;
+    d.set_item("core_cycles", c.core_cycles)?;
+    d.set_item("saturations", c.saturations)?;
+    Ok(d)
+}
+
+/// The scene argument parsed and the render options checked as the CLI checks them
+/// (`numeric` as `--numeric`, `size` as `--size`, `spp` as `--spp`), warning about fields
+/// the format cannot hold: shared by `render` and `axi_writes`, so both give a testbench
+/// the same image.
+pub(crate) fn scene_and_options(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    numeric: &str,
+    size: Option<(u32, u32)>,
+    spp: Option<u32>,
+    name: Option<String>,
+) -> PyResult<(sim_target::rt::Scene, vectors::render::Options)> {
     let src = source(scene, "scene", "scene", name)?;
     let format: Numeric = numeric
         .parse()
@@ -89,27 +157,7 @@ pub fn render(
         numeric: format,
         size,
     };
-    let v = py.detach(|| vectors::render::render(&parsed, &opts).map_err(BindError::from))?;
-    let (w, h) = (v.width as usize, v.height as usize);
-    let shape = |e: numpy::ndarray::ShapeError| {
-        BindError::Value(format!("internal error: plane size: {e}"))
-    };
-    Ok(RenderFrame {
-        image: Array3::from_shape_vec((h, w, 3), v.rgb888)
-            .map_err(shape)?
-            .into_pyarray(py)
-            .unbind(),
-        depth: Array2::from_shape_vec((h, w), v.depth)
-            .map_err(shape)?
-            .into_pyarray(py)
-            .unbind(),
-        normal: Array3::from_shape_vec((h, w, 3), v.normal)
-            .map_err(shape)?
-            .into_pyarray(py)
-            .unbind(),
-        regs: Array1::from_vec(v.regs.to_vec()).into_pyarray(py).unbind(),
-        numeric: format.spellings()[0],
-    })
+    Ok((parsed, opts))
 }
 
 /// The CLI's warning (host-cli's `warn_out_of_range`) as a Python `UserWarning`: a

@@ -30,9 +30,9 @@ def fpgfx_cli():
             pytest.skip("no fpgfx binary (set FPGFX_BIN or cargo build --bin fpgfx)")
         path = found[0]
 
-    def run(*args, check=True):
+    def run(*args, check=True, port="builtin"):
         done = subprocess.run(
-            [str(path), "--port", "builtin", *map(str, args)],
+            [str(path), "--port", port, *map(str, args)],
             cwd=REPO,
             capture_output=True,
             text=True,

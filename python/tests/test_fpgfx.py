@@ -294,3 +294,141 @@ def test_coverage_without_a_job_is_refused():
     a = np.zeros((2, 2, 3), np.uint8)
     with pytest.raises(fpgfx.Error, match="coverage_precision.*raster="):
         fpgfx.compare(a, a, coverage_precision=4)
+
+
+# ---- packers and maps -------------------------------------------------------------
+
+
+def verilog_defines(path, prefix):
+    """`define PREFIX_NAME VALUE` of a generated header as {NAME: int} (sized literals
+    such as 8'h20 and 3'd1 read as Verilog reads them)."""
+    out = {}
+    for line in open(path):
+        m = re.match(rf"`define {prefix}(\w+) (\S+)$", line.strip())
+        if not m:
+            continue
+        value = m.group(2)
+        if "'" in value:
+            base, digits = value.split("'")[1][0], value.split("'")[1][1:]
+            out[m.group(1)] = int(digits, {"h": 16, "d": 10, "b": 2}[base.lower()])
+        else:
+            out[m.group(1)] = int(value)
+    return out
+
+
+def test_pack_is_what_the_controller_sends_and_the_fifo_takes(repo):
+    packets = fpgfx.pack(repo / FITKIT)
+    rec = fpgfx.raster(repo / FITKIT, records=True).records
+    assert [p.spi for p in packets] == rec.spi
+    assert [(p.address, p.records) for p in packets] == rec.packets
+    assert packets[0].command is None and packets[0].op == "setup"
+    assert packets[0].address == fpgfx.fitkit.ADDR_SETUP
+    ops = {"line": fpgfx.fitkit.ADDR_LINE, "triangle": fpgfx.fitkit.ADDR_TRIANGLE, "clear": fpgfx.fitkit.ADDR_CLEAR}
+    assert [p.command for p in packets[1:]] == list(range(len(packets) - 1))
+    for p in packets[1:]:
+        assert p.address == ops[p.op], p
+        # the transaction is the packet builder's for the same records
+        assert p.spi == fpgfx.fitkit.packet(p.address, p.records)
+        assert all(r < 1 << fpgfx.fitkit.RECORD_BITS for r in p.records)
+
+
+def test_pack_on_other_layouts_has_no_spi_and_refuses_what_the_fitkit_cannot_carry(repo):
+    wide = fpgfx.pack(repo / "examples/raster/gallery.toml", layout="wide")
+    assert wide and all(p.spi is None and p.command == i for i, p in enumerate(wide))
+    assert wide[0].op == "clear"
+    with pytest.raises(fpgfx.Error, match=r"gallery.toml: cmd\[0\] \(clear\).*RGB332"):
+        fpgfx.pack(repo / "examples/raster/gallery.toml")
+    with pytest.raises(fpgfx.Error, match="layout: \"vga\" is not one of fitkit, extended, wide"):
+        fpgfx.pack(repo / FITKIT, layout="vga")
+
+
+def test_the_fitkit_map_is_the_rtls_header(repo):
+    header = verilog_defines(repo / "hw/fitkit-raster/rtl/fitkit_map.vh", "FITKIT_")
+    assert len(header) > 30
+    for name, value in header.items():
+        assert getattr(fpgfx.fitkit, name) == value, name
+    import fpgfx.fitkit as fk  # the submodule imports by name too
+
+    assert fk is fpgfx.fitkit
+
+
+def test_the_axi_map_is_the_cores_header(repo):
+    header = verilog_defines(repo / "hw/rt-core/rtl/rt_axi_map.vh", "RT_AXI_")
+    assert len(header) > 50
+    for name, value in header.items():
+        assert getattr(fpgfx.axi, name) == value, name
+    from fpgfx.axi import REGISTERS, register_name
+
+    assert REGISTERS["AP_CTRL"] == fpgfx.axi.AP_CTRL and REGISTERS["RT_CYCLES_LO"] == fpgfx.axi.SYS_RT_CYCLES
+    assert all(register_name(a) == n for n, a in REGISTERS.items())
+    assert list(fpgfx.axi.COUNTERS) == ["fragments", "cycles", "frames", "saturations"]
+
+
+def test_fitkit_transactions_and_the_status_block():
+    fk = fpgfx.fitkit
+    assert fk.packet(fk.ADDR_CLEAR, [0x123456789]) == bytes([fk.ADDR_CLEAR, 0x12, 0x34, 0x56, 0x78, 0x90])
+    assert fk.read_header(3, 4) == bytes([fk.ADDR_READ, 0x00, 0x08, 0x03, 0x00])
+    assert fk.pixel_address(3, 4) == 4 * 512 + 3
+    block = bytearray(fk.STATUS_BYTES)
+    block[fk.STATUS_FREE : fk.STATUS_FREE + 2] = (300).to_bytes(2, "big")
+    block[fk.STATUS_FLAGS] = fk.FLAG_BUSY | fk.FLAG_ERROR | fk.FLAG_SETUP_DONE
+    block[fk.STATUS_ERROR_CODE] = fk.ERR_OVERRUN
+    block[fk.STATUS_ERROR_CHANNEL] = fk.ADDR_LINE
+    block[fk.STATUS_ERROR_PACKET + 1] = 7
+    block[fk.STATUS_FRAGMENTS : fk.STATUS_FRAGMENTS + 4] = (123456).to_bytes(4, "big")
+    s = fk.status(bytes(block))
+    assert s["free"] == 300 and s["fragments"] == 123456 and s["flags"] & fk.FLAG_SETUP_DONE
+    assert s["error"]["code"] == fk.ERR_OVERRUN and s["error"]["name"] == "OVERRUN"
+    assert (s["error"]["channel"], s["error"]["packet"]) == (fk.ADDR_LINE, 7)
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda fk: fk.packet(1, [1 << 36, 0]), "record 0 = 0x1000000000 is wider than 36 bits"),
+        (lambda fk: fk.packet(1, [1, 2, 3]), "a packet of 3 records"),
+        (lambda fk: fk.read_header(512, 0), r"pixel \(512, 0\) is outside"),
+        (lambda fk: fk.status(bytes(31)), "data: 31 bytes, a status block is 32"),
+        (lambda fk: fk.status(bytes([0xFF] * 32)), "status byte 0 = 0xff is not a valid"),
+    ],
+)
+def test_bad_fitkit_arguments_are_refused_naming_them(call, message):
+    with pytest.raises(fpgfx.Error, match=message):
+        call(fpgfx.fitkit)
+
+
+def test_axi_writes_are_fpgfx_vectors_and_the_frames(repo, fpgfx_cli, tmp_path):
+    scene = repo / "hw/rt-core/scenes/core.toml"
+    fpgfx_cli("vectors", "render", scene, "--numeric", "q16.16", "--size", "16x9", "-o", tmp_path)
+    writes = fpgfx.axi_writes(scene, "q16.16", size=(16, 9))
+    assert writes.dtype == np.uint32 and writes.shape[1] == 2
+    assert [(a << 32) | d for a, d in writes.tolist()] == hexwords(tmp_path / "axi_writes.hex")
+    frame = fpgfx.render(scene, size=(16, 9))
+    assert np.array_equal(frame.writes, writes)
+    ax = fpgfx.axi
+    n = frame.regs.size
+    assert n == ax.SCENE_WORDS and np.array_equal(writes[:n, 1], frame.regs)
+    assert writes[:n, 0].tolist() == [ax.SCENE_BASE + 4 * i for i in range(n)]
+    assert writes[n:].tolist() == [[ax.NUMERIC, ax.NUMERIC_Q16_16], [ax.AOVS, 1], [ax.AP_CTRL, 1 << ax.AP_START]]
+
+
+def stats_numbers(text, label):
+    line = next(l for l in text.splitlines() if l.startswith(label))
+    return [int(x) for x in re.findall(r"\b\d+\b", line)]
+
+
+def test_render_counters_are_the_clis_and_the_cores(repo, fpgfx_cli, tmp_path):
+    scene = repo / "hw/rt-core/scenes/core.toml"
+    frame = fpgfx.render(scene, size=(16, 9))
+    c = frame.counters
+    cli = fpgfx_cli("render", scene, "--numeric", "q16.16", "--size", "16x9", "--stats", "-o", tmp_path / "m.png").stdout
+    nominal, traced = stats_numbers(cli, "rays")
+    assert (c["rays_nominal"], c["rays_traced"]) == (nominal, traced)
+    assert c["cycles"] == stats_numbers(cli, "board time")[2]
+    assert c["saturations"] == stats_numbers(cli, "saturations")[0] > 0
+    # the ray-casting core's RTL, Verilated, counts the clocks the model says it will
+    rtl = fpgfx_cli("render", scene, "--numeric", "q16.16", "--size", "16x9", "--stats", "-o", tmp_path / "r.png", port="rtl:rt").stdout
+    assert c["core_cycles"] == stats_numbers(rtl, "board time")[2]
+    assert "identical to the RTL's" in rtl
+    assert np.array_equal(frame.image, png.read(tmp_path / "r.png"))
+
