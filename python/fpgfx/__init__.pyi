@@ -1,7 +1,7 @@
 """Type stubs for fpgfx (the native module fpgfx._fpgfx, re-exported)."""
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -10,6 +10,22 @@ from . import axi as axi
 from . import fitkit as fitkit
 
 __version__: str
+__all__ = [
+    "Comparison",
+    "Error",
+    "FitkitRecords",
+    "Packet",
+    "RasterFrame",
+    "RenderFrame",
+    "__version__",
+    "axi",
+    "axi_writes",
+    "compare",
+    "fitkit",
+    "pack",
+    "raster",
+    "render",
+]
 
 #: A raster job or a scene: its TOML text, a path to the file, or a dict of the same shape.
 _Job = Union[str, "os.PathLike[str]", Mapping[str, Any]]
@@ -18,6 +34,7 @@ class Error(ValueError):
     """A refusal: a job or scene that does not parse or that the model cannot run, or an
     argument of the right type with an unusable value. The message names file, line and key."""
 
+@final
 class FitkitRecords:
     """The job as the FITkit block takes it (what ``fpgfx vectors raster`` writes)."""
 
@@ -32,6 +49,7 @@ class FitkitRecords:
     #: The status counters of this run (bounding-box traversal, as the RTL walks).
     counters: Dict[str, Union[int, float]]
 
+@final
 class RasterFrame:
     """A raster job's frame and counters."""
 
@@ -43,6 +61,7 @@ class RasterFrame:
     #: With ``records=True``, the job on the FITkit layout.
     records: Optional[FitkitRecords]
 
+@final
 class RenderFrame:
     """A ray-traced frame, its planes and its register image."""
 
@@ -61,6 +80,7 @@ class RenderFrame:
     #: The number format, spelled as ``--numeric`` takes it.
     numeric: str
 
+@final
 class Packet:
     """One packet of a raster job as the controller pushes it (``pack``)."""
 
@@ -75,6 +95,7 @@ class Packet:
     #: On the FITkit, the whole CS_n-low write transaction, address byte first.
     spi: Optional[bytes]
 
+@final
 class Comparison:
     """The figures ``fpgfx compare`` reports for two colour frames."""
 
@@ -113,7 +134,7 @@ def render(
 def compare(
     expected: npt.NDArray[np.uint8],
     actual: npt.NDArray[np.uint8],
-    tolerance: float = 0,
+    tolerance: float = 0.0,
     *,
     raster: Optional[_Job] = None,
     coverage_precision: Optional[int] = None,

@@ -243,7 +243,7 @@ pub(crate) fn fitkit_module<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyModul
     m.add_function(wrap_pyfunction!(read_header, &m)?)?;
     m.add_function(wrap_pyfunction!(pixel_address, &m)?)?;
     m.add_function(wrap_pyfunction!(status, &m)?)?;
-    Ok(m)
+    without_all(m)
 }
 
 /// `fpgfx.axi`: the ray tracer's AXI4-Lite map (`protocol::axi_lite::MAP` and the plane,
@@ -288,5 +288,14 @@ pub(crate) fn axi_module<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyModule>>
     }
     m.add("COUNTERS", counters)?;
     m.add_function(wrap_pyfunction!(register_name, &m)?)?;
+    without_all(m)
+}
+
+/// The module without the `__all__` PyO3 keeps: a star import takes every public name
+/// anyway, and without it the type stubs need not list every constant a second time.
+fn without_all(m: Bound<'_, PyModule>) -> PyResult<Bound<'_, PyModule>> {
+    if m.hasattr("__all__")? {
+        m.delattr("__all__")?;
+    }
     Ok(m)
 }

@@ -4,8 +4,9 @@
 //! nightly the MSP430 binary builds with; from Debian, QEMU for the board binaries'
 //! end-to-end tests, mspdebug for the MSP430's simulator run, the third-party `stm32flash` the bootloader
 //! test drives, and Verilator, Icarus, Yosys and nextpnr for the RTL; from PyPI into
-//! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools, and maturin, numpy
-//! and pytest for the Python package, whose wheel is built and tested last)
+//! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools, and maturin, numpy,
+//! pytest, abi3audit and mypy's stubtest for the Python package, whose wheel is built and
+//! tested last)
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
@@ -211,6 +212,16 @@ const PYPI: &[PyPiTool] = &[
         program: "pytest",
         package: "pytest==9.2.0",
         why: "runs the Python package's tests (python/tests/)",
+    },
+    PyPiTool {
+        program: "abi3audit",
+        package: "abi3audit==0.0.26",
+        why: "checks that the Python package's wheel uses only the stable ABI of CPython 3.9, so one wheel serves 3.9 on (python/)",
+    },
+    PyPiTool {
+        program: "stubtest",
+        package: "mypy==2.4.1",
+        why: "holds the Python package's type stubs to the native module (python/fpgfx/*.pyi)",
     },
 ];
 
@@ -580,5 +591,14 @@ fn python_package() -> Result<()> {
     if !status.success() {
         bail!("the Python package's tests (pytest python/tests) failed with {status}");
     }
+    // One wheel for CPython 3.9 on is a claim about the symbols it imports: checked, as
+    // only one interpreter is at hand to test it with.
+    run(
+        &bin("abi3audit"),
+        &["--strict", "--summary", &wheel.to_string_lossy()],
+    )?;
+    // The stubs are typed by hand beside the native module: every name, signature and
+    // default held to what the module has at run time.
+    run(&bin("stubtest"), &["--ignore-disjoint-bases", "fpgfx"])?;
     Ok(())
 }
