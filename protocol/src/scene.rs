@@ -55,8 +55,8 @@
 //! | 1 | version (bits 0–15) \| OBJ (16–23) \| LIGHTS (24–31) | u32 |
 //! | 2 | object count | u32 ≤ OBJ |
 //! | 3 | light count (ambient included) | u32 ≤ LIGHTS |
-//! | 4, 5 | width, height | u32 ≥ 1 |
-//! | 6 | depth (RAYTRACING_DEPTH) | u32 ≥ 1 |
+//! | 4, 5 | width, height | u32, 1 … 65 535 |
+//! | 6 | depth (RAYTRACING_DEPTH) | u32, 1 … 16 |
 //! | 7 | bias (CORE_BIAS) | real |
 //! | 8 | max_distance | **f32 bits** |
 //! | 9–11 | background r, g, b | real × 3 |
@@ -869,6 +869,14 @@ fn get_r(fmt: ValueFormat, w: &[u32], at: usize) -> f64 {
 fn get_rv<const N: usize>(fmt: ValueFormat, w: &[u32], at: usize) -> [f64; N] {
     core::array::from_fn(|i| get_r(fmt, w, at + i))
 }
+/// The ranges [`RenderRegs`] documents for the frame's size, depth and samples.
+fn check_render(r: &RenderRegs) -> Result<(), SceneError> {
+    int("width", u64::from(r.width), 1, u64::from(u16::MAX))?;
+    int("height", u64::from(r.height), 1, u64::from(u16::MAX))?;
+    int("depth", u64::from(r.depth), 1, 16)?;
+    int("spp", u64::from(r.spp), 1, 1 << 16)
+}
+
 fn int(field: &'static str, value: u64, min: u64, max: u64) -> Result<(), SceneError> {
     if value < min || value > max {
         Err(SceneError::Int {
@@ -1103,10 +1111,7 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
     /// Writes the header's frame settings, checking the ranges [`RenderRegs`] documents;
     /// on an error nothing is written.
     pub fn set_render(&mut self, r: &RenderRegs) -> Result<(), SceneError> {
-        int("width", u64::from(r.width), 1, u64::from(u16::MAX))?;
-        int("height", u64::from(r.height), 1, u64::from(u16::MAX))?;
-        int("depth", u64::from(r.depth), 1, 16)?;
-        int("spp", u64::from(r.spp), 1, 1 << 16)?;
+        check_render(r)?;
         let fmt = self.value_format();
         let mut h = self.header;
         h[hdr::WIDTH] = r.width;
@@ -1122,7 +1127,9 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
         Ok(())
     }
 
-    /// Reads the frame settings back. Cannot fail: every word is some valid value.
+    /// Reads the frame settings back as the words hold them, in range or not (an image
+    /// built by [`Self::set_render`] always is); [`Self::render_checked`] refuses the
+    /// words a writer could not have written.
     pub fn render(&self) -> RenderRegs {
         let fmt = self.value_format();
         let h = &self.header;
@@ -1137,6 +1144,16 @@ impl<const OBJ: usize, const LIGHTS: usize> SceneRegs<OBJ, LIGHTS> {
             flags: h[hdr::FLAGS],
             seed: h[hdr::SEED],
         }
+    }
+
+    /// Reads the frame settings back, refusing a size, depth or sample count outside
+    /// the ranges [`RenderRegs`] documents: what a reader of an image it did not build
+    /// (the device) runs, so that a corrupt word is an error rather than a frame of
+    /// 2³² columns.
+    pub fn render_checked(&self) -> Result<RenderRegs, SceneError> {
+        let r = self.render();
+        check_render(&r)?;
+        Ok(r)
     }
 
     /// Writes the camera block; a value the value format cannot hold is an error naming

@@ -126,7 +126,7 @@ fn some_term(t: TermRegs) -> Option<Term> {
 /// Reads the scene a register image describes, in whichever value format the image says
 /// (what the device renders).
 pub fn from_regs(r: &Regs) -> Result<Scene, SceneRegsError> {
-    let render = r.render();
+    let render = r.render_checked()?;
     let cam = r.camera();
     let ambient = r.light(0)?.color;
     let mut lights = Vec::new();

@@ -47,6 +47,15 @@ pub(super) fn validate(scene: &Scene) -> Result<(), RtError> {
     if scene.width == 0 || scene.height == 0 {
         return bad(format!("frame size {}x{}", scene.width, scene.height));
     }
+    // The framebuffer and its planes are held whole; a side past the protocol's is a
+    // frame no target reads back, and its size in bytes would overflow on the way.
+    let max = protocol::MAX_FRAME_SIDE;
+    if scene.width > max || scene.height > max {
+        return bad(format!(
+            "frame size {}x{} is larger than {max} per side",
+            scene.width, scene.height
+        ));
+    }
     if scene.depth == 0 {
         return bad("depth must be at least 1".into());
     }

@@ -129,3 +129,48 @@ fn the_hosts_derived_words_are_the_models_and_a_stale_one_is_named() {
         "{err}"
     );
 }
+
+/// A register image the device did not build is checked word by word before it renders:
+/// a corrupt frame size, depth or sample count is an error naming the field, never a
+/// frame of 2³² columns (which overflowed the tile grid's arithmetic and panicked, found
+/// by setting each word of an image to all ones through the Python package).
+#[test]
+fn a_corrupt_frame_word_is_refused_by_name_not_rendered() {
+    use protocol::scene::hdr;
+    let regs = to_regs(&reference()).expect("fits");
+    let words: Vec<u32> = regs.words().collect();
+    for (field, at, value) in [
+        ("width", hdr::WIDTH, u32::MAX),
+        ("width", hdr::WIDTH, 0),
+        ("height", hdr::HEIGHT, 70_000),
+        ("depth", hdr::DEPTH, 17),
+        ("spp", hdr::SPP, 0),
+    ] {
+        let mut bad = words.clone();
+        bad[at] = value;
+        let image = Regs::from_words(&bad).expect("a whole image");
+        let e = from_regs(&image).expect_err(field).to_string();
+        assert!(e.contains(&format!("`{field}` = {value}")), "{field}: {e}");
+        let mut device = sim_target::Device::new(&protocol::bus::WIDE);
+        device.write_regs(0, &bad).expect("in the register file");
+        let start = protocol::frame::StartFrame {
+            frame_id: 1,
+            block: protocol::frame::Block::RayTrace,
+            numeric: Numeric::Q16_16,
+            auto_restart: false,
+            aovs: false,
+        };
+        let e = device.start(&start).expect_err(field).to_string();
+        assert!(e.contains(field), "{field}: {e}");
+    }
+}
+
+/// In range for the register map but past the protocol's frame side: the model refuses
+/// it rather than allocate planes no target reads back.
+#[test]
+fn a_frame_past_the_protocols_side_is_refused() {
+    let mut scene = reference();
+    scene.width = protocol::MAX_FRAME_SIDE + 1;
+    let e = rt::render(&scene, &RenderOptions::default()).expect_err("too wide");
+    assert!(e.to_string().contains("larger than 4096 per side"), "{e}");
+}
