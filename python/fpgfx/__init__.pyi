@@ -29,6 +29,8 @@ __all__ = [
 
 #: A raster job or a scene: its TOML text, a path to the file, or a dict of the same shape.
 _Job = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+#: A scene, or a register image: 1-D uint32, axi.SCENE_WORDS words (RenderFrame.regs).
+_Scene = Union[_Job, npt.NDArray[np.uint32]]
 
 class Error(ValueError):
     """A refusal: a job or scene that does not parse or that the model cannot run, or an
@@ -122,7 +124,7 @@ def raster(job: _Job, *, records: bool = False, name: Optional[str] = None) -> R
     """Draws a raster job as ``fpgfx raster`` does on the built-in target."""
 
 def render(
-    scene: _Job,
+    scene: _Scene,
     numeric: str = "q16.16",
     *,
     size: Optional[Tuple[int, int]] = None,
@@ -146,7 +148,7 @@ def pack(job: _Job, *, layout: str = "fitkit", name: Optional[str] = None) -> Li
     """Packs a raster job as the controller does (FITkit: set-up first, SPI bytes each)."""
 
 def axi_writes(
-    scene: _Job,
+    scene: _Scene,
     numeric: str = "q16.16",
     *,
     size: Optional[Tuple[int, int]] = None,

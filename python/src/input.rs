@@ -2,7 +2,7 @@
 //! errors will carry, and a frame array as RGB888 bytes.
 
 use numpy::prelude::*;
-use numpy::{PyArray3, PyUntypedArray};
+use numpy::{PyArray1, PyArray3, PyUntypedArray};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
@@ -183,4 +183,42 @@ pub(crate) fn rgb_frame(
     // Logical (C) order whatever the strides: a transposed or sliced array is fine.
     let bytes = view.as_array().iter().copied().collect();
     Ok((width, height, bytes))
+}
+
+/// Reads `obj`, the argument `arg`, as a ray tracer's register image if it is a numpy
+/// array (1-D uint32, `SCENE_WORDS` words in scene-memory order: what
+/// `RenderFrame.regs` holds), or `None` if it is not an array at all (then it is a scene).
+pub(crate) fn register_image(
+    obj: &Bound<'_, PyAny>,
+    arg: &str,
+) -> Result<Option<[u32; protocol::axi_lite::SCENE_WORDS]>, BindError> {
+    let py = obj.py();
+    let Ok(untyped) = obj.cast::<PyUntypedArray>() else {
+        return Ok(None);
+    };
+    let words = protocol::axi_lite::SCENE_WORDS;
+    let dtype = untyped.dtype();
+    if !dtype.is_equiv_to(&numpy::dtype::<u32>(py)) {
+        return Err(BindError::Type(format!(
+            "{arg}: dtype is {}, expected uint32 (a register image of {words} words)",
+            dtype.str().map(|s| s.to_string()).unwrap_or_default()
+        )));
+    }
+    if untyped.shape() != [words] {
+        return Err(BindError::Value(format!(
+            "{arg}: shape is {:?}, a register image is ({words},)",
+            untyped.shape()
+        )));
+    }
+    let typed = obj
+        .cast::<PyArray1<u32>>()
+        .map_err(|e| BindError::Type(format!("{arg}: {e}")))?;
+    let view = typed
+        .try_readonly()
+        .map_err(|e| BindError::Value(format!("{arg}: {e}")))?;
+    let mut image = [0u32; protocol::axi_lite::SCENE_WORDS];
+    for (dst, &src) in image.iter_mut().zip(view.as_array().iter()) {
+        *dst = src;
+    }
+    Ok(Some(image))
 }

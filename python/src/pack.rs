@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use crate::input::source;
-use crate::render::scene_and_options;
+use crate::render::registers;
 use crate::BindError;
 
 /// One packet of a raster job as the controller pushes it.
@@ -135,7 +135,7 @@ fn layout_id(name: &str) -> Result<LayoutId, BindError> {
 /// word by word from `axi.SCENE_BASE`, then `NUMERIC`, `AOVS` and `AP_CTRL` with
 /// `ap_start`, as (N, 2) uint32 rows `address, data` in bus order. The image is the one
 /// `render(scene, numeric, size=, spp=)` renders from (`RenderFrame.regs`); nothing is
-/// rendered here.
+/// rendered here. `scene` is what `render` takes, a register image included.
 #[pyfunction]
 #[pyo3(signature = (scene, numeric = "q16.16", *, size = None, spp = None, name = None))]
 pub fn axi_writes<'py>(
@@ -146,8 +146,7 @@ pub fn axi_writes<'py>(
     spp: Option<u32>,
     name: Option<String>,
 ) -> PyResult<Bound<'py, PyArray2<u32>>> {
-    let (scene, opts) = scene_and_options(py, scene, numeric, size, spp, name)?;
-    let regs = vectors::render::registers(&scene, &opts).map_err(BindError::from)?;
+    let regs = registers(py, scene, numeric, size, spp, name)?;
     Ok(writes_array(&regs.writes())?.into_pyarray(py))
 }
 

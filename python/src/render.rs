@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use vectors::render::RenderCounters;
 
-use crate::input::source;
+use crate::input::{register_image, source};
 use crate::BindError;
 
 /// A rendered frame with its planes and the register image it was rendered from.
@@ -62,7 +62,8 @@ impl RenderFrame {
 /// Renders a ray-tracer scene on the golden model, as `fpgfx render --numeric NUMERIC`
 /// does on the built-in target (`size` as `--size WxH`, `spp` as `--spp`).
 ///
-/// `scene` is the scene file's TOML text, a path to it, or a dict of the same shape;
+/// `scene` is the scene file's TOML text, a path to it, a dict of the same shape, or a
+/// register image (1-D uint32, as `RenderFrame.regs`) decoded as the device decodes it;
 /// `name` is what error messages call it. Fields whose magnitudes `numeric` cannot hold
 /// are reported as `UserWarning`s, as the CLI warns. The model runs without the
 /// interpreter's lock.
@@ -76,8 +77,8 @@ pub fn render(
     spp: Option<u32>,
     name: Option<String>,
 ) -> PyResult<RenderFrame> {
-    let (parsed, opts) = scene_and_options(py, scene, numeric, size, spp, name)?;
-    let v = py.detach(|| vectors::render::render(&parsed, &opts).map_err(BindError::from))?;
+    let regs = registers(py, scene, numeric, size, spp, name)?;
+    let v = py.detach(|| vectors::render::render_registers(&regs).map_err(BindError::from))?;
     let (w, h) = (v.width as usize, v.height as usize);
     let shape = |e: numpy::ndarray::ShapeError| {
         BindError::Value(format!("internal error: plane size: {e}"))
@@ -101,7 +102,7 @@ pub fn render(
         regs: Array1::from_vec(v.regs.to_vec()).into_pyarray(py).unbind(),
         writes,
         counters: counters(py, &v.counters)?.unbind(),
-        numeric: opts.numeric.spellings()[0],
+        numeric: regs.start.numeric.spellings()[0],
     })
 }
 
@@ -121,22 +122,42 @@ fn counters<'py>(py: Python<'py>, c: &RenderCounters) -> PyResult<Bound<'py, PyD
     Ok(d)
 }
 
-/// The scene argument parsed and the render options checked as the CLI checks them
-/// (`numeric` as `--numeric`, `size` as `--size`, `spp` as `--spp`), warning about fields
-/// the format cannot hold: shared by `render` and `axi_writes`, so both give a testbench
-/// the same image.
-pub(crate) fn scene_and_options(
+/// The scene argument as the register image the block is given: a scene (text, path or
+/// dict) parsed and written into an image as the CLI does (`numeric` as `--numeric`,
+/// `size` as `--size`, `spp` as `--spp`), warning about fields the format cannot hold; or
+/// a register image (a numpy uint32 array) decoded as the device decodes it. Shared by
+/// `render` and `axi_writes`, so both give a testbench the same image.
+pub(crate) fn registers(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     numeric: &str,
     size: Option<(u32, u32)>,
     spp: Option<u32>,
     name: Option<String>,
-) -> PyResult<(sim_target::rt::Scene, vectors::render::Options)> {
-    let src = source(scene, "scene", "scene", name)?;
+) -> PyResult<vectors::render::Registers> {
     let format: Numeric = numeric
         .parse()
         .map_err(|e| BindError::Value(format!("numeric: {numeric:?}: {e}")))?;
+    if let Some(image) = register_image(scene, "scene")? {
+        // The image carries its frame size and samples; changing them is a new image.
+        if let Some((w, h)) = size {
+            return Err(BindError::Value(format!(
+                "size: {w}x{h} given with a register image, which carries its own frame size"
+            ))
+            .into());
+        }
+        if let Some(spp) = spp {
+            return Err(BindError::Value(format!(
+                "spp: {spp} given with a register image, which carries its own samples per pixel"
+            ))
+            .into());
+        }
+        let regs = vectors::render::decode(&image, format).map_err(BindError::from)?;
+        let what = name.unwrap_or_else(|| "<register image>".into());
+        warn_out_of_range(py, &what, &regs.scene, format)?;
+        return Ok(regs);
+    }
+    let src = source(scene, "scene", "scene", name)?;
     let max = protocol::MAX_FRAME_SIDE;
     if let Some((w, h)) = size {
         if w == 0 || h == 0 || w > max || h > max {
@@ -157,7 +178,7 @@ pub(crate) fn scene_and_options(
         numeric: format,
         size,
     };
-    Ok((parsed, opts))
+    Ok(vectors::render::registers(&parsed, &opts).map_err(BindError::from)?)
 }
 
 /// The CLI's warning (host-cli's `warn_out_of_range`) as a Python `UserWarning`: a

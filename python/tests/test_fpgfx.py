@@ -4,6 +4,7 @@ comparison figures, and a Python exception (never a crash) for every bad input."
 import json
 import re
 import threading
+import warnings
 
 import numpy as np
 import pytest
@@ -432,3 +433,50 @@ def test_render_counters_are_the_clis_and_the_cores(repo, fpgfx_cli, tmp_path):
     assert "identical to the RTL's" in rtl
     assert np.array_equal(frame.image, png.read(tmp_path / "r.png"))
 
+
+
+def test_a_register_image_renders_as_the_scene_it_came_from(repo):
+    scene = repo / "hw/rt-core/scenes/core.toml"
+    frame = fpgfx.render(scene, size=(16, 9))
+    again = fpgfx.render(frame.regs)
+    assert np.array_equal(again.image, frame.image) and np.array_equal(again.depth, frame.depth)
+    assert np.array_equal(again.normal, frame.normal) and again.counters == frame.counters
+    assert np.array_equal(fpgfx.axi_writes(frame.regs), frame.writes)
+    # read-only and strided arrays are images too
+    view = np.repeat(frame.regs, 2)[::2]
+    view.flags.writeable = False
+    assert np.array_equal(fpgfx.render(view).image, frame.image)
+
+
+@pytest.mark.parametrize(
+    "change, kwargs, exc, message",
+    [
+        (lambda r: r.astype(np.int64), {}, TypeError, "scene: dtype is int64, expected uint32"),
+        (lambda r: r[:-1], {}, fpgfx.Error, r"scene: shape is \[\d+\], a register image is \(\d+,\)"),
+        (lambda r: r, {"size": (4, 4)}, fpgfx.Error, "size: 4x4 given with a register image"),
+        (lambda r: r, {"spp": 2}, fpgfx.Error, "spp: 2 given with a register image"),
+        (lambda r: np.where(np.arange(r.size) == 0, 0xFFFFFFFF, r).astype(np.uint32), {}, fpgfx.Error, "magic word is 0xffffffff"),
+    ],
+)
+def test_a_bad_register_image_is_refused_naming_what(repo, change, kwargs, exc, message):
+    regs = fpgfx.render(repo / "hw/rt-core/scenes/core.toml", size=(8, 4)).regs
+    with pytest.raises(exc, match=message):
+        fpgfx.render(change(regs), **kwargs)
+
+
+def test_a_corrupt_word_anywhere_in_the_image_is_an_error_or_a_frame(repo):
+    """Every word of the image set to all ones: the device's decoder names the field it
+    refuses, or the frame renders; the interpreter never sees a panic."""
+    regs = fpgfx.render(repo / "hw/rt-core/scenes/core.toml", size=(4, 4)).regs
+    refused = 0
+    for i in range(regs.size):
+        bad = regs.copy()
+        bad[i] = 0xFFFFFFFF
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                fpgfx.render(bad)
+        except fpgfx.Error as e:
+            assert str(e), i
+            refused += 1
+    assert refused > 20, refused

@@ -114,23 +114,46 @@ pub fn registers(scene: &Scene, opts: &Options) -> Result<Registers, VectorsErro
     Ok(Registers {
         scene: scene_regs::from_regs(&image)?,
         regs,
-        start: StartFrame {
-            frame_id: 1,
-            block: Block::RayTrace,
-            numeric: opts.numeric,
-            auto_restart: false,
-            aovs: true,
-        },
+        start: frame_start(opts.numeric),
+    })
+}
+
+/// The start of every frame here: the AOV planes written, so that they are vectors too.
+fn frame_start(numeric: Numeric) -> StartFrame {
+    StartFrame {
+        frame_id: 1,
+        block: Block::RayTrace,
+        numeric,
+        auto_restart: false,
+        aovs: true,
+    }
+}
+
+/// A register image as the device decodes it (`regs` as the DUT's scene memory holds
+/// them), to be rendered in `numeric`: the path for a caller that has an image rather
+/// than a scene file, refused as the device refuses it.
+pub fn decode(regs: &[u32; SCENE_WORDS], numeric: Numeric) -> Result<Registers, VectorsError> {
+    let image = scene_regs::Regs::from_words(regs).map_err(SceneRegsError::from)?;
+    Ok(Registers {
+        scene: scene_regs::from_regs(&image)?,
+        regs: *regs,
+        start: frame_start(numeric),
     })
 }
 
 /// Renders `scene` as the built-in target does and collects the vectors.
 pub fn render(scene: &Scene, opts: &Options) -> Result<RenderVectors, VectorsError> {
+    render_registers(&registers(scene, opts)?)
+}
+
+/// Renders a register image ([`registers`], [`decode`]) as the built-in target does and
+/// collects the vectors.
+pub fn render_registers(r: &Registers) -> Result<RenderVectors, VectorsError> {
     let Registers {
         scene: device_scene,
         regs,
         start,
-    } = registers(scene, opts)?;
+    } = r.clone();
     let mut device = Device::new(LAYOUT);
     // The device renders the scene the registers describe (materials expanded per object),
     // so its texture memory is that scene's, not the file's.
