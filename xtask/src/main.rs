@@ -6,7 +6,8 @@
 //! test drives, and Verilator, Icarus, Yosys and nextpnr for the RTL; from PyPI into
 //! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools, and maturin, numpy,
 //! pytest, abi3audit and mypy's stubtest for the Python package, whose wheel is built and
-//! tested last)
+//! tested last, then cocotb and cocotbext-spi for the FITkit block's cocotb testbench, which
+//! runs after it)
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
@@ -16,6 +17,7 @@ use std::process::Command;
 use anyhow::{bail, Context, Result};
 
 mod baseline;
+mod cocotb;
 mod layers;
 mod synth;
 
@@ -59,9 +61,16 @@ fn main() -> Result<()> {
             }
             python_package()
         }
+        Some("cocotb") => {
+            // The cocotb testbench alone, on the fpgfx wheel `python` last installed.
+            for tool in PYPI.iter().filter(|t| t.program != "msp430-bsl") {
+                tool.ensure(&workspace_root())?;
+            }
+            cocotb::run(&workspace_root())
+        }
         _ => {
-            eprintln!("usage: cargo xtask <test|setup|synth|layers|python>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME] [--variant NAME] [--family NAME] [--check | --gate | --update-baseline]
-         --check: every design placed and held to hw/synth-baseline.json; --gate: what the test command runs (docs/synthesis.md)\n  layers check that every dependency between the workspace's crates points down\n  python build the Python package's wheel, install it into target/pyenv and run its pytest suite (needs target/debug/fpgfx)");
+            eprintln!("usage: cargo xtask <test|setup|synth|layers|python|cocotb>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME] [--variant NAME] [--family NAME] [--check | --gate | --update-baseline]
+         --check: every design placed and held to hw/synth-baseline.json; --gate: what the test command runs (docs/synthesis.md)\n  layers check that every dependency between the workspace's crates points down\n  python build the Python package's wheel, install it into target/pyenv and run its pytest suite (needs target/debug/fpgfx)\n  cocotb run the FITkit block's cocotb testbench on Icarus (docs/cocotb.md; needs the wheel `python` installs)");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
@@ -189,6 +198,26 @@ struct PyPiTool {
     /// Pinned: the tests were written against this release's behaviour.
     package: &'static str,
     why: &'static str,
+    /// A module that must import, for a package that installs no program (`program` is
+    /// then the venv's `python`, always there).
+    module: Option<&'static str>,
+}
+
+impl PyPiTool {
+    /// Whether its program is in `target/pyenv` and, if it names one, its module imports.
+    fn present(&self, root: &Path) -> bool {
+        synth::pyenv(root).join("bin").join(self.program).is_file()
+            && self.module.is_none_or(|m| cocotb::imports(root, m))
+    }
+
+    /// Installs the pinned package into `target/pyenv` if its probes fail.
+    fn ensure(&self, root: &Path) -> Result<()> {
+        synth::ensure_pypi(root, self.program, self.package)?;
+        if let Some(module) = self.module {
+            cocotb::ensure_module(root, module, self.package)?;
+        }
+        Ok(())
+    }
 }
 
 /// The PyPI tools the tests drive.
@@ -197,31 +226,51 @@ const PYPI: &[PyPiTool] = &[
         program: "msp430-bsl",
         package: "python-msp430-tools==0.10.0",
         why: "the third-party MSP430 ROM BSL client `fpgfx-sim --bootloader msp430` is checked against (host-cli/tests/integration/flash.rs)",
+        module: None,
     },
     PyPiTool {
         program: "maturin",
         package: "maturin==1.16.0",
         why: "builds the Python package's wheel (python/, docs/python.md)",
+        module: None,
     },
     PyPiTool {
         program: "numpy-config",
         package: "numpy==2.4.6",
         why: "the arrays the Python package takes and returns (python/)",
+        module: None,
     },
     PyPiTool {
         program: "pytest",
         package: "pytest==9.2.0",
         why: "runs the Python package's tests (python/tests/)",
+        module: None,
     },
     PyPiTool {
         program: "abi3audit",
         package: "abi3audit==0.0.26",
         why: "checks that the Python package's wheel uses only the stable ABI of CPython 3.9, so one wheel serves 3.9 on (python/)",
+        module: None,
     },
     PyPiTool {
         program: "stubtest",
         package: "mypy==2.4.1",
         why: "holds the Python package's type stubs to the native module (python/fpgfx/*.pyi)",
+        module: None,
+    },
+    PyPiTool {
+        program: "cocotb-config",
+        // 1.9.2, not 2.x: cocotbext-spi's last release (0.5.0) imports cocotb 1.x's
+        // BaseClock, which cocotb 2.0 removed.
+        package: "cocotb==1.9.2",
+        why: "simulates the FITkit block's cocotb testbench on Icarus (hw/fitkit-raster/cocotb/)",
+        module: None,
+    },
+    PyPiTool {
+        program: "python",
+        package: "cocotbext-spi==0.5.0",
+        why: "the SPI master that testbench drives the block's pins with",
+        module: Some("cocotbext.spi"),
     },
 ];
 
@@ -434,7 +483,7 @@ fn setup() -> Result<()> {
     install_packages()?;
     let root = workspace_root();
     for tool in PYPI {
-        if !synth::pyenv(&root).join("bin").join(tool.program).is_file() {
+        if !tool.present(&root) {
             eprintln!(
                 "xtask setup: installing {} into {} ({})",
                 tool.package,
@@ -442,7 +491,7 @@ fn setup() -> Result<()> {
                 tool.why
             );
         }
-        synth::ensure_pypi(&root, tool.program, tool.package)?;
+        tool.ensure(&root)?;
     }
     Ok(())
 }
@@ -520,6 +569,7 @@ fn test() -> Result<()> {
     rtl_checks()?;
     run(&cargo, &["test", "--workspace"])?;
     python_package()?;
+    cocotb::run(&workspace_root())?;
     eprintln!("xtask test: all checks passed");
     Ok(())
 }
