@@ -16,18 +16,23 @@ from __future__ import annotations
 
 import json
 import os
+import random
 from typing import Any
 
 import cocotb
 import fpgfx
 import numpy as np
 from cocotb.regression import TestFactory
+from cocotb.triggers import FallingEdge
 
 from fitkit_driver import SCK_HALF_CLKS, DutTimeout, FitkitBench, WriteMonitor, describe
 from jobgen import random_job, rgb332_image
 
 #: The generated jobs' seeds: ``FITKIT_COCOTB_SEEDS`` (comma-separated) overrides them.
 SEEDS = [int(s) for s in os.environ.get("FITKIT_COCOTB_SEEDS", "1,2,3,4,5,6,7,8").split(",")]
+
+#: The seed of the job drawn with a stalling memory.
+STALL_SEED = 9
 
 #: The status block's counters and the model's names for them (vectors/src/raster.rs's
 #: ExpectedStatus). Not end_cycle: the block counts it in wall cycles from the set-up, so
@@ -69,19 +74,30 @@ async def start(dut: Any) -> FitkitBench:
     return bench
 
 
-async def run_job(dut: Any, seed: int) -> None:
+async def stall_memory(dut: Any, seed: int, duty: float) -> None:
+    """``mem_wait`` high in ``duty`` of the cycles, chosen by ``random.Random(seed)``: the
+    memory refusing requests (SDRAM refresh, VGA), which the block must hold."""
+    rng = random.Random(seed)
+    while True:
+        await FallingEdge(dut.clk)
+        dut.mem_wait.value = int(rng.random() < duty)
+
+
+async def run_job(dut: Any, seed: int, stall: bool = False) -> None:
     """One generated job, every check; a failure's message goes into the summary too
     (cocotb 1.9's results file keeps none)."""
-    name = f"job seed {seed}"
+    name = f"job seed {seed}" + (" (memory stalls)" if stall else "")
     try:
-        await check_job(dut, seed, name)
+        await check_job(dut, seed, name, stall)
     except Exception as e:
         record({"test": name, "failure": str(e)})
         raise
 
 
-async def check_job(dut: Any, seed: int, name: str) -> None:
-    """The checks of ``run_job``."""
+async def check_job(dut: Any, seed: int, name: str, stall: bool) -> None:
+    """The checks of ``run_job``. With ``stall``, ``mem_wait`` is random while the job
+    draws: the same writes, frame, packets and fragments, but the units' busy cycles
+    then include the waits, which the model is not told, so those are not compared."""
     job = random_job(seed)
     width, height = job["size"]
     ref = fpgfx.raster(job, records=True, name=name)
@@ -99,12 +115,16 @@ async def check_job(dut: Any, seed: int, name: str) -> None:
         dut, rec.writes, name, on_fail=lambda m: record({"test": name, "failure": m})
     )
     monitor.start()
+    staller = cocotb.start_soon(stall_memory(dut, seed, 0.25)) if stall else None
     bound = bound_cycles(ref.records.counters, sum(len(p.spi) for p in packets))
     t0 = cocotb.utils.get_sim_time("ns")
     await bench.send_packets(packets, name, bound)
     status = await bench.wait_idle(name, f"the last packet (#{len(packets) - 1})", bound)
     monitor.check_complete()
     monitor.stop()
+    if staller is not None:
+        staller.kill()
+        dut.mem_wait.value = 0
 
     frame = await bench.read_frame(width, height)
     want = rec.framebuffer
@@ -120,9 +140,14 @@ async def check_job(dut: Any, seed: int, name: str) -> None:
 
     after = await bench.status()
     assert after["error"] is None, f"{name}: the read-back latched an error: {describe(after)}"
-    got = {k: status[k] for k in COUNTERS}
-    model = {k: int(rec.counters[m]) for k, m in COUNTERS.items()}
+    compared = {k: m for k, m in COUNTERS.items() if not stall or k in ("packets", "fragments")}
+    got = {k: status[k] for k in compared}
+    model = {k: int(rec.counters[m]) for k, m in compared.items()}
     assert got == model, f"{name}: status counters {got}, the model's {model}"
+    if stall:
+        # The waits must have reached the port: the clears' busy cycles include them.
+        clear, want_clear = status["clear_cycles"], int(rec.counters["cycles_clear"])
+        assert clear > want_clear, f"{name}: {clear} clear cycles, no more than unstalled"
 
     dut._log.info(
         "%s: %dx%d, %d packets, %d writes, %d pixels, %d counters equal; %d SPI bytes, %d polls, %.0f us",
@@ -152,6 +177,12 @@ async def check_job(dut: Any, seed: int, name: str) -> None:
 factory = TestFactory(run_job)
 factory.add_option("seed", SEEDS)
 factory.generate_tests(prefix="generated_")
+
+
+@cocotb.test()
+async def stalled_memory(dut: Any) -> None:
+    """A generated job with ``mem_wait`` high in a quarter of the cycles while it draws."""
+    await run_job(dut, STALL_SEED, stall=True)
 
 
 @cocotb.test()
