@@ -194,7 +194,9 @@ class FitkitBench:
         self.polls += 1
         return fitkit.status(rx[1:])
 
-    async def wait_status(self, what: str, done: Any, bound: int, where: str) -> dict[str, Any]:
+    async def wait_status(
+        self, what: str, done: Callable[[dict[str, Any]], bool], bound: int, where: str
+    ) -> dict[str, Any]:
         """Polls the status until ``done(status)`` holds; fails at once on a latched
         error and after ``bound`` clk cycles with the last status read."""
         start = cycles()
@@ -216,11 +218,13 @@ class FitkitBench:
                 )
             await Timer(50 * CLK_NS, "ns")
 
-    async def send_packets(self, packets: list[fpgfx.Packet], job: str, bound: int) -> None:
+    async def send_packets(
+        self, packets: list[fpgfx.Packet], job: str, bound: int, first: int = 0
+    ) -> None:
         """Each packet's transaction, after a status poll has shown room for all of its
         records: the controller's back-pressure, and an error is caught at the packet
-        that caused it."""
-        for i, p in enumerate(packets):
+        that caused it. ``first`` is the first packet's index in the job, for messages."""
+        for i, p in enumerate(packets, start=first):
             cmd = "" if p.command is None else f", command {p.command}"
             where = f"{job}, packet #{i} ({p.op}{cmd})"
             need = len(p.records)

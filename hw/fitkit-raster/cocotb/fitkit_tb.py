@@ -25,7 +25,7 @@ import numpy as np
 from cocotb.regression import TestFactory
 from cocotb.triggers import FallingEdge
 
-from fitkit_driver import SCK_HALF_CLKS, DutTimeout, FitkitBench, WriteMonitor, describe
+from fitkit_driver import SCK_HALF_CLKS, DutError, DutTimeout, FitkitBench, WriteMonitor, describe
 from jobgen import random_job, rgb332_image
 
 #: The generated jobs' seeds: ``FITKIT_COCOTB_SEEDS`` (comma-separated) overrides them.
@@ -183,6 +183,30 @@ factory.generate_tests(prefix="generated_")
 async def stalled_memory(dut: Any) -> None:
     """A generated job with ``mem_wait`` high in a quarter of the cycles while it draws."""
     await run_job(dut, STALL_SEED, stall=True)
+
+
+@cocotb.test()
+async def block_error_names_the_packet(dut: Any) -> None:
+    """A packet cut one byte short is refused by the block (a length error it latches):
+    the next status poll must fail with the error's code, message, channel and packet
+    index, naming where the driver was."""
+    job = random_job(101, commands=4)
+    name = "job seed 101 (packet #2 cut short)"
+    packets = fpgfx.pack(job)
+    bad = packets[2]
+    bench = await start(dut)
+    await bench.send_packets(packets[:2], name, bound=20_000)
+    await bench.transfer(bad.spi[:-1])
+    try:
+        await bench.send_packets(packets[3:], name, bound=20_000, first=3)
+    except DutError as e:
+        message = str(e)
+    else:
+        raise AssertionError(f"{name}: the block took a short packet without an error")
+    expect = f"error {fpgfx.fitkit.ERR_LENGTH} (wrong payload length) on channel {bad.address:#04x} at packet #2"
+    assert expect in message, message
+    dut._log.info("block error: %s", message)
+    record({"test": "block error", "message": message})
 
 
 @cocotb.test()
