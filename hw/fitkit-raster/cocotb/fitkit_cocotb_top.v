@@ -24,12 +24,10 @@ module fitkit_cocotb_top #(
     reg clk = 1'b0;
     always #(CLK_NS / 2) clk = ~clk;
 
-    wire [7:0] bd_data;
-
     fitkit_sim_top u_sim (
         .clk(clk), .rst(rst), .spi_sck(spi_sck), .spi_cs_n(spi_cs_n), .spi_mosi(spi_mosi),
         .spi_miso(spi_miso), .fifo_free(fifo_free), .busy(busy), .mem_wait(mem_wait),
-        .bd_addr(18'd0), .bd_data(bd_data)
+        .bd_addr(18'd0), .bd_data()
     );
 endmodule
 `default_nettype wire
