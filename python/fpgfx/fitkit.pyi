@@ -1,7 +1,7 @@
 """Type stubs for fpgfx.fitkit: the FITkit raster block's SPI map and transactions.
 
 Every name of ``protocol::fitkit_spi::MAP`` (the source of ``fitkit_map.vh``: ``ADDR_*``,
-``FLAG_*``, ``STAT_*`` offsets, FIFO geometry) and ``ERR_<code>`` is an int constant here (listed below; the values come from the native module).
+``FLAG_*``, ``STAT_*`` offsets, FIFO geometry) and ``ERR_<code>`` is an int constant here; ``FLAG_*`` are bit numbers, as in the header (listed below; the values come from the native module).
 """
 
 from typing import Any, Dict, List
@@ -58,4 +58,5 @@ def pixel_address(x: int, y: int) -> int:
     """The framebuffer address of pixel (x, y) on the block's memory port."""
 
 def status(data: bytes) -> Dict[str, Any]:
-    """Decodes the STATUS_BYTES status block; raises fpgfx.Error on bytes the block never sends."""
+    """Decodes the STATUS_BYTES status block (flags also by name: busy, fifo_empty,
+    setup_done, no_line, no_triangle); raises fpgfx.Error on bytes the block never sends."""

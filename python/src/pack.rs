@@ -200,6 +200,17 @@ fn status<'py>(py: Python<'py>, data: &[u8]) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("free", s.free)?;
     d.set_item("flags", s.flags)?;
+    // The flags by name: the map's FLAG_* are bit numbers (as the Verilog header has
+    // them), so a caller testing `flags & FLAG_BUSY` would test bit 0's number, not bit 0.
+    for (key, mask) in [
+        ("busy", fitkit_spi::FLAG_BUSY),
+        ("fifo_empty", fitkit_spi::FLAG_FIFO_EMPTY),
+        ("setup_done", fitkit_spi::FLAG_SETUP_DONE),
+        ("no_line", fitkit_spi::FLAG_NO_LINE),
+        ("no_triangle", fitkit_spi::FLAG_NO_TRIANGLE),
+    ] {
+        d.set_item(key, s.flags & mask != 0)?;
+    }
     match s.error {
         Some(e) => {
             let err = PyDict::new(py);

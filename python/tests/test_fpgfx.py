@@ -372,13 +372,15 @@ def test_fitkit_transactions_and_the_status_block():
     assert fk.pixel_address(3, 4) == 4 * 512 + 3
     block = bytearray(fk.STATUS_BYTES)
     block[fk.STATUS_FREE : fk.STATUS_FREE + 2] = (300).to_bytes(2, "big")
-    block[fk.STATUS_FLAGS] = fk.FLAG_BUSY | fk.FLAG_ERROR | fk.FLAG_SETUP_DONE
+    block[fk.STATUS_FLAGS] = 1 << fk.FLAG_BUSY | 1 << fk.FLAG_ERROR | 1 << fk.FLAG_SETUP_DONE
     block[fk.STATUS_ERROR_CODE] = fk.ERR_OVERRUN
     block[fk.STATUS_ERROR_CHANNEL] = fk.ADDR_LINE
     block[fk.STATUS_ERROR_PACKET + 1] = 7
     block[fk.STATUS_FRAGMENTS : fk.STATUS_FRAGMENTS + 4] = (123456).to_bytes(4, "big")
     s = fk.status(bytes(block))
-    assert s["free"] == 300 and s["fragments"] == 123456 and s["flags"] & fk.FLAG_SETUP_DONE
+    assert s["free"] == 300 and s["fragments"] == 123456 and s["flags"] >> fk.FLAG_SETUP_DONE & 1
+    # FLAG_* are bit numbers, as in the Verilog header; the flags by name are booleans
+    assert (s["busy"], s["setup_done"], s["fifo_empty"], s["no_line"], s["no_triangle"]) == (True, True, False, False, False)
     assert s["error"]["code"] == fk.ERR_OVERRUN and s["error"]["name"] == "OVERRUN"
     assert (s["error"]["channel"], s["error"]["packet"]) == (fk.ADDR_LINE, 7)
 

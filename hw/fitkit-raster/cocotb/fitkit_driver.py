@@ -43,22 +43,12 @@ class DutError(AssertionError):
     """The block latched an error (status flag bit 1), or answered wrongly."""
 
 
-def flag(name: str) -> int:
-    """The mask of status flag ``FLAG_<name>``: ``fpgfx.fitkit`` gives each flag's bit
-    number, as the generated Verilog header does, not its mask."""
-    return 1 << getattr(fitkit, f"FLAG_{name}")
-
-
 def describe(status: dict[str, Any]) -> str:
     """A status block as one line, flags by name, for failure messages."""
-    names = [
-        (flag("BUSY"), "busy"),
-        (flag("ERROR"), "error"),
-        (flag("FIFO_EMPTY"), "fifo-empty"),
-        (flag("SETUP_DONE"), "setup-done"),
-    ]
-    flags = "|".join(n for bit, n in names if status["flags"] & bit) or "none"
-    rest = ", ".join(f"{k}={v}" for k, v in status.items() if k not in ("flags",))
+    names = ("busy", "fifo_empty", "setup_done", "no_line", "no_triangle")
+    set_ = ["error"] if status["error"] is not None else []
+    flags = "|".join(set_ + [n for n in names if status[n]]) or "none"
+    rest = ", ".join(f"{k}={v}" for k, v in status.items() if k != "flags" and k not in names)
     return f"flags={flags} ({status['flags']:#04x}), {rest}"
 
 
@@ -237,7 +227,7 @@ class FitkitBench:
         """Waits for flag ``busy`` to clear: every packet run and written."""
         return await self.wait_status(
             "busy to drop",
-            lambda s: not s["flags"] & flag("BUSY"),
+            lambda s: not s["busy"],
             bound,
             f"{job}, after {after}",
         )
