@@ -10,10 +10,24 @@ import numpy as np
 import pytest
 
 import fpgfx
-import png
+from PIL import Image
 
 FITKIT = "examples/raster/fitkit.toml"
 REFERENCE = "examples/reference.toml"
+
+
+def read_png(path):
+    """The PNG at ``path`` as an (H, W, 3) uint8 array: 8-bit RGB or RGBA (alpha dropped),
+    what the ``image`` crate writes for fpgfx; anything else is a failure, not a
+    conversion."""
+    with Image.open(path) as im:
+        assert im.mode in ("RGB", "RGBA"), f"{path}: mode {im.mode}"
+        return np.asarray(im)[:, :, :3].copy()
+
+
+def write_png(path, rgb):
+    """Writes an (H, W, 3) uint8 array as an 8-bit RGB PNG."""
+    Image.fromarray(rgb, "RGB").save(path)
 
 
 def hexwords(path):
@@ -31,7 +45,7 @@ def hexwords(path):
 
 def test_raster_equals_the_golden_png(repo):
     frame = fpgfx.raster(repo / FITKIT)
-    golden = png.read(repo / "examples/raster/golden/fitkit.png")
+    golden = read_png(repo / "examples/raster/golden/fitkit.png")
     assert frame.image.dtype == np.uint8 and frame.image.shape == (240, 320, 3)
     assert np.array_equal(frame.image, golden)
     assert frame.records is None
@@ -40,7 +54,7 @@ def test_raster_equals_the_golden_png(repo):
 @pytest.mark.parametrize("job", ["gallery.toml", "aa.toml"])
 def test_every_raster_example_equals_its_golden_png(repo, job):
     frame = fpgfx.raster((repo / "examples/raster" / job).read_text(), name=job)
-    golden = png.read(repo / "examples/raster/golden" / job.replace(".toml", ".png"))
+    golden = read_png(repo / "examples/raster/golden" / job.replace(".toml", ".png"))
     assert np.array_equal(frame.image, golden)
 
 
@@ -57,7 +71,7 @@ def test_raster_counters_are_the_clis(repo, fpgfx_cli, tmp_path):
     assert {k: counters[k] for k in stats} == stats
     units = sum(counters[f"cycles_{u}"] for u in ("triangle", "line", "circle", "fill", "clear"))
     assert units == counters["cycles"] > 0
-    assert np.array_equal(png.read(tmp_path / "f.png"), fpgfx.raster(repo / FITKIT).image)
+    assert np.array_equal(read_png(tmp_path / "f.png"), fpgfx.raster(repo / FITKIT).image)
 
 
 def test_records_are_fpgfx_vectors(repo, fpgfx_cli, tmp_path):
@@ -123,7 +137,7 @@ def test_render_equals_the_cli(repo, fpgfx_cli, tmp_path, numeric):
     fpgfx_cli("render", REFERENCE, "--numeric", numeric, "--size", "160x90", "-o", out)
     frame = fpgfx.render(repo / REFERENCE, numeric, size=(160, 90))
     assert frame.image.shape == (90, 160, 3) and frame.numeric == numeric
-    assert np.array_equal(frame.image, png.read(out))
+    assert np.array_equal(frame.image, read_png(out))
     assert frame.depth.shape == (90, 160) and frame.depth.dtype == np.float32
     assert frame.normal.shape == (90, 160, 3)
     hit = np.isfinite(frame.depth)
@@ -166,8 +180,8 @@ def test_compare_reports_the_clis_figures(repo, fpgfx_cli, tmp_path):
     actual[10, 20] = [1, 2, 3]  # on the black background: unexpected
     actual[100, 100] = np.clip(actual[100, 100].astype(int) + 5, 0, 255)
     actual[239, 319, 1] ^= 0x80
-    png.write(tmp_path / "e.png", expected)
-    png.write(tmp_path / "a.png", actual)
+    write_png(tmp_path / "e.png", expected)
+    write_png(tmp_path / "a.png", actual)
     cli = json.loads(fpgfx_cli("compare", tmp_path / "e.png", tmp_path / "a.png", "--json", check=False).stdout)
     c = fpgfx.compare(expected, actual)
     assert not c and not c.passed and c.failures == 3
@@ -433,7 +447,7 @@ def test_render_counters_are_the_clis_and_the_cores(repo, fpgfx_cli, tmp_path):
     rtl = fpgfx_cli("render", scene, "--numeric", "q16.16", "--size", "16x9", "--stats", "-o", tmp_path / "r.png", port="rtl:rt").stdout
     assert c["core_cycles"] == stats_numbers(rtl, "board time")[2]
     assert "identical to the RTL's" in rtl
-    assert np.array_equal(frame.image, png.read(tmp_path / "r.png"))
+    assert np.array_equal(frame.image, read_png(tmp_path / "r.png"))
 
 
 

@@ -4,8 +4,9 @@
 //! nightly the MSP430 binary builds with; from Debian, QEMU for the board binaries'
 //! end-to-end tests, mspdebug for the MSP430's simulator run, the third-party `stm32flash` the bootloader
 //! test drives, and Verilator, Icarus, Yosys and nextpnr for the RTL; from PyPI into
-//! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools, and maturin, numpy,
-//! pytest, abi3audit and mypy's stubtest for the Python package, whose wheel is built and
+//! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools, maturin, numpy,
+//! pytest, Pillow, abi3audit and mypy's stubtest for the Python package, cocotb and
+//! cocotbext-spi for its testbench of the raster block, whose wheel is built and
 //! tested last, then cocotb and cocotbext-spi for the FITkit block's cocotb testbench, which
 //! runs after it)
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
@@ -245,6 +246,12 @@ const PYPI: &[PyPiTool] = &[
         package: "pytest==9.2.0",
         why: "runs the Python package's tests (python/tests/)",
         module: None,
+    },
+    PyPiTool {
+        program: "python",
+        package: "pillow==13.0.0",
+        why: "reads and writes the PNGs the Python package's tests hold it to (python/tests/)",
+        module: Some("PIL"),
     },
     PyPiTool {
         program: "abi3audit",
