@@ -5,10 +5,9 @@
 //! end-to-end tests, mspdebug for the MSP430's simulator run, the third-party `stm32flash` the bootloader
 //! test drives, and Verilator, Icarus, Yosys and nextpnr for the RTL; from PyPI into
 //! `target/pyenv`, the third-party MSP430 BSL client python-msp430-tools, maturin, numpy,
-//! pytest, Pillow, abi3audit and mypy's stubtest for the Python package, cocotb and
-//! cocotbext-spi for its testbench of the raster block, whose wheel is built and
-//! tested last, then cocotb and cocotbext-spi for the FITkit block's cocotb testbench, which
-//! runs after it)
+//! pytest, Pillow, abi3audit and mypy's stubtest for the Python package, whose wheel is
+//! built and tested last, then cocotb and cocotbext-spi for the FITkit block's cocotb
+//! testbench, which runs after it)
 //! idempotently, so a fresh machine needs nothing done by hand, then runs every
 //! check in the order that fails fastest: formatting, lints, the no_std builds, tests.
 
