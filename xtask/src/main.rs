@@ -207,14 +207,14 @@ impl PyPiTool {
     /// Whether its program is in `target/pyenv` and, if it names one, its module imports.
     fn present(&self, root: &Path) -> bool {
         synth::pyenv(root).join("bin").join(self.program).is_file()
-            && self.module.is_none_or(|m| cocotb::imports(root, m))
+            && self.module.is_none_or(|m| synth::imports(root, m))
     }
 
     /// Installs the pinned package into `target/pyenv` if its probes fail.
     fn ensure(&self, root: &Path) -> Result<()> {
         synth::ensure_pypi(root, self.program, self.package)?;
         if let Some(module) = self.module {
-            cocotb::ensure_module(root, module, self.package)?;
+            synth::ensure_module(root, module, self.package)?;
         }
         Ok(())
     }

@@ -748,6 +748,38 @@ pub fn ensure_pypi(root: &Path, program: &str, package: &str) -> Result<PathBuf>
     Ok(path)
 }
 
+/// Whether `module` imports in the workspace's venv.
+pub fn imports(root: &Path, module: &str) -> bool {
+    let python = pyenv(root).join("bin").join("python");
+    Command::new(python)
+        .args(["-c", &format!("import {module}")])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+/// Makes sure the Python module `module` imports in [`pyenv`], installing the
+/// pinned `package` when it does not: the probe for a PyPI package that installs no
+/// program of its own (cocotbext-spi), where [`ensure_pypi`]'s program probe has
+/// nothing to look for. pip only adds: nothing installed is removed.
+pub fn ensure_module(root: &Path, module: &str, package: &str) -> Result<()> {
+    if imports(root, module) {
+        return Ok(());
+    }
+    let pip = pyenv(root).join("bin").join("pip");
+    crate::run(
+        &pip.to_string_lossy(),
+        &["install", "--quiet", "--disable-pip-version-check", package],
+    )?;
+    if !imports(root, module) {
+        bail!(
+            "{package} is installed in {} but `import {module}` still fails",
+            pyenv(root).display()
+        );
+    }
+    Ok(())
+}
+
 /// The program behind `tool`, installing a PyPI one first. A yowasp program sees only
 /// the directory it runs in, so the flow names every file relative to it.
 fn program(root: &Path, tool: Pnr) -> Result<String> {
