@@ -67,7 +67,43 @@ write("link_rx", "reorder", b"\x07" + frame(1, 1, 0, 8, msgs[1]) + frame(1, 0, 0
 
 for p in [ROOT / "examples/reference.toml", *sorted((ROOT / "examples/rt").glob("*.toml"))]:
     write("scene_file", p.name, p.read_bytes())
+    write("scene_render", p.name, p.read_bytes())
 for p in sorted((ROOT / "examples/raster").glob("*.toml")):
     write("raster_file", p.name, p.read_bytes())
     j = json.dumps(tomllib.loads(p.read_text()), indent=1)
     write("raster_file", p.stem + ".json", j.encode())
+
+# device_regs: byte 0 = number format (bits 0-2), base image (bits 3-6), mode (bit 7).
+# Mode 1 with no patches is each example scene's image as it is; a few patches set a
+# width, a count and a code word to values the decoder must refuse or clamp.
+for base in range(10):
+    write("device_regs", f"base{base}", bytes([0x80 | base << 3 | base % 7]))
+patch = lambda at, word: at.to_bytes(2, "little") + word.to_bytes(4, "little")
+write("device_regs", "width0", bytes([0x80]) + patch(4, 0))
+write("device_regs", "objects9", bytes([0x88]) + patch(2, 9))
+write("device_regs", "lights0", bytes([0x90]) + patch(3, 0))
+write("device_regs", "format7", bytes([0x98]) + patch(15, 7))
+write("device_regs", "zeros", bytes([0x01]) + bytes(4 * 494))
+
+# capi: a sequence of calls, one opcode byte each (0 new, 1 push, 2 read, 3 free,
+# 4 compare, 5 render) followed by its arguments (fuzz_targets/capi.rs).
+new = lambda layout, w, h: bytes([0, layout, w, h, 0, 10, 20, 30, 0, 0, 0, 3, 2])
+push = lambda n: bytes([1, 0, 4, n]) + bytes(range(8 * n)) + b"\x05"
+read = lambda fmt: bytes([2, 0, fmt, 3])
+write("capi", "raster-wide", new(2, 5, 3) + push(2) + read(0) + read(1) + bytes([3, 0]))
+write("capi", "raster-fitkit", new(0, 8, 8) + bytes([1, 0, 2, 3]) + bytes(24) + b"\x05" + read(1))
+write("capi", "raster-nulls", new(2, 4, 4)[:-1] + b"\x00" + new(2, 4, 4)[:-1] + b"\x01")
+write("capi", "compare", bytes([4, 1, 3, 4, 4, 1, 3, 3, 1]) + bytes(range(96)))
+write("capi", "compare-huge", bytes([4, 0, 1, 1, 0]) + bytes([255] * 8) + bytes(6))
+write("capi", "compare-exact", bytes([4, 0, 8, 8, 1, 3, 3, 1]) + bytes(range(192)))
+for base in range(10):
+    write("capi", f"render{base}", bytes([5, base << 3, 3, 1, 3, 3, 1, 1, 1, 0]))
+
+# python: byte 0 picks the call (0 raster, 1 render, 2 compare, 3 dict → TOML).
+for p in sorted((ROOT / "examples/raster").glob("*.toml")):
+    write("python", "raster-" + p.name, b"\x00" + p.read_bytes())
+for i, p in enumerate([ROOT / "examples/reference.toml", *sorted((ROOT / "examples/rt").glob("*.toml"))]):
+    write("python", "render-" + p.name, bytes([1, i, 3, 2]) + p.read_bytes())
+    write("python", "dict-" + p.name, b"\x03" + p.read_bytes())
+write("python", "compare", bytes([2, 2, 4, 3, 3, 1]) + bytes(range(200)))
+write("python", "compare-sizes", bytes([2, 0, 1, 2, 2, 0, 3, 3]) + bytes(range(60)))

@@ -95,8 +95,12 @@ impl Frame {
             Pixels::Rgb8(v) => v.len(),
             Pixels::Float { samples, .. } => samples.len(),
         };
-        let want = self.width as usize * self.height as usize * channels;
-        if len != want {
+        // Checked: a size whose product overflows describes no buffer (it used to
+        // panic on the multiplication instead of refusing the length).
+        let want = (self.width as usize)
+            .checked_mul(self.height as usize)
+            .and_then(|n| n.checked_mul(channels));
+        if want != Some(len) {
             return Err(CompareError::Length {
                 side,
                 width: self.width,
@@ -149,7 +153,7 @@ pub enum CompareError {
         actual: String,
     },
     /// A buffer whose length does not match its size.
-    #[error("{side} frame: {width}×{height}×{channels} needs {} samples, the buffer holds {got}", *width as usize * *height as usize * channels)]
+    #[error("{side} frame: {width}×{height}×{channels} needs {} samples, the buffer holds {got}", u128::from(*width) * u128::from(*height) * *channels as u128)]
     Length {
         /// Which frame.
         side: Side,

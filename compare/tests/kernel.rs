@@ -342,3 +342,34 @@ fn unusable_input_is_an_error_not_a_report() {
         ));
     }
 }
+
+/// A 4294967295 × 4294967295 frame with a 6-byte buffer (`fpgfx_compare_exact` as the
+/// `capi` fuzz target's seed `seed-compare-huge` calls it): width · height · 3 overflowed
+/// and the kernel panicked, which the C library reported as FPGFX_INTERNAL_ERROR, instead
+/// of refusing the length.
+#[test]
+fn a_size_whose_sample_count_overflows_is_a_length_error() {
+    let e = Frame::rgb8(u32::MAX, u32::MAX, vec![0; 6]);
+    let got = compare(&e, &e, &Options::default());
+    assert!(
+        matches!(
+            got,
+            Err(CompareError::Length {
+                side: Side::Expected,
+                got: 6,
+                ..
+            })
+        ),
+        "{got:?}"
+    );
+    let text = got.unwrap_err().to_string();
+    assert!(
+        text.contains("55340232195358851075 samples"),
+        "the message names the whole product: {text}"
+    );
+    let f = Frame::float(u32::MAX, u32::MAX, 3, vec![0.0; 3]);
+    assert!(matches!(
+        compare(&f, &f, &Options::default()),
+        Err(CompareError::Length { got: 3, .. })
+    ));
+}
