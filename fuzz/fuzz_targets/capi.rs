@@ -65,11 +65,14 @@ extern "C" {
         records: *const u64,
         n_records: usize,
     ) -> u32;
-    fn fpgfx_raster_read(raster: *mut fpgfx_raster, format: u32, out: *mut u8, out_len: usize)
-        -> u32;
+    fn fpgfx_raster_read(
+        raster: *mut fpgfx_raster,
+        format: u32,
+        out: *mut u8,
+        out_len: usize,
+    ) -> u32;
     fn fpgfx_raster_free(raster: *mut fpgfx_raster) -> u32;
-    fn fpgfx_frame_size(regs: *const u32, n_regs: usize, width: *mut u32, height: *mut u32)
-        -> u32;
+    fn fpgfx_frame_size(regs: *const u32, n_regs: usize, width: *mut u32, height: *mut u32) -> u32;
     fn fpgfx_render(
         regs: *const u32,
         n_regs: usize,
@@ -95,7 +98,9 @@ const DEVICE_ERROR: u32 = 5;
 fn status(call: &str, s: u32) -> u32 {
     assert!(s <= 6, "{call}: status {s} is not an fpgfx_status");
     // SAFETY: the library promises a NUL-terminated string valid until the next call.
-    let msg = unsafe { CStr::from_ptr(fpgfx_last_error()) }.to_str().expect("UTF-8");
+    let msg = unsafe { CStr::from_ptr(fpgfx_last_error()) }
+        .to_str()
+        .expect("UTF-8");
     assert!(s != 6, "{call}: FPGFX_INTERNAL_ERROR: {msg}");
     if s == OK {
         assert!(msg.is_empty(), "{call}: FPGFX_OK with last error {msg:?}");
@@ -107,7 +112,9 @@ fn status(call: &str, s: u32) -> u32 {
 
 fn last_error() -> String {
     // SAFETY: as in `status`.
-    unsafe { CStr::from_ptr(fpgfx_last_error()) }.to_string_lossy().into_owned()
+    unsafe { CStr::from_ptr(fpgfx_last_error()) }
+        .to_string_lossy()
+        .into_owned()
 }
 
 /// How a buffer argument is passed: as the header asks, NULL, one element short or long.
@@ -169,7 +176,11 @@ fn raster_new(b: &mut Bytes, live: &mut Vec<(*mut fpgfx_raster, usize)>) {
         fpgfx_raster_new(
             layout,
             if how == 0 { std::ptr::null() } else { &setup },
-            if how == 1 { std::ptr::null_mut() } else { &mut out },
+            if how == 1 {
+                std::ptr::null_mut()
+            } else {
+                &mut out
+            },
         )
     });
     let msg = last_error();
@@ -216,7 +227,11 @@ fn raster_push(b: &mut Bytes, live: &[(*mut fpgfx_raster, usize)]) {
         Some(&(r, _)) => r,
         None => std::ptr::null_mut(),
     };
-    let rec = if how == 0 { std::ptr::null() } else { records.as_ptr() };
+    let rec = if how == 0 {
+        std::ptr::null()
+    } else {
+        records.as_ptr()
+    };
     let s = status("fpgfx_raster_push", unsafe {
         fpgfx_raster_push(raster, channel, rec, n)
     });
@@ -294,7 +309,13 @@ fn compare(b: &mut Bytes) {
     let (pe, pa) = (pass(b.u8()), pass(b.u8()));
     let same = b.u8() % 4 == 0;
     let src = b.take(2 * n);
-    let byte = |i: usize| if src.is_empty() { 0 } else { src[i % src.len()] };
+    let byte = |i: usize| {
+        if src.is_empty() {
+            0
+        } else {
+            src[i % src.len()]
+        }
+    };
     let (mut e, en) = buffer(pe, n, 0u8);
     let (mut a, an) = buffer(pa, n, 0u8);
     for (i, x) in e.iter_mut().enumerate() {
@@ -306,7 +327,10 @@ fn compare(b: &mut Bytes) {
     // Both buffers are passed with the first one's length, as a C caller with one `len`.
     let len = e.len().min(a.len());
     let mut out = fpgfx_compare_result::default();
-    let (ep, ap) = (ptr_mut(&mut e, en) as *const u8, ptr_mut(&mut a, an) as *const u8);
+    let (ep, ap) = (
+        ptr_mut(&mut e, en) as *const u8,
+        ptr_mut(&mut a, an) as *const u8,
+    );
     let s = status("fpgfx_compare", unsafe {
         if within {
             fpgfx_compare_within(ep, ap, len, w, h, tolerance, &mut out)
@@ -317,7 +341,10 @@ fn compare(b: &mut Bytes) {
     let msg = last_error();
     if en || an {
         assert_eq!(s, BAD_ARGUMENT, "{msg}");
-        assert!(msg.starts_with(if en { "expected" } else { "actual" }), "{msg}");
+        assert!(
+            msg.starts_with(if en { "expected" } else { "actual" }),
+            "{msg}"
+        );
         return;
     }
     if len != n {
@@ -330,7 +357,12 @@ fn compare(b: &mut Bytes) {
     // The count, the largest difference and the first failure, recomputed.
     let (mut failing, mut max, mut first) = (0u64, 0u8, None);
     for (i, (pe, pa)) in e.chunks_exact(3).zip(a.chunks_exact(3)).enumerate() {
-        let d = pe.iter().zip(pa).map(|(x, y)| x.abs_diff(*y)).max().unwrap_or(0);
+        let d = pe
+            .iter()
+            .zip(pa)
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap_or(0);
         max = max.max(d);
         if d > tolerance {
             failing += 1;
@@ -411,8 +443,16 @@ fn render(b: &mut Bytes) {
         }
     };
     let (mut depth, mut normal) = (plane(pd, 1), plane(pn, 3));
-    let dptr = if pd == 0 { std::ptr::null_mut() } else { depth.as_mut_ptr() };
-    let nptr = if pn == 0 { std::ptr::null_mut() } else { normal.as_mut_ptr() };
+    let dptr = if pd == 0 {
+        std::ptr::null_mut()
+    } else {
+        depth.as_mut_ptr()
+    };
+    let nptr = if pn == 0 {
+        std::ptr::null_mut()
+    } else {
+        normal.as_mut_ptr()
+    };
     let s = status("fpgfx_render", unsafe {
         fpgfx_render(
             regs_ptr,
@@ -478,13 +518,19 @@ fuzz_target!(|data: &[u8]| {
                 } else {
                     live.swap_remove(i % live.len()).0
                 };
-                assert_eq!(status("fpgfx_raster_free", unsafe { fpgfx_raster_free(r) }), OK);
+                assert_eq!(
+                    status("fpgfx_raster_free", unsafe { fpgfx_raster_free(r) }),
+                    OK
+                );
             }
             4 => compare(&mut b),
             _ => render(&mut b),
         }
     }
     for (r, _) in live {
-        assert_eq!(status("fpgfx_raster_free", unsafe { fpgfx_raster_free(r) }), OK);
+        assert_eq!(
+            status("fpgfx_raster_free", unsafe { fpgfx_raster_free(r) }),
+            OK
+        );
     }
 });

@@ -34,16 +34,22 @@ fn same<T: std::fmt::Debug>(a: &T, b: &T) -> bool {
 }
 
 fuzz_target!(|data: &[u8]| {
-    let Some((&ctl, rest)) = data.split_first() else { return };
+    let Some((&ctl, rest)) = data.split_first() else {
+        return;
+    };
     let numeric = Numeric::ALL[usize::from(ctl & 7) % Numeric::ALL.len()];
     let mut words = common::image(ctl, rest);
     decode(&words);
 
     // The frame as the device renders it, kept tiny.
     common::tiny(&mut words);
-    let scene = Regs::from_words(&words).ok().and_then(|r| from_regs(&r).ok());
+    let scene = Regs::from_words(&words)
+        .ok()
+        .and_then(|r| from_regs(&r).ok());
     let mut device = Device::new(&protocol::bus::WIDE);
-    device.write_regs(0, &words).expect("a whole image fits the register file");
+    device
+        .write_regs(0, &words)
+        .expect("a whole image fits the register file");
     let started = device.start(&StartFrame {
         frame_id: 7,
         block: Block::RayTrace,
@@ -59,13 +65,21 @@ fuzz_target!(|data: &[u8]| {
             let (w, h) = (scene.width, scene.height);
             let req = ReadRequest {
                 plane: Plane::Color,
-                rect: Rect { x: 0, y: 0, w: w as u16, h: h as u16 },
+                rect: Rect {
+                    x: 0,
+                    y: 0,
+                    w: w as u16,
+                    h: h as u16,
+                },
                 format: PixelFormat::Rgb888,
             };
             assert_eq!(device.read_len(&req), Some(w * h * 3), "{w}x{h} frame");
         }
         Err(DeviceError::Scene(e)) => {
-            assert!(scene.is_none(), "the device refused what the decoders accept: {e}");
+            assert!(
+                scene.is_none(),
+                "the device refused what the decoders accept: {e}"
+            );
             assert!(!e.to_string().is_empty());
         }
         Err(DeviceError::Render(e)) => assert!(!e.to_string().is_empty()),
@@ -87,7 +101,10 @@ fn decode(words: &[u32; WORDS]) {
             return;
         }
     };
-    assert!(regs.words().eq(words.iter().copied()), "the image is not its words");
+    assert!(
+        regs.words().eq(words.iter().copied()),
+        "the image is not its words"
+    );
     let mut back = [0u32; WORDS];
     assert_eq!(regs.to_words(&mut back), Ok(WORDS));
     assert_eq!(&back, words);
@@ -104,7 +121,10 @@ fn decode(words: &[u32; WORDS]) {
     assert_eq!(scene.objects.len(), regs.object_count() as usize);
     // The count includes the ambient light, which is read from block 0 whatever the
     // count says (a count of 0 renders as 1: ambient only).
-    assert_eq!(scene.lights.len(), (regs.light_count() as usize).saturating_sub(1));
+    assert_eq!(
+        scene.lights.len(),
+        (regs.light_count() as usize).saturating_sub(1)
+    );
     assert_eq!(scene.materials.len(), scene.objects.len());
     for (i, o) in scene.objects.iter().enumerate() {
         assert_eq!(o.material, i);

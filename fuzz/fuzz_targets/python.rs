@@ -70,12 +70,20 @@ fn raster(text: &str) {
 fn render(b: &mut Bytes) {
     let numeric = Numeric::ALL[usize::from(b.u8()) % Numeric::ALL.len()];
     let size = (u32::from(b.u8() % 8) + 1, u32::from(b.u8() % 8) + 1);
-    let Ok(text) = std::str::from_utf8(b.rest()) else { return };
-    let Ok(mut scene) = jobs::scene::parse(text, "<scene>") else { return };
+    let Ok(text) = std::str::from_utf8(b.rest()) else {
+        return;
+    };
+    let Ok(mut scene) = jobs::scene::parse(text, "<scene>") else {
+        return;
+    };
     scene.spp = 1;
     // The warning the binding raises: its numbers must print.
     for d in jobs::scene::range::out_of_range(&scene, numeric) {
-        assert!(d.value > jobs::scene::range::format_max(numeric), "{}", d.field);
+        assert!(
+            d.value > jobs::scene::range::format_max(numeric),
+            "{}",
+            d.field
+        );
     }
     let opts = vectors::render::Options {
         numeric,
@@ -108,7 +116,13 @@ fn compare(b: &mut Bytes) {
         (ew, eh)
     };
     let src = b.rest();
-    let byte = |i: usize| if src.is_empty() { 0 } else { src[i % src.len()] };
+    let byte = |i: usize| {
+        if src.is_empty() {
+            0
+        } else {
+            src[i % src.len()]
+        }
+    };
     let en = (ew * eh * 3) as usize;
     let e: Vec<u8> = (0..en).map(byte).collect();
     let a: Vec<u8> = (0..(aw * ah * 3) as usize).map(|i| byte(en + i)).collect();
@@ -134,7 +148,12 @@ fn compare(b: &mut Bytes) {
     assert_eq!(r.pixels(), u64::from(ew * eh));
     let (mut equal, mut failing) = (0u64, Vec::new());
     for (i, (pe, pa)) in e.chunks_exact(3).zip(a.chunks_exact(3)).enumerate() {
-        let d = pe.iter().zip(pa).map(|(x, y)| x.abs_diff(*y)).max().unwrap_or(0);
+        let d = pe
+            .iter()
+            .zip(pa)
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap_or(0);
         if d == 0 {
             equal += 1;
         }
@@ -153,19 +172,32 @@ fn compare(b: &mut Bytes) {
 }
 
 fn dict(text: &str) {
-    let Ok(table) = text.parse::<toml::Table>() else { return };
-    let Ok(written) = toml::to_string(&table) else { return };
+    let Ok(table) = text.parse::<toml::Table>() else {
+        return;
+    };
+    let Ok(written) = toml::to_string(&table) else {
+        return;
+    };
     let back: toml::Table = written
         .parse()
         .unwrap_or_else(|e| panic!("written TOML does not read back: {e}\n{written}"));
-    assert!(same(&back, &table), "{table:?}\nwritten as\n{written}\nreads {back:?}");
-    let (s1, s2) = (jobs::scene::parse(text, "d"), jobs::scene::parse(&written, "d"));
+    assert!(
+        same(&back, &table),
+        "{table:?}\nwritten as\n{written}\nreads {back:?}"
+    );
+    let (s1, s2) = (
+        jobs::scene::parse(text, "d"),
+        jobs::scene::parse(&written, "d"),
+    );
     match (&s1, &s2) {
         (Ok(a), Ok(b)) => assert!(same(a, b), "{a:?}\n{b:?}"),
         (Err(_), Err(_)) => {}
         _ => panic!("scene parser: {s1:?} for the text, {s2:?} written from its table"),
     }
-    let (r1, r2) = (jobs::raster::parse(text, "d.toml"), jobs::raster::parse(&written, "d.toml"));
+    let (r1, r2) = (
+        jobs::raster::parse(text, "d.toml"),
+        jobs::raster::parse(&written, "d.toml"),
+    );
     match (&r1, &r2) {
         (Ok(a), Ok(b)) => assert_eq!(a, b),
         (Err(_), Err(_)) => {}

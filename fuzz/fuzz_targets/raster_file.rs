@@ -8,8 +8,8 @@
 //! - a refused text gets a non-empty message naming the file and a key or command index
 //!   (and the line, for a TOML command).
 #![no_main]
-use libfuzzer_sys::fuzz_target;
 use jobs::raster::{RasterFileError, RasterJob, GUARD_BAND};
+use libfuzzer_sys::fuzz_target;
 use protocol::frame::{decode, HostFrame, RasterBatcher};
 use protocol::raster::{AaPattern, Point, RasterCmd, MAX_POLYGON, MAX_SUBPIXEL_BITS};
 use protocol::MAX_FRAME_SIDE;
@@ -66,7 +66,9 @@ fn check(job: &RasterJob) {
 }
 
 fuzz_target!(|data: &[u8]| {
-    let Ok(text) = std::str::from_utf8(data) else { return };
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
     for name in ["fuzz.toml", "fuzz.json"] {
         match jobs::raster::parse(text, name) {
             Ok(job) => {
@@ -87,7 +89,9 @@ fuzz_target!(|data: &[u8]| {
                     RasterFileError::Setting { key, message, .. } => {
                         assert!(!key.is_empty() && !message.is_empty())
                     }
-                    RasterFileError::Command { line, message, op, .. } => {
+                    RasterFileError::Command {
+                        line, message, op, ..
+                    } => {
                         assert!(!message.is_empty() && !op.is_empty());
                         if name.ends_with(".toml") {
                             let lines = text.lines().count().max(1);

@@ -8,8 +8,8 @@
 //! - a refused text gets a message that names the file, a line inside the text and a key.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use sim_target::rt::{DiffuseModel, Reflection, Scene};
 use sim_target::rt::{render, Numeric, RenderOptions};
+use sim_target::rt::{DiffuseModel, Reflection, Scene};
 
 fn finite(xs: &[f64]) -> bool {
     xs.iter().all(|x| x.is_finite())
@@ -22,7 +22,11 @@ fn check(s: &Scene) {
     assert!(finite(&[s.bias, s.max_distance, s.camera.fov_y]));
     assert!(finite(&s.background) && finite(&s.ambient));
     assert!(finite(&s.camera.position) && finite(&s.camera.look_at) && finite(&s.camera.up));
-    assert!(s.lights.len() < limits.max_lights, "ambient + {} lights", s.lights.len());
+    assert!(
+        s.lights.len() < limits.max_lights,
+        "ambient + {} lights",
+        s.lights.len()
+    );
     for l in &s.lights {
         assert!(finite(&l.position) && finite(&l.color));
         if let Some(sp) = &l.spot {
@@ -44,7 +48,9 @@ fn check(s: &Scene) {
         match m.reflection {
             Reflection::None => {}
             Reflection::Constant(r) => assert!(r.is_finite()),
-            Reflection::Fresnel { eta, k } => assert!(eta > 0.0 && eta.is_finite() && k.is_finite()),
+            Reflection::Fresnel { eta, k } => {
+                assert!(eta > 0.0 && eta.is_finite() && k.is_finite())
+            }
             Reflection::Glass { eta } => assert!(eta > 0.0 && eta.is_finite()),
         }
         if let Some(t) = &m.texture {
@@ -60,7 +66,9 @@ fn check(s: &Scene) {
 }
 
 fuzz_target!(|data: &[u8]| {
-    let Ok(text) = std::str::from_utf8(data) else { return };
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
     match jobs::scene::parse(text, "fuzz.toml") {
         Ok(scene) => {
             check(&scene);
@@ -92,10 +100,16 @@ fuzz_target!(|data: &[u8]| {
         }
         Err(e) => {
             let lines = text.lines().count().max(1);
-            assert!(e.line >= 1 && e.line <= lines + 1, "{e}: line outside 1..={lines}");
+            assert!(
+                e.line >= 1 && e.line <= lines + 1,
+                "{e}: line outside 1..={lines}"
+            );
             assert!(!e.key.is_empty() && !e.message.is_empty(), "{e:?}");
             let shown = e.to_string();
-            assert!(shown.starts_with(&format!("fuzz.toml:{}:", e.line)), "{shown}");
+            assert!(
+                shown.starts_with(&format!("fuzz.toml:{}:", e.line)),
+                "{shown}"
+            );
         }
     }
 });
