@@ -18,6 +18,7 @@ use anyhow::{bail, Context, Result};
 
 mod baseline;
 mod cocotb;
+mod fuzz;
 mod layers;
 mod synth;
 
@@ -52,6 +53,11 @@ fn main() -> Result<()> {
         Some("synth") => {
             synth::synth(&workspace_root(), &synth::Options::parse(&args[1..])?).map(|_| ())
         }
+        Some("fuzz") => fuzz::run(
+            &workspace_root(),
+            &msp430_toolchain()?,
+            &fuzz::Options::parse(&args[1..])?,
+        ),
         Some("layers") => layers::check(&std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())),
         Some("python") => {
             // The test command's last step alone, for work on python/: its PyPI tools,
@@ -486,6 +492,7 @@ fn setup() -> Result<()> {
         }
     }
     install_msp430_toolchain()?;
+    fuzz::install_cargo_fuzz(&msp430_toolchain()?)?;
     install_packages()?;
     let root = workspace_root();
     for tool in PYPI {
@@ -574,6 +581,7 @@ fn test() -> Result<()> {
     }
     rtl_checks()?;
     run(&cargo, &["test", "--workspace"])?;
+    fuzz::smoke(&workspace_root(), &msp430_toolchain()?)?;
     python_package()?;
     cocotb::run(&workspace_root())?;
     eprintln!("xtask test: all checks passed");
