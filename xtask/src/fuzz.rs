@@ -17,7 +17,8 @@
 //! Every libFuzzer run gets `-rss_limit_mb=2048 -print_final_stats=1`, one rayon thread
 //! (the renders are tiny; a second thread only competes with the other fuzzer) and an
 //! artifact prefix `fuzz/artifacts/TARGET/`, where a crashing input is written. The whole
-//! libFuzzer output of a run is kept in `fuzz/target/xtask/TARGET.log`. The command fails
+//! libFuzzer output of a run is kept in `fuzz/target/xtask/TARGET.log` (`smoke-TARGET.log`
+//! for the smoke). The command fails
 //! if any target crashed, leaked, timed out or ran out of memory.
 
 use std::path::{Path, PathBuf};
@@ -272,7 +273,12 @@ pub fn run(root: &Path, toolchain: &str, opts: &Options) -> Result<()> {
             (_, None, Some(s)) => format!("-max_total_time={s}"),
             (false, None, None) => "-max_total_time=60".to_string(),
         };
-        let log_path = scratch.join(format!("{t}.log"));
+        // Apart from a campaign's, which may be running beside the smoke.
+        let log_path = if opts.smoke {
+            scratch.join(format!("smoke-{t}.log"))
+        } else {
+            scratch.join(format!("{t}.log"))
+        };
         let log = std::fs::File::create(&log_path)
             .with_context(|| format!("cannot write {}", log_path.display()))?;
         let args = [
