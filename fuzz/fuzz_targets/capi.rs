@@ -291,7 +291,7 @@ fn compare(b: &mut Bytes) {
     let within = b.u8() & 1 == 1;
     let tolerance = if within { b.u8() } else { 0 };
     let (w, h) = (u32::from(b.u8() % 9), u32::from(b.u8() % 9));
-    if b.u8() % 16 == 0 {
+    if b.u8().is_multiple_of(16) {
         // Sizes no buffer can have (their product may overflow): the length cannot match.
         let (w, h) = (b.u32() | 1 << 31, b.u32());
         let buf = b.take(3 * 64).to_vec();
@@ -307,7 +307,7 @@ fn compare(b: &mut Bytes) {
     }
     let n = w as usize * h as usize * 3;
     let (pe, pa) = (pass(b.u8()), pass(b.u8()));
-    let same = b.u8() % 4 == 0;
+    let same = b.u8().is_multiple_of(4);
     let src = b.take(2 * n);
     let byte = |i: usize| {
         if src.is_empty() {
@@ -386,7 +386,7 @@ fn render(b: &mut Bytes) {
     let numeric = u32::from(b.u8() % 8);
     let aovs = u32::from(b.u8() % 3);
     let (pr, po, pd, pn) = (pass(b.u8()), pass(b.u8()), b.u8() % 3, b.u8() % 3);
-    let misalign = b.u8() % 16 == 0;
+    let misalign = b.u8().is_multiple_of(16);
     let patches = b.take(6 * usize::from(b.0.first().copied().unwrap_or(0) % 8) + 1);
     let mut words = common::image(ctl | 0x80, patches.get(1..).unwrap_or(&[]));
     common::tiny(&mut words);
@@ -407,7 +407,7 @@ fn render(b: &mut Bytes) {
     } else {
         regs.as_ptr()
     };
-    let misaligned = !regs_ptr.is_null() && (regs_ptr as usize) % 4 != 0;
+    let misaligned = !regs_ptr.is_null() && !(regs_ptr as usize).is_multiple_of(4);
 
     let (mut w, mut h) = (0u32, 0u32);
     let s = status("fpgfx_frame_size", unsafe {

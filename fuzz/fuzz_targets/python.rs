@@ -109,7 +109,7 @@ fn compare(b: &mut Bytes) {
     let tolerance = b.u8();
     let max_listed = usize::from(b.u8() % 17);
     let (ew, eh) = (u32::from(b.u8() % 8) + 1, u32::from(b.u8() % 8) + 1);
-    let differ = b.u8() % 8 == 0;
+    let differ = b.u8().is_multiple_of(8);
     let (aw, ah) = if differ {
         (u32::from(b.u8() % 8) + 1, u32::from(b.u8() % 8) + 1)
     } else {
