@@ -12,8 +12,8 @@ use std::fmt::Debug;
 
 use libfuzzer_sys::fuzz_target;
 use protocol::frame::{decode, encode, raster_commands, DeviceFrame, HostFrame, RasterBatcher};
-use protocol::raster::RasterCmd;
 use protocol::link::{decode_frame, encode_frame, Header, Kind, LinkError, HEADER_LEN, MAX_FRAME};
+use protocol::raster::RasterCmd;
 use protocol::MAX_PAYLOAD;
 use serde::{de::DeserializeOwned, Serialize};
 
@@ -38,7 +38,11 @@ where
     if canon.len() == data.len() {
         assert_eq!(canon, data, "same length, different bytes for {msg:?}");
     }
-    assert_eq!(decode::<T>(&canon).as_ref(), Ok(&msg), "canonical bytes decode differently");
+    assert_eq!(
+        decode::<T>(&canon).as_ref(),
+        Ok(&msg),
+        "canonical bytes decode differently"
+    );
     Some((msg, canon))
 }
 
@@ -89,7 +93,11 @@ fuzz_target!(|data: &[u8]| {
         if want.last() != Some(&0) {
             want.push(0);
         }
-        assert_eq!(&out[..n], want.as_slice(), "frame encoding is not canonical");
+        assert_eq!(
+            &out[..n],
+            want.as_slice(),
+            "frame encoding is not canonical"
+        );
         check_payload(&payload);
     }
 

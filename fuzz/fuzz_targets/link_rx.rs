@@ -27,7 +27,9 @@ fn feed(link: &mut Link, now: u64, bytes: &[u8], chunk: usize, got: &mut Vec<Vec
 }
 
 fuzz_target!(|data: &[u8]| {
-    let Some((&c, rest)) = data.split_first() else { return };
+    let Some((&c, rest)) = data.split_first() else {
+        return;
+    };
     let chunk = usize::from(c).max(1);
     let mut cut: Link = Link::new(Config::default());
     let mut whole: Link = Link::new(Config::default());
