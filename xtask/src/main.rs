@@ -63,7 +63,7 @@ fn main() -> Result<()> {
             // The test command's last step alone, for work on python/: its PyPI tools,
             // then wheel, install and pytest (the fpgfx binary must be built).
             for tool in PYPI.iter().filter(|t| t.program != "msp430-bsl") {
-                synth::ensure_pypi(&workspace_root(), tool.program, tool.package)?;
+                tool.ensure(&workspace_root())?;
             }
             python_package()
         }
@@ -75,8 +75,8 @@ fn main() -> Result<()> {
             cocotb::run(&workspace_root())
         }
         _ => {
-            eprintln!("usage: cargo xtask <test|setup|synth|layers|python|cocotb>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME] [--variant NAME] [--family NAME] [--check | --gate | --update-baseline]
-         --check: every design placed and held to hw/synth-baseline.json; --gate: what the test command runs (docs/synthesis.md)\n  layers check that every dependency between the workspace's crates points down\n  python build the Python package's wheel, install it into target/pyenv and run its pytest suite (needs target/debug/fpgfx)\n  cocotb run the FITkit block's cocotb testbench on Icarus (docs/cocotb.md; needs the wheel `python` installs)");
+            eprintln!("usage: cargo xtask <test|setup|synth|fuzz|layers|python|cocotb>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME] [--variant NAME] [--family NAME] [--check | --gate | --update-baseline]
+         --check: every design placed and held to hw/synth-baseline.json; --gate: what the test command runs (docs/synthesis.md)\n  fuzz   build the cargo-fuzz targets (pinned nightly, ASan) and run each: [--target NAME]... [--runs N | --time SECONDS | --smoke]; prints executions, exec/s, coverage, corpus and crashes per target (fuzz/README.md)\n  layers check that every dependency between the workspace's crates points down\n  python build the Python package's wheel, install it into target/pyenv and run its pytest suite (needs target/debug/fpgfx)\n  cocotb run the FITkit block's cocotb testbench on Icarus (docs/cocotb.md; needs the wheel `python` installs)");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
