@@ -61,7 +61,8 @@ pub enum RasterFileError {
         line: Option<usize>,
         /// 0-based index of the command in the file.
         index: usize,
-        /// The command's `op`, or `?` if missing.
+        /// The command's `op` as written (`""` when empty), or `?` when it is missing or
+        /// not a string.
         op: String,
         /// What is wrong, naming the field.
         message: String,
@@ -282,19 +283,25 @@ pub fn parse(text: &str, file: &str) -> Result<RasterJob, RasterFileError> {
     for (index, spanned) in top.cmd.iter().enumerate() {
         let line = is_toml.then(|| line_of(text, spanned.span().start));
         let table = spanned.get_ref();
-        let op = table
-            .get("op")
-            .and_then(|v| v.as_str())
-            .unwrap_or("?")
-            .to_string();
+        // The label the error shows: the op as written, `""` when it is empty (a message
+        // naming no command would leave the reader to count), `?` when there is no string.
+        let (op, label) = match table.get("op") {
+            None => (Err("missing field `op`".to_string()), "?".to_string()),
+            Some(toml::Value::String(s)) if s.is_empty() => (Ok(s.as_str()), "\"\"".into()),
+            Some(toml::Value::String(s)) => (Ok(s.as_str()), s.clone()),
+            Some(v) => (
+                Err(format!("`op` must be a string naming the command, not {v}")),
+                "?".to_string(),
+            ),
+        };
         let err = |message: String| RasterFileError::Command {
             file: file.into(),
             line,
             index,
-            op: op.clone(),
+            op: label.clone(),
             message,
         };
-        let cmd = ctx.command(&op, table).map_err(err)?;
+        let cmd = op.and_then(|op| ctx.command(op, table)).map_err(err)?;
         cmds.push(cmd);
     }
     Ok(RasterJob { setup, cmds })
@@ -370,7 +377,6 @@ impl Ctx {
                 let c: ClearCmd = typed(value)?;
                 RasterCmd::Clear(color("color", &c.color)?)
             }
-            "?" => return Err("missing field `op`".into()),
             other => {
                 return Err(format!(
                 "unknown op {other:?} (triangle, line, circle, fill, bezier, polygon, patch, clear)"
@@ -630,6 +636,43 @@ color = "#ffffff"
         // Half rounds up, also for negatives: -0.5/256 px → floor(-0.5 + 0.5) = 0.
         assert_eq!(snap(-0.5 / 256.0, 256.0), 0);
         assert_eq!(snap(-1.5 / 256.0, 256.0), -1);
+    }
+
+    /// Found by fuzzing: an empty op was reported as `cmd[5] (): unknown op ""`, naming
+    /// no command, and an op that was not a string, or the string `"?"`, as missing.
+    #[test]
+    fn op_errors_say_which_op() {
+        let cases = [
+            (
+                "op = \"line\"",
+                "op = \"\"",
+                "cmd[1] (\"\"): unknown op \"\"",
+            ),
+            (
+                "op = \"line\"",
+                "op = \"?\"",
+                "cmd[1] (?): unknown op \"?\"",
+            ),
+            (
+                "op = \"line\"",
+                "op = 3",
+                "cmd[1] (?): `op` must be a string",
+            ),
+            ("op = \"line\"", "", "cmd[1] (?): missing field `op`"),
+        ];
+        for (from, to, want) in cases {
+            let bad = FILE.replace(from, to);
+            let e = parse(&bad, "t.toml").unwrap_err().to_string();
+            assert!(e.contains(want), "{to:?}: {e}");
+        }
+        let json =
+            r##"{"size": [8, 8], "cmd": [{"op": "clear", "color": "#000000"}, {"op": ""}]}"##;
+        let e = parse(json, "t.json").unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "t.json: cmd[1] (\"\"): unknown op \"\" (triangle, line, circle, fill, bezier, \
+             polygon, patch, clear)"
+        );
     }
 
     #[test]
