@@ -89,6 +89,9 @@ pub struct Device {
     raster: Option<Raster>,
     setup: Option<RasterSetup>,
     regs: Vec<u32>,
+    /// Texture memory, empty until the first write (then [`crate::raster::TEXTURE_WORDS`]
+    /// words): power-on memory reads as zero, and most devices never hold a texel, so a
+    /// device costs no megabyte to make (the C library, fuzzing and the tests make many).
     texels: Vec<u32>,
     done: VecDeque<FrameDone>,
     frames: u32,
@@ -111,7 +114,7 @@ impl Device {
             setup: None,
             // Power-on register file: the ID words (magic, version) are read-only constants.
             regs: Regs::new().words().collect(),
-            texels: vec![0; crate::raster::TEXTURE_WORDS],
+            texels: Vec::new(),
             done: VecDeque::new(),
             frames: 0,
             shown: Block::Raster,
@@ -281,15 +284,33 @@ impl Device {
 
     /// Writes texture memory (little-endian 32-bit texels), shared by both blocks.
     pub fn write_texels(&mut self, offset: u32, bytes: &[u8]) -> Result<(), DeviceError> {
+        let words = crate::raster::TEXTURE_WORDS;
+        let start = offset as usize;
+        let fits = bytes.len().is_multiple_of(4)
+            && start
+                .checked_add(bytes.len() / 4)
+                .is_some_and(|end| end <= words);
+        if !fits {
+            // Refused whether or not the raster block is set up: a write that lands
+            // nowhere must not pass for one that landed.
+            return Err(DeviceError::Setup(RasterError::TextureWrite {
+                offset,
+                len: bytes.len(),
+                words,
+            }));
+        }
         if let Some(r) = &mut self.raster {
             r.write_texture(offset, bytes).map_err(DeviceError::Setup)?;
         }
-        let start = offset as usize;
-        let n = bytes.len() / 4;
-        if let Some(slot) = self.texels.get_mut(start..start + n) {
-            for (t, b) in slot.iter_mut().zip(bytes.chunks_exact(4)) {
-                *t = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-            }
+        if bytes.is_empty() {
+            return Ok(());
+        }
+        if self.texels.is_empty() {
+            self.texels = vec![0; words];
+        }
+        let slot = &mut self.texels[start..start + bytes.len() / 4];
+        for (t, b) in slot.iter_mut().zip(bytes.chunks_exact(4)) {
+            *t = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
         }
         Ok(())
     }

@@ -7,6 +7,7 @@ use super::vec::V3;
 use super::Math;
 use crate::num::{self, Scalar};
 use core::f64::consts::PI;
+use std::sync::{Arc, Mutex};
 
 /// TEXT_PAGE_SIZE: words of texture memory shared by all textures.
 pub const TEXTURE_WORDS: usize = 256 * 256;
@@ -35,16 +36,45 @@ pub fn memory(scene: &Scene) -> Vec<u32> {
     let mut mem = vec![0u32; TEXTURE_WORDS];
     let textures = scene.materials.iter().filter_map(|m| m.texture.as_ref());
     for (slot, t) in textures.enumerate() {
-        let base = slot_base(slot, side);
-        for y in 0..side {
-            for x in 0..side {
-                if let Some(w) = mem.get_mut(base + y * side + x) {
-                    *w = texel(t.kind, x, y, side);
-                }
-            }
+        let dst = mem.get_mut(slot_base(slot, side)..).unwrap_or_default();
+        for (w, &texel) in dst.iter_mut().zip(texels(t.kind, side).iter()) {
+            *w = texel;
         }
     }
     mem
+}
+
+/// How many generated textures [`texels`] keeps.
+const KEPT_TEXTURES: usize = 16;
+
+/// One texture's `side`² texels, row by row, generated once per process for each
+/// (kind, side) among the last sixteen made: marble and wood cost f64 value noise per
+/// texel (65 536 texels at side 256), which dominated small frames rendered again and
+/// again from one scene (an animation's frames, a testbench's loop, a preview, the C
+/// library checking a caller's texture memory before it renders). The values are
+/// [`texel`]'s whatever the cache holds.
+pub fn texels(kind: TextureKind, side: usize) -> Arc<[u32]> {
+    type Kept = Vec<((TextureKind, usize), Arc<[u32]>)>;
+    static KEPT: Mutex<Kept> = Mutex::new(Vec::new());
+    let key = (kind, side);
+    // A poisoned lock (a panic elsewhere while it was held) only costs the cache.
+    if let Some(t) = KEPT
+        .lock()
+        .ok()
+        .and_then(|kept| kept.iter().find(|(k, _)| *k == key).map(|(_, t)| t.clone()))
+    {
+        return t;
+    }
+    let t: Arc<[u32]> = (0..side * side)
+        .map(|i| texel(kind, i % side, i / side, side))
+        .collect();
+    if let Ok(mut kept) = KEPT.lock() {
+        if kept.len() >= KEPT_TEXTURES {
+            kept.remove(0);
+        }
+        kept.push((key, t.clone()));
+    }
+    t
 }
 
 /// Whether a texture's texels are a grey mix factor (true) or a colour (false).

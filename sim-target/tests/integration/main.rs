@@ -9,6 +9,8 @@
 
 mod common;
 
+mod device_texels;
+
 mod instrumented;
 mod mmio;
 mod num_approx;

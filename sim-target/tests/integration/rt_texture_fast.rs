@@ -8,7 +8,7 @@
 use proptest::prelude::*;
 use sim_target::num::{Scalar, Q16_16, Q24_8, Q32_32, Q8_24};
 use sim_target::rt::texture::{
-    sample, sample_grey, side_for, slot_base, texel, TexSlot, TEXTURE_WORDS,
+    sample, sample_grey, side_for, slot_base, texel, texels, TexSlot, TEXTURE_WORDS,
 };
 use sim_target::rt::V3;
 use sim_target::rt::{Filter, Mapping, TextureKind};
@@ -239,9 +239,43 @@ fn memory_holds_each_texture_in_its_slot_in_material_order() {
     assert_eq!(mem.len(), TEXTURE_WORDS);
     for (slot, &kind) in kinds.iter().enumerate() {
         let base = slot_base(slot, side);
-        for (x, y) in [(0, 0), (5, 3), (side - 1, side - 1)] {
-            assert_eq!(mem[base + y * side + x], texel(kind, x, y, side));
+        for y in 0..side {
+            for x in 0..side {
+                assert_eq!(
+                    mem[base + y * side + x],
+                    texel(kind, x, y, side),
+                    "{kind:?}"
+                );
+            }
         }
     }
     assert!(mem[slot_base(kinds.len(), side)..].iter().all(|&w| w == 0));
+    // Again, now from the generated textures kept for the process.
+    assert!(sim_target::rt::texture::memory(&scene) == mem);
+}
+
+/// The kept textures are `texel`'s values however the cache turns over: more kinds and
+/// sides than it keeps, then the first again.
+#[test]
+fn kept_textures_are_the_texels() {
+    let kinds = (0..20)
+        .map(|seed| TextureKind::Marble { seed })
+        .chain([TextureKind::Xor, TextureKind::RgbDots])
+        .chain((1..4).map(|cell| TextureKind::Checkerboard { cell }))
+        .chain([
+            TextureKind::Wood { seed: 3 },
+            TextureKind::Marble { seed: 0 },
+        ]);
+    for (i, kind) in kinds.enumerate() {
+        let side = [64, 128, 16][i % 3];
+        let t = texels(kind, side);
+        assert_eq!(t.len(), side * side);
+        for (j, &w) in t.iter().enumerate() {
+            assert_eq!(
+                w,
+                texel(kind, j % side, j / side, side),
+                "{kind:?} at {side}"
+            );
+        }
+    }
 }
