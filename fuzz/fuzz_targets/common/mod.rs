@@ -6,6 +6,8 @@ use std::sync::OnceLock;
 use protocol::scene::ValueFormat;
 use sim_target::scene_regs::Regs;
 
+pub mod scene;
+
 /// Words of the register image.
 pub const WORDS: usize = Regs::WORDS;
 
