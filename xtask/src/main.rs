@@ -20,6 +20,7 @@ mod baseline;
 mod cocotb;
 mod fuzz;
 mod layers;
+mod steps;
 mod synth;
 
 /// The MCU target the protocol crate must build for on its own (the board binaries below
@@ -398,10 +399,9 @@ fn install_packages() -> Result<()> {
 /// its bridge crate (run with the workspace's tests).
 const RT_CORE: &str = "hw/rt-core";
 
-/// The RTL's own checks: Verilator's lint on the synthesisable files (warnings are
-/// errors), the Icarus testbenches, and the synthesis gate (every design on its families,
-/// held to the committed baseline).
-fn rtl_checks() -> Result<()> {
+/// The RTL's own checks before the synthesis gate: Verilator's lint on the synthesisable
+/// files (warnings are errors) and the Icarus testbenches.
+fn rtl_sims() -> Result<()> {
     let root = workspace_root();
     let files: Vec<String> = synth::sources(&root, synth::BLOCK)?
         .iter()
@@ -415,9 +415,13 @@ fn rtl_checks() -> Result<()> {
         let script = root.join(block).join("run-tests.sh");
         run("sh", &[&script.to_string_lossy()])?;
     }
-    // the synthesis gate: every design at its `Gate`, held to the committed baseline
+    Ok(())
+}
+
+/// The synthesis gate: every design at its `Gate`, held to the committed baseline.
+fn synth_gate() -> Result<()> {
     synth::synth(
-        &root,
+        &workspace_root(),
         &synth::Options {
             test: true,
             ..synth::Options::default()
@@ -510,46 +514,79 @@ fn setup() -> Result<()> {
 }
 
 fn test() -> Result<()> {
-    setup()?;
+    let mut steps = steps::Steps::new();
+    let out = test_steps(&mut steps);
+    steps.report(&workspace_root().join("target/xtask-test-times.md"));
+    out
+}
+
+/// The test command's steps, each timed by `steps`.
+fn test_steps(steps: &mut steps::Steps) -> Result<()> {
+    steps.run("setup (installs)", setup)?;
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    run(&cargo, &["fmt", "--all", "--check"])?;
-    layers::check(&cargo)?;
-    run(
-        &cargo,
-        &[
-            "clippy",
-            "--workspace",
-            "--all-targets",
-            "--",
-            "-D",
-            "warnings",
-        ],
-    )?;
-    run(&cargo, &["build", "-p", "protocol", "--target", MCU_TARGET])?;
-    // The board binaries are behind a feature and a target each, so the workspace clippy
-    // run above does not see them; built here, the QEMU tests find them up to date.
-    for board in BOARDS {
-        let common = [
-            "-p",
-            "firmware",
-            "--features",
-            board.feature,
-            "--target",
-            board.target,
-            "--profile",
-            "firmware",
-        ];
-        let mut clippy = vec!["clippy"];
-        clippy.extend(common);
-        clippy.extend(["--", "-D", "warnings"]);
-        run(&cargo, &clippy)?;
-        let mut build = vec!["build"];
-        build.extend(common);
-        run(&cargo, &build)?;
-    }
+    let cargo = cargo.as_str();
+    steps.run("fmt", || run(cargo, &["fmt", "--all", "--check"]))?;
+    steps.run("layers", || layers::check(cargo))?;
+    steps.run("clippy (workspace)", || {
+        run(
+            cargo,
+            &[
+                "clippy",
+                "--workspace",
+                "--all-targets",
+                "--",
+                "-D",
+                "warnings",
+            ],
+        )
+    })?;
+    steps.run("embedded builds and clippy", || {
+        run(cargo, &["build", "-p", "protocol", "--target", MCU_TARGET])?;
+        // The board binaries are behind a feature and a target each, so the workspace
+        // clippy run above does not see them; built here, the QEMU tests find them up to
+        // date.
+        for board in BOARDS {
+            let common = [
+                "-p",
+                "firmware",
+                "--features",
+                board.feature,
+                "--target",
+                board.target,
+                "--profile",
+                "firmware",
+            ];
+            let mut clippy = vec!["clippy"];
+            clippy.extend(common);
+            clippy.extend(["--", "-D", "warnings"]);
+            run(cargo, &clippy)?;
+            let mut build = vec!["build"];
+            build.extend(common);
+            run(cargo, &build)?;
+        }
+        Ok(())
+    })?;
     // The MSP430 binary: nightly, so linted here through rustup's `cargo +TOOLCHAIN`
     // (the workspace's stable cargo cannot); once per part's register module. The
     // build and its simulator run are `firmware/tests/msp430.rs`, among the tests below.
+    steps.run("MSP430 clippy", msp430_clippy)?;
+    steps.run("RTL lint and simulations", rtl_sims)?;
+    steps.run("synthesis gate", synth_gate)?;
+    steps.run("cargo test: build", || {
+        run(cargo, &["test", "--workspace", "--no-run"])
+    })?;
+    steps.run("cargo test: run", || run(cargo, &["test", "--workspace"]))?;
+    steps.run("fuzz smoke", || {
+        fuzz::smoke(&workspace_root(), &msp430_toolchain()?)
+    })?;
+    steps.run("Python package", python_package)?;
+    steps.run("cocotb", || cocotb::run(&workspace_root()))?;
+    eprintln!("xtask test: all checks passed");
+    Ok(())
+}
+
+/// Lints the MSP430 binary with the pinned nightly, once per part.
+fn msp430_clippy() -> Result<()> {
     let plus = format!("+{}", msp430_toolchain()?);
     for part in ["f2617", "f168"] {
         eprintln!("+ FPGFX_MSP430_PART={part}");
@@ -579,12 +616,6 @@ fn test() -> Result<()> {
             bail!("clippy on the MSP430 binary (FPGFX_MSP430_PART={part}) failed with {status}");
         }
     }
-    rtl_checks()?;
-    run(&cargo, &["test", "--workspace"])?;
-    fuzz::smoke(&workspace_root(), &msp430_toolchain()?)?;
-    python_package()?;
-    cocotb::run(&workspace_root())?;
-    eprintln!("xtask test: all checks passed");
     Ok(())
 }
 
