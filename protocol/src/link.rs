@@ -83,6 +83,7 @@
 
 use crate::frame::LinkCounters;
 use crate::MAX_PAYLOAD;
+#[cfg(target_os = "none")]
 use crc::{Crc, CRC_32_ISO_HDLC};
 
 /// Bytes of the link header that precedes every payload.
@@ -97,24 +98,69 @@ const MAX_ENCODED: usize = cobs::max_encoding_length(MAX_RAW);
 /// size of the buffer to hand to [`Link::poll_transmit`] and [`encode_frame`].
 pub const MAX_FRAME: usize = MAX_ENCODED + 1;
 
-/// On a host the slice-by-16 table (16 KiB) triples CRC throughput; on the MCU, where
-/// flash is the budget, the 1 KiB byte-wise table; on the MSP430, whose 16-bit address
-/// space leaves the firmware short of flash by about that much, no table (bit by bit).
-/// All give identical values.
-#[cfg(not(target_os = "none"))]
-type CrcTable = crc::Table<16>;
+/// On the MCU, where flash is the budget, the 1 KiB byte-wise table; on the MSP430, whose
+/// 16-bit address space leaves the firmware short of flash by about that much, no table
+/// (bit by bit). All give identical values (`tests/integration/crc.rs` holds the host's
+/// to them).
 #[cfg(all(target_os = "none", not(target_arch = "msp430")))]
 type CrcTable = crc::Table<1>;
 #[cfg(all(target_os = "none", target_arch = "msp430"))]
 type CrcTable = crc::NoTable;
 
+#[cfg(target_os = "none")]
+static TABLE_CRC: Crc<u32, CrcTable> = Crc::<u32, CrcTable>::new(&CRC_32_ISO_HDLC);
+
 /// The link's CRC-32 (ISO-HDLC): every frame's trailer, and the read-back's checksum
 /// ([`crate::frame::ReadDone::crc32`]) too, so that a board carries one table, not two.
-pub static CRC32: Crc<u32, CrcTable> = Crc::<u32, CrcTable>::new(&CRC_32_ISO_HDLC);
+///
+/// On a host it is `crc32fast` (carry-less multiply where the CPU has it, chosen at run
+/// time: each read-back byte is checked four times, by the controller's checksum, the
+/// link's trailer on both ends and the host's checksum, and a table-driven CRC was a
+/// quarter of the built-in target's read-back time); on an MCU the `crc` crate's table
+/// sized for the part.
+pub static CRC32: Crc32 = Crc32;
 
-/// A [`CRC32`] over bytes that arrive in pieces (a read-back's chunks): what
-/// `CRC32.digest()` returns, nameable so that a struct can hold one.
-pub type Crc32Digest = crc::Digest<'static, u32, CrcTable>;
+/// The type of [`CRC32`]: the same CRC on every target, computed as each target can
+/// afford.
+#[derive(Debug, Clone, Copy)]
+pub struct Crc32;
+
+impl Crc32 {
+    /// The CRC of `bytes`.
+    pub fn checksum(&self, bytes: &[u8]) -> u32 {
+        let mut d = self.digest();
+        d.update(bytes);
+        d.finalize()
+    }
+
+    /// A CRC over bytes that arrive in pieces (a read-back's chunks).
+    pub fn digest(&self) -> Crc32Digest {
+        #[cfg(not(target_os = "none"))]
+        return Crc32Digest(crc32fast::Hasher::new());
+        #[cfg(target_os = "none")]
+        return Crc32Digest(TABLE_CRC.digest());
+    }
+}
+
+/// A [`CRC32`] in progress: what [`Crc32::digest`] returns, nameable so that a struct can
+/// hold one.
+#[derive(Clone)]
+pub struct Crc32Digest(
+    #[cfg(not(target_os = "none"))] crc32fast::Hasher,
+    #[cfg(target_os = "none")] crc::Digest<'static, u32, CrcTable>,
+);
+
+impl Crc32Digest {
+    /// Adds `bytes` to the checksum.
+    pub fn update(&mut self, bytes: &[u8]) {
+        self.0.update(bytes);
+    }
+
+    /// The CRC of everything added.
+    pub fn finalize(self) -> u32 {
+        self.0.finalize()
+    }
+}
 
 /// Why the link refused an operation or a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -586,10 +632,18 @@ impl<const WINDOW: usize> Link<WINDOW> {
         }
         let mut used = 0;
         if !self.deliverable() {
+            // A run of frame bytes at a time up to the next delimiter (bulk copies, not a
+            // byte loop: a read-back streams megabytes through here).
             while used < bytes.len() {
-                let b = bytes[used];
+                let rest = &bytes[used..];
+                let run = rest.iter().position(|&b| b == 0).unwrap_or(rest.len());
+                self.push_run(&rest[..run]);
+                used += run;
+                if run == rest.len() {
+                    break;
+                }
                 used += 1;
-                if self.push_byte(now_ms, b) {
+                if self.end_of_frame(now_ms) {
                     break;
                 }
             }
@@ -620,22 +674,30 @@ impl<const WINDOW: usize> Link<WINDOW> {
         s.full && s.seq == self.rx_next
     }
 
-    /// Adds one byte; returns true when a completed frame produced something to report.
-    fn push_byte(&mut self, now_ms: u64, b: u8) -> bool {
-        if b != 0 {
-            if self.discarding {
-                return false;
+    /// Adds a run of non-zero bytes to the frame being received. More than the largest
+    /// encoded frame is an overflow: counted once, and the frame is discarded up to its
+    /// delimiter.
+    fn push_run(&mut self, run: &[u8]) {
+        if run.is_empty() || self.discarding {
+            return;
+        }
+        let end = self.raw_len + run.len();
+        match self.raw.get_mut(self.raw_len..end) {
+            Some(dst) if end <= MAX_ENCODED => {
+                dst.copy_from_slice(run);
+                self.raw_len = end;
             }
-            if self.raw_len == MAX_ENCODED {
+            _ => {
                 self.counters.overflows += 1;
                 self.discarding = true;
                 self.raw_len = 0;
-                return false;
             }
-            self.raw[self.raw_len] = b;
-            self.raw_len += 1;
-            return false;
         }
+    }
+
+    /// The delimiter: decodes the frame received since the last one; returns true when it
+    /// produced something to report.
+    fn end_of_frame(&mut self, now_ms: u64) -> bool {
         let len = core::mem::take(&mut self.raw_len);
         if core::mem::take(&mut self.discarding) || len == 0 {
             return false;

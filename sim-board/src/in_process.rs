@@ -29,6 +29,19 @@ impl Queue {
         self.0.lock().unwrap_or_else(|p| p.into_inner())
     }
 
+    /// Moves the oldest bytes, as many as fit, into `buf` (two slice copies, not a byte
+    /// loop: a read-back moves its whole frame through here).
+    fn take_into(&self, buf: &mut [u8]) -> usize {
+        let mut q = self.lock();
+        let n = buf.len().min(q.len());
+        let (a, b) = q.as_slices();
+        let first = n.min(a.len());
+        buf[..first].copy_from_slice(&a[..first]);
+        buf[first..n].copy_from_slice(&b[..n - first]);
+        q.drain(..n);
+        n
+    }
+
     /// Whether the other end has gone (only this end holds the line).
     fn orphaned(&self) -> bool {
         Arc::strong_count(&self.0) == 1
@@ -61,12 +74,7 @@ impl embedded_io::ErrorType for PipeEnd {
 
 impl embedded_io::Read for PipeEnd {
     fn read(&mut self, buf: &mut [u8]) -> Result<usize, Infallible> {
-        let mut rx = self.rx.lock();
-        let n = buf.len().min(rx.len());
-        for (dst, src) in buf.iter_mut().zip(rx.drain(..n)) {
-            *dst = src;
-        }
-        Ok(n)
+        Ok(self.rx.take_into(buf))
     }
 }
 
@@ -153,15 +161,10 @@ where
             for _ in 0..8 {
                 self.run()?;
             }
-            let mut q = self.from_device.lock();
-            if !q.is_empty() {
-                let n = buf.len().min(q.len());
-                for (dst, src) in buf.iter_mut().zip(q.drain(..n)) {
-                    *dst = src;
-                }
+            let n = self.from_device.take_into(buf);
+            if n > 0 || buf.is_empty() {
                 return Ok(n);
             }
-            drop(q);
             if start.elapsed() >= timeout {
                 return Ok(0);
             }

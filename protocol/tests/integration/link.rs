@@ -791,6 +791,32 @@ fn pair() -> (Link, Link) {
     (a, b)
 }
 
+/// The receiver takes runs of frame bytes at once: the largest encoded frame still fits,
+/// one byte more is one overflow however the bytes are split, and the frame after it
+/// arrives.
+#[test]
+fn an_overlong_frame_is_one_overflow_and_the_next_frame_arrives() {
+    let longest = MAX_FRAME - 1;
+    for (len, overflows) in [(longest, 0), (longest + 1, 1), (3 * longest + 5, 1)] {
+        for chunk in [1, 7, longest, usize::MAX] {
+            let (mut a, mut b) = pair();
+            let mut bytes = vec![0x55u8; len];
+            bytes.push(0);
+            a.send(1, b"after").expect("send");
+            bytes.extend(frames_of(&mut a, 1).concat());
+            let mut got = Vec::new();
+            for part in bytes.chunks(chunk.min(bytes.len())) {
+                got.extend(feed(&mut b, 1, part));
+            }
+            let c = b.counters();
+            let at = format!("{len} bytes in chunks of {chunk}");
+            assert_eq!(c.overflows, overflows, "{at}");
+            assert_eq!(c.crc_errors + c.framing_errors, 1 - overflows, "{at}");
+            assert_eq!(got, vec![b"after".to_vec()], "{at}");
+        }
+    }
+}
+
 #[test]
 fn duplicates_are_acknowledged_but_delivered_once() {
     let (mut a, mut b) = pair();

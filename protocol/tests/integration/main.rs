@@ -5,6 +5,7 @@
 //! code instantiated per binary), so a single one is built and linked once.
 
 mod bus;
+mod crc;
 mod fitkit_spi;
 mod fpga_link;
 mod frame;
