@@ -26,6 +26,8 @@ fi
 
 verilator --lint-only -Wall -Irtl rtl/*.v --top-module fitkit_raster
 verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_sim_top
+# the cocotb testbench's top (its clock is Icarus-only, the rest is linted)
+verilator --lint-only -Wall -Irtl rtl/*.v sim/*.v --top-module fitkit_cocotb_top
 verilator --lint-only -Wall -Irtl -GTRI_LANES=8 rtl/*.v --top-module fitkit_raster
 # the line-only and triangle-only builds for the seed's XC3S50, and their sim tops
 verilator --lint-only -Wall -Irtl -GTRI_UNIT=0 rtl/*.v --top-module fitkit_raster

@@ -2,8 +2,8 @@
 (in ``fitkit_cocotb_top``, which makes its clock) with Icarus through cocotb's Python runner and runs ``fitkit_tb``'s tests in it, so one
 ``pytest hw/fitkit-raster/cocotb`` (or ``cargo xtask cocotb``) runs everything.
 
-The RTL is every ``.v`` of the block's ``rtl/`` and ``sim/`` folders, the same globs
-``run-tests.sh`` compiles ``tb_top`` from; ``FPGFX_RTL_DIR=DIR`` builds another copy of
+The RTL is every ``.v`` of the block's ``rtl/`` and ``sim/`` folders (``sim/`` holds
+``fitkit_cocotb_top`` too), the same globs ``run-tests.sh`` compiles ``tb_top`` from; ``FPGFX_RTL_DIR=DIR`` builds another copy of
 ``rtl/`` instead (a scratch copy with a deliberate bug, to see the testbench catch it),
 as it does for the Verilator bridge. Build products go to ``target/cocotb``.
 """
@@ -73,7 +73,7 @@ def test_rtl_draws_like_the_model(capsys: pytest.CaptureFixture[str]) -> None:
     rtl = rtl_dir()
     sources = sorted(rtl.glob("*.v")) + sorted((BLOCK / "sim").glob("*.v"))
     assert sources, f"no Verilog in {rtl}"
-    sources.append(HERE / f"{TOP}.v")
+    assert any(s.name == f"{TOP}.v" for s in sources), f"no {TOP}.v in {BLOCK / 'sim'}"
     build = build_dir()
     tests = build / "tests"
     tests.mkdir(parents=True, exist_ok=True)
