@@ -85,7 +85,8 @@ run_fails() {
         exit 1
     fi
     wave=$(printf '%s\n' "$out" | sed -n 's/^FAIL: testbench .*, waveform: \(.*\)$/\1/p')
-    printf '%s\n' "$out" | grep '^FAIL: testbench'
+    # its failure line, reworded: a log searched for "FAIL" finds real failures only
+    printf '%s\n' "$out" | sed -n 's/^FAIL: testbench \(.*\)$/as meant: testbench \1/p'
     if [ -z "$wave" ] || [ ! -s "$wave" ] || ! grep -q '\$enddefinitions' "$wave"; then
         echo "testbench: the broken $2 failed without a waveform"
         exit 1

@@ -308,6 +308,16 @@ pub fn run(root: &Path, toolchain: &str, opts: &Options) -> Result<()> {
         let mut o = read_outcome(t, &text);
         o.seconds = t0.elapsed().as_secs_f64();
         o.failed = !status.success();
+        if o.failed {
+            // The end of the log says why and holds the input (libFuzzer's "Base64:"
+            // line): printed, so a failure on a machine whose files are gone (CI) can
+            // still be reproduced from its output.
+            let tail: Vec<&str> = text.lines().rev().take(60).collect();
+            eprintln!("fuzz: {t} failed; the end of {}:", log_path.display());
+            for line in tail.iter().rev() {
+                eprintln!("  {line}");
+            }
+        }
         if o.failed && o.crashes.is_empty() {
             o.crashes
                 .push(format!("(exit {status}, see {})", log_path.display()));

@@ -18,6 +18,7 @@ use anyhow::{bail, Context, Result};
 
 mod baseline;
 mod cocotb;
+mod cores;
 mod fuzz;
 mod layers;
 mod steps;
@@ -46,7 +47,21 @@ const BOARDS: &[BoardBinary] = &[
     },
 ];
 
-fn main() -> Result<()> {
+/// Reports a failure as its cause chain on the last line, never as a backtrace: CI
+/// environments that set `RUST_BACKTRACE` would otherwise end the log with thirty frames
+/// of `std::rt` and push the step and the reason out of the excerpt a reader sees first.
+fn main() -> std::process::ExitCode {
+    match command() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("xtask: error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// The command named on the command line.
+fn command() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
         Some("test") => test(),

@@ -5,7 +5,7 @@
 
 use std::time::{Duration, Instant};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 
 /// The steps run so far, in order, with their wall time.
 pub struct Steps {
@@ -23,11 +23,13 @@ impl Steps {
     }
 
     /// Runs one step and records its wall time, whether it passes or fails.
+    /// A failure comes back with the step's name in front of its cause, so the command's
+    /// last line says which step stopped it.
     pub fn run<T>(&mut self, name: &'static str, step: impl FnOnce() -> Result<T>) -> Result<T> {
         let t = Instant::now();
         let out = step();
         self.done.push((name, t.elapsed()));
-        out
+        out.with_context(|| format!("step \"{name}\" failed"))
     }
 
     /// The table: one row per step, its seconds and share of the whole, then the total.
@@ -73,6 +75,15 @@ mod tests {
         assert!(steps
             .run("second", || -> Result<()> { anyhow::bail!("broken") })
             .is_err());
+        let err = steps
+            .run("third", || -> Result<()> { anyhow::bail!("the cause") })
+            .err()
+            .map(|e| format!("{e:#}"));
+        assert_eq!(
+            err.as_deref(),
+            Some("step \"third\" failed: the cause"),
+            "a failure names its step and keeps its cause"
+        );
         let table = steps.table();
         let rows: Vec<&str> = table.lines().collect();
         assert!(rows[2].starts_with("| first | "), "{table}");
