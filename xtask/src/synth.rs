@@ -11,7 +11,8 @@
 //! itself, which nextpnr flattens: Yosys 0.23 on the flattened core ran for over an hour
 //! without finishing, and its `autoname` pass alone takes minutes on the hierarchical
 //! one, so that run stops before it (names are cosmetic).
-//! nextpnr's seeds run side by side, one per core.
+//! The designs, their Yosys passes and nextpnr's seeds all run side by side, each tool
+//! run on a core of its own as one comes free (`cores`).
 //!
 //! Families: the FITkit raster block on an iCE40 HX8K (Debian's nextpnr-ice40, one seed:
 //! the test command checks it still maps), and the ray-casting core on an ECP5-85F
@@ -687,7 +688,13 @@ fn verilog_in(dir: &Path) -> Result<Vec<PathBuf>> {
 
 /// [`tool_output`] in directory `cwd` (a yowasp tool, a WebAssembly program, sees only the
 /// directory it is started in: its files must be named relative to it).
-fn tool_output_in(cwd: Option<&Path>, program: &str, args: &[String]) -> Result<String> {
+fn tool_output_in(
+    cwd: Option<&Path>,
+    program: &str,
+    args: &[String],
+    priority: u32,
+) -> Result<String> {
+    let _core = crate::cores::take(priority);
     eprintln!("+ {program} {}", args.join(" "));
     let mut cmd = Command::new(program);
     if let Some(dir) = cwd {
@@ -1030,12 +1037,34 @@ pub fn synth(root: &Path, opts: &Options) -> Result<Vec<Record>> {
             all.join(", ")
         );
     }
-    for d in chosen {
-        if opts.test && d.gate == Gate::Manual {
-            continue;
+    let chosen: Vec<&Design> = chosen
+        .into_iter()
+        .filter(|d| !(opts.test && d.gate == Gate::Manual))
+        .collect();
+    // Every design at once, each tool run waiting for a core (`cores`), the longest
+    // designs' runs first; the tables in design order.
+    let mut placed: Vec<Option<Result<(String, Record)>>> = Vec::new();
+    placed.resize_with(chosen.len(), || None);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = chosen
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| {
+                let route = !opts.test || d.gate == Gate::Placed;
+                (i, s.spawn(move || place(root, d, route)))
+            })
+            .collect();
+        for (i, h) in handles {
+            placed[i] =
+                Some(h.join().unwrap_or_else(|_| {
+                    Err(anyhow::anyhow!("the thread placing a design panicked"))
+                }));
         }
-        let route = !opts.test || d.gate == Gate::Placed;
-        let (report, record) = place(root, d, route)?;
+    });
+    for (d, result) in chosen.iter().zip(placed) {
+        let (report, record) = result
+            .context("a design was not run")?
+            .with_context(|| format!("{} {} on {}", d.block, d.variant, d.family.name))?;
         if opts.json {
             eprint!("{report}");
         } else {
@@ -1071,10 +1100,30 @@ pub fn synth(root: &Path, opts: &Options) -> Result<Vec<Record>> {
     Ok(records)
 }
 
+/// Roughly how many core-seconds a design takes, the priority of its tool runs: from a
+/// fresh-clone run of the gate on this project's 2-core CI machine, Yosys is seconds for
+/// the FITkit block and the intersection unit and three and a half minutes for the whole
+/// ray-casting core (`rt_device`), and a nextpnr seed about two minutes for Gowin (WebAssembly
+/// himbaechel), under a minute for ECP5 and half a minute for iCE40. Only the order
+/// depends on it.
+fn cost(d: &Design, route: bool) -> u32 {
+    let yosys = if d.top == "rt_device" { 200 } else { 20 };
+    let seed = match d.family.pnr {
+        _ if !route => 0,
+        Pnr::Yowasp(p) if p.contains("himbaechel") => 120,
+        Pnr::Yowasp(_) => 50,
+        Pnr::Debian(_) => 30,
+        Pnr::None => 0,
+    };
+    yosys + seed * d.seeds.len() as u32
+}
+
 /// Synthesises one design and, with `route` and a family something places, places it;
 /// its table and its record.
 pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
     let name = d.block.rsplit('/').next().unwrap_or(d.block);
+    // each run waits for a core, the design's expected cost its place in the queue
+    let priority = cost(d, route);
     // every path handed to Yosys is relative to the workspace root, where it runs
     let rel = |p: &Path| -> String {
         p.strip_prefix(root)
@@ -1138,27 +1187,44 @@ pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
             d.family.keep_hierarchy,
         )
     };
-    tool_output_in(Some(root), &yosys, &["-q".into(), "-p".into(), hier_script])?;
-    let stat_text =
-        std::fs::read_to_string(root.join(&hier_stat)).context("yosys wrote no stat report")?;
-    let total = if d.flatten {
-        tool_output_in(
+    let flat_script = format!(
+        "{read} {synth} {} -top {placed}; tee -o {flat_stat} stat; {}",
+        d.family.flatten,
+        if routed {
+            format!("write_json {json}")
+        } else {
+            String::new()
+        }
+    );
+    // the two Yosys passes are independent: side by side when there are cores for both
+    let (hier, flat) = std::thread::scope(|s| {
+        let flat = d.flatten.then(|| {
+            s.spawn(|| {
+                tool_output_in(
+                    Some(root),
+                    &yosys,
+                    &["-q".into(), "-p".into(), flat_script],
+                    priority,
+                )
+            })
+        });
+        let hier = tool_output_in(
             Some(root),
             &yosys,
-            &[
-                "-q".into(),
-                "-p".into(),
-                format!(
-                    "{read} {synth} {} -top {placed}; tee -o {flat_stat} stat; {}",
-                    d.family.flatten,
-                    if routed {
-                        format!("write_json {json}")
-                    } else {
-                        String::new()
-                    }
-                ),
-            ],
-        )?;
+            &["-q".into(), "-p".into(), hier_script],
+            priority,
+        );
+        let flat = flat.map(|h| {
+            h.join()
+                .unwrap_or_else(|_| Err(anyhow::anyhow!("the thread running Yosys panicked")))
+        });
+        (hier, flat)
+    });
+    hier?;
+    let stat_text =
+        std::fs::read_to_string(root.join(&hier_stat)).context("yosys wrote no stat report")?;
+    let total = if let Some(flat) = flat {
+        flat?;
         let flat_text =
             std::fs::read_to_string(root.join(&flat_stat)).context("yosys wrote no stat report")?;
         let total = parse_stat(&flat_text, d.family)
@@ -1272,35 +1338,33 @@ pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
             "--timing-allow-fail".into(),
         ]);
         let log = out_dir.join(format!("nextpnr-seed{seed}.log"));
-        let text = tool_output_in(Some(&out_dir), &pnr, &args)?;
+        let text = tool_output_in(Some(&out_dir), &pnr, &args, priority)?;
         std::fs::write(&log, &text)?;
         let fmax = parse_fmax(&text)
             .with_context(|| format!("nextpnr reported no Fmax (see {})", log.display()))?;
         Ok((fmax, critical_path(&text)))
     };
-    // one seed per core: each nextpnr is single-threaded
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    // every seed at once; each nextpnr is single-threaded and waits for a core (`cores`)
     let mut fmax_seeds = Vec::new();
     let mut paths = Vec::new();
-    for group in d.seeds.chunks(cores) {
-        let results: Vec<Result<(f64, Option<String>)>> = std::thread::scope(|s| {
-            let handles: Vec<_> = group
-                .iter()
-                .map(|&seed| s.spawn(move || run_seed(seed)))
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| {
-                    h.join()
-                        .unwrap_or_else(|_| Err(anyhow::anyhow!("a nextpnr thread panicked")))
-                })
-                .collect()
-        });
-        for r in results {
-            let (f, p) = r?;
-            fmax_seeds.push(f);
-            paths.push(p);
-        }
+    let results: Vec<Result<(f64, Option<String>)>> = std::thread::scope(|s| {
+        let handles: Vec<_> = d
+            .seeds
+            .iter()
+            .map(|&seed| s.spawn(move || run_seed(seed)))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err(anyhow::anyhow!("a nextpnr thread panicked")))
+            })
+            .collect()
+    });
+    for r in results {
+        let (f, p) = r?;
+        fmax_seeds.push(f);
+        paths.push(p);
     }
     // to the 10 kHz nextpnr reports, so the baseline reads as the log does
     let fmax = (median(&fmax_seeds).context("no seeds")? * 100.0).round() / 100.0;
