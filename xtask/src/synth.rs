@@ -735,6 +735,10 @@ pub fn ensure_yowasp(root: &Path, program: &str) -> Result<PathBuf> {
 /// Makes sure `program` is in [`pyenv`]: a venv (Debian's python3-venv) and a pinned
 /// `pip install` of `package` when it is missing. Nothing outside `target/` changes.
 pub fn ensure_pypi(root: &Path, program: &str, package: &str) -> Result<PathBuf> {
+    // The synthesis flow's designs run side by side: one pip at a time in the venv (two
+    // would install the packages they share, the WebAssembly runtime, over each other).
+    static PIP: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _pip = PIP.lock().unwrap_or_else(|p| p.into_inner());
     let env = pyenv(root);
     let path = env.join("bin").join(program);
     let stamp = env.join(format!("{}.installed", package.replace("==", "-")));
