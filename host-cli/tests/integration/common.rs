@@ -270,7 +270,19 @@ pub fn start_tcp_sim() -> Sim {
 }
 
 /// The sim's whole stderr after it ended (killed first if it would not end by itself).
-pub fn sim_stderr(mut sim: Sim) -> String {
+pub fn sim_stderr(sim: Sim) -> String {
+    sim_stderr_after(sim, std::time::Duration::ZERO)
+}
+
+/// The whole stderr of a sim that ends by itself (`--exit-after-writes`), given up to
+/// `limit` to do so and killed after that. Killing it at once raced its last line: the
+/// host sees the line go quiet before the sim has written "exiting after N writes", and a
+/// kill between two of that line's writes left "exiting after 10" in the log.
+pub fn sim_stderr_after(mut sim: Sim, limit: std::time::Duration) -> String {
+    let end = std::time::Instant::now() + limit;
+    while std::time::Instant::now() < end && matches!(sim.child.0.try_wait(), Ok(None)) {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
     let _ = sim.child.0.kill();
     let _ = sim.child.0.wait();
     if let Some(reader) = sim.reader.take() {

@@ -7,7 +7,9 @@ use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-use crate::common::{fails, fpgfx_command, ok, pty_pair, sim_stderr, start_sim, tmp, Sim};
+use crate::common::{
+    fails, fpgfx_command, ok, pty_pair, sim_stderr, sim_stderr_after, start_sim, tmp, Sim,
+};
 use protocol::bootloader::{FLASH_BASE, FLASH_SIZE};
 
 /// The emulator as an STM32F405 in its ROM bootloader (BOOT0 high).
@@ -264,7 +266,7 @@ fn an_interrupted_flash_is_completed_by_a_second_run() {
     let sim = board(&["--flash-image", &image_file, "--exit-after-writes", "40"]);
     let err = fails(&flash(&bin, &sim.pty, &[]));
     assert!(err.contains("error: flash"), "{err}");
-    let log = sim_stderr(sim);
+    let log = sim_stderr_after(sim, std::time::Duration::from_secs(10));
     assert!(log.contains("exiting after 40 writes"), "{log}");
     let half = flash_file(&image_file);
     assert_eq!(&half[..40 * 256], &image[..40 * 256]);
@@ -672,7 +674,7 @@ fn msp430_an_interrupted_flash_is_completed_by_a_second_run() {
         err.contains("block at 0x00004480 failed") || err.contains("block at 0x00004500 failed"),
         "{err}"
     );
-    let log = sim_stderr(sim);
+    let log = sim_stderr_after(sim, std::time::Duration::from_secs(10));
     assert!(log.contains("exiting after 10 writes"), "{log}");
     let half = msp430_memory(&memory);
     assert!(half[0x4000..0x4500] == code[..0x500]);
