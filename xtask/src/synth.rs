@@ -1047,28 +1047,22 @@ pub fn synth(root: &Path, opts: &Options) -> Result<Vec<Record>> {
         .collect();
     // Every design at once, each tool run waiting for a core (`cores`), the longest
     // designs' runs first; the tables in design order.
-    let mut placed: Vec<Option<Result<(String, Record)>>> = Vec::new();
-    placed.resize_with(chosen.len(), || None);
-    std::thread::scope(|s| {
+    let placed: Vec<Result<(String, Record)>> = std::thread::scope(|s| {
         let handles: Vec<_> = chosen
             .iter()
-            .enumerate()
-            .map(|(i, &d)| {
+            .map(|&d| {
                 let route = !opts.test || d.gate == Gate::Placed;
-                (i, s.spawn(move || place(root, d, route)))
+                s.spawn(move || place(root, d, route))
             })
             .collect();
-        for (i, h) in handles {
-            placed[i] =
-                Some(h.join().unwrap_or_else(|_| {
-                    Err(anyhow::anyhow!("the thread placing a design panicked"))
-                }));
-        }
+        handles
+            .into_iter()
+            .map(|h| joined(h, "placing a design"))
+            .collect()
     });
     for (d, result) in chosen.iter().zip(placed) {
-        let (report, record) = result
-            .context("a design was not run")?
-            .with_context(|| format!("{} {} on {}", d.block, d.variant, d.family.name))?;
+        let (report, record) =
+            result.with_context(|| format!("{} {} on {}", d.block, d.variant, d.family.name))?;
         if opts.json {
             eprint!("{report}");
         } else {
@@ -1102,6 +1096,12 @@ pub fn synth(root: &Path, opts: &Options) -> Result<Vec<Record>> {
         }
     }
     Ok(records)
+}
+
+/// A scoped thread's result; its panic as an error naming what it was `doing`.
+fn joined<T>(h: std::thread::ScopedJoinHandle<'_, Result<T>>, doing: &str) -> Result<T> {
+    h.join()
+        .unwrap_or_else(|_| Err(anyhow::anyhow!("the thread {doing} panicked")))
 }
 
 /// Roughly how many core-seconds a design takes, the priority of its tool runs: from a
@@ -1218,10 +1218,7 @@ pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
             &["-q".into(), "-p".into(), hier_script],
             priority,
         );
-        let flat = flat.map(|h| {
-            h.join()
-                .unwrap_or_else(|_| Err(anyhow::anyhow!("the thread running Yosys panicked")))
-        });
+        let flat = flat.map(|h| joined(h, "running Yosys"));
         (hier, flat)
     });
     hier?;
@@ -1359,10 +1356,7 @@ pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
             .collect();
         handles
             .into_iter()
-            .map(|h| {
-                h.join()
-                    .unwrap_or_else(|_| Err(anyhow::anyhow!("a nextpnr thread panicked")))
-            })
+            .map(|h| joined(h, "running nextpnr"))
             .collect()
     });
     for r in results {
