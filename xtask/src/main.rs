@@ -21,6 +21,7 @@ mod cocotb;
 mod cores;
 mod fuzz;
 mod layers;
+mod mitsuba;
 mod steps;
 mod synth;
 
@@ -69,11 +70,14 @@ fn command() -> Result<()> {
         Some("synth") => {
             synth::synth(&workspace_root(), &synth::Options::parse(&args[1..])?).map(|_| ())
         }
-        Some("fuzz") => fuzz::run(
-            &workspace_root(),
-            &msp430_toolchain()?,
-            &fuzz::Options::parse(&args[1..])?,
-        ),
+        Some("fuzz") => {
+            // cargo-fuzz needs the pinned nightly; on a machine the test command has not
+            // set up yet, `fuzz` installs it rather than failing inside rustup.
+            let opts = fuzz::Options::parse(&args[1..])?;
+            install_msp430_toolchain()?;
+            fuzz::run(&workspace_root(), &msp430_toolchain()?, &opts)
+        }
+        Some("mitsuba") => mitsuba::run(&workspace_root(), &mitsuba::Options::parse(&args[1..])?),
         Some("layers") => layers::check(&std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())),
         Some("python") => {
             // The test command's last step alone, for work on python/: its PyPI tools,
@@ -91,8 +95,8 @@ fn command() -> Result<()> {
             cocotb::run(&workspace_root())
         }
         _ => {
-            eprintln!("usage: cargo xtask <test|setup|synth|fuzz|layers|python|cocotb>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME] [--variant NAME] [--family NAME] [--check | --gate | --update-baseline]
-         --check: every design placed and held to hw/synth-baseline.json; --gate: what the test command runs (docs/synthesis.md)\n  fuzz   build the cargo-fuzz targets (pinned nightly, ASan) and run each: [--target NAME]... [--runs N | --time SECONDS | --smoke]; prints executions, exec/s, coverage, corpus and crashes per target (fuzz/README.md)\n  layers check that every dependency between the workspace's crates points down\n  python build the Python package's wheel, install it into target/pyenv and run its pytest suite (needs target/debug/fpgfx)\n  cocotb run the FITkit block's cocotb testbench on Icarus (docs/cocotb.md; needs the wheel `python` installs)");
+            eprintln!("usage: cargo xtask <test|setup|synth|fuzz|mitsuba|layers|python|cocotb>\n  setup  install the Rust targets and packages the tests need\n  test   setup, then fmt, clippy, no_std builds, RTL lint and testbenches, every test\n  synth  Yosys + nextpnr on the RTL blocks: LUT/FF/BRAM/DSP per module and Fmax [--json] [--block NAME] [--variant NAME] [--family NAME] [--check | --gate | --update-baseline]
+         --check: every design placed and held to hw/synth-baseline.json; --gate: what the test command runs (docs/synthesis.md)\n  fuzz   build the cargo-fuzz targets (pinned nightly, ASan) and run each: [--target NAME]... [--runs N | --time SECONDS | --smoke]; prints executions, exec/s, coverage, corpus and crashes per target (fuzz/README.md)\n  mitsuba  time `fpgfx render` against Mitsuba 3 (llvm_ad_rgb, scalar_rgb, from PyPI) on one scene and check both drew it alike: [--scene FILE] [--runs N] (docs/bench.md)\n  layers check that every dependency between the workspace's crates points down\n  python build the Python package's wheel, install it into target/pyenv and run its pytest suite (needs target/debug/fpgfx)\n  cocotb run the FITkit block's cocotb testbench on Icarus (docs/cocotb.md; needs the wheel `python` installs)");
             bail!("unknown or missing xtask command: {args:?}")
         }
     }
@@ -309,6 +313,41 @@ fn on_path(program: &str) -> bool {
         .unwrap_or(false)
 }
 
+/// Whether this process runs as root (otherwise apt and writes under /etc go through sudo).
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+        .unwrap_or(false)
+}
+
+/// `apt-get ARGS`, through sudo when not root.
+fn apt(args: &[&str]) -> Result<()> {
+    let mut full = vec!["apt-get"];
+    full.extend_from_slice(args);
+    if is_root() {
+        run(full[0], &full[1..])
+    } else {
+        run("sudo", &full)
+    }
+}
+
+/// Installs Debian `packages` without removing anything (`--no-remove`, see
+/// [`install_packages`]), updating the package lists once if the first try fails; for a
+/// command outside the test command that needs a library, not a program on the PATH.
+fn apt_install(packages: &[&str]) -> Result<()> {
+    let mut install = vec!["install", "-y", "--no-install-recommends", "--no-remove"];
+    install.extend_from_slice(packages);
+    if apt(&install).is_ok() {
+        return Ok(());
+    }
+    apt(&["update"])?;
+    apt(&install).with_context(|| {
+        format!("cannot install {packages:?} from Debian without removing a package (apt's message is above)")
+    })
+}
+
 /// Installs the Debian packages that are missing or too old (their `needs` probe fails).
 ///
 /// `--no-remove`: apt may otherwise resolve a conflict by removing an installed package
@@ -325,20 +364,7 @@ fn install_packages() -> Result<()> {
     for p in &missing {
         eprintln!("  {:<16} {}", p.package, p.why);
     }
-    let root = Command::new("id")
-        .arg("-u")
-        .output()
-        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
-        .unwrap_or(false);
-    let apt = |args: &[&str]| -> Result<()> {
-        let mut full = vec!["apt-get"];
-        full.extend_from_slice(args);
-        if root {
-            run(full[0], &full[1..])
-        } else {
-            run("sudo", &full)
-        }
-    };
+    let root = is_root();
     let mut install = vec!["install", "-y", "--no-install-recommends", "--no-remove"];
     install.extend(missing.iter().map(|p| p.package));
     // apt succeeds without upgrading a package that is installed but too old for its
