@@ -169,7 +169,7 @@ pub enum FpgaReply {
     /// rectangle.
     ReadLen(Option<u32>),
     /// Answer to [`FpgaRequest::Read`].
-    Data(Vec<u8, READ_CHUNK>),
+    Data(#[serde(with = "crate::bytes")] Vec<u8, READ_CHUNK>),
     /// Answer to [`FpgaRequest::Counters`].
     Counters(DeviceCounters),
     /// Sent instead of the answer to a question when a posted request before it failed.

@@ -648,6 +648,7 @@ pub struct ReadChunk {
     /// Byte offset of `data` within the whole read-back.
     pub offset: u32,
     /// Pixel bytes in the requested format.
+    #[serde(with = "crate::bytes")]
     pub data: Vec<u8, READ_CHUNK>,
 }
 

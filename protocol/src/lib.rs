@@ -40,6 +40,7 @@
 pub mod axi_lite;
 pub mod bootloader;
 pub mod bus;
+mod bytes;
 pub mod fitkit_spi;
 pub mod fpga_link;
 pub mod frame;

@@ -6,7 +6,8 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Every top-level module, leaves first: a module may name only those before it.
-const ORDER: [&str; 11] = [
+const ORDER: [&str; 12] = [
+    "bytes",
     "names",
     "raster",
     "fitkit_spi",
