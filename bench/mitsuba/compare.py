@@ -28,7 +28,6 @@ import math
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 import tomllib
 from pathlib import Path
@@ -233,17 +232,33 @@ def psnr(a, b):
     return math.inf if mse == 0 else 10 * math.log10(255.0**2 / mse)
 
 
-def off_edge_mismatches(ours, theirs, levels=8):
-    """Pixels more than `levels` apart in some channel whose 3×3 neighbourhood in
-    fpgfx's frame is flat (no channel spans more than `levels`): where neither an edge
-    nor a shadow boundary lets pixel-centre and random in-pixel samples differ."""
+def mismatch_mask(ours, theirs, levels=8):
+    """White where a pixel is more than `levels` apart in some channel while its 3×3
+    neighbourhood in fpgfx's frame is flat (no channel spans more than `levels`): where
+    neither an edge nor a shadow boundary lets pixel-centre and random in-pixel samples
+    differ. An RGB image, so that it can be written beside the frames."""
     a = ours.astype(np.int16)
     h, w, _ = a.shape
     pad = np.pad(a, ((1, 1), (1, 1), (0, 0)), mode="edge")
-    shifted = [pad[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1)]
+    shifted = [
+        pad[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w]
+        for dy in (-1, 0, 1)
+        for dx in (-1, 0, 1)
+    ]
     span = (np.max(shifted, axis=0) - np.min(shifted, axis=0)).max(axis=2)
     diff = np.abs(a - theirs.astype(np.int16)).max(axis=2)
-    return int(np.count_nonzero((diff > levels) & (span <= levels)))
+    bad = (diff > levels) & (span <= levels)
+    return np.repeat((bad * 255).astype(np.uint8)[:, :, None], 3, axis=2)
+
+
+def off_edge_mismatches(ours, theirs):
+    """How many pixels [`mismatch_mask`] marks."""
+    return int(np.count_nonzero(mismatch_mask(ours, theirs)[:, :, 0]))
+
+
+def write_png(mi, path, rgb8):
+    """An (H, W, 3) uint8 array as a PNG, values as they are (no gamma applied)."""
+    mi.Bitmap(np.ascontiguousarray(rgb8), mi.Bitmap.PixelFormat.RGB).write(str(path))
 
 
 def main():
@@ -251,7 +266,12 @@ def main():
     p.add_argument("--fpgfx", required=True, help="the fpgfx binary (release build)")
     p.add_argument("--scene", required=True, help="an fpgfx scene file (TOML)")
     p.add_argument("--runs", type=int, default=5, help="timed runs of each renderer")
-    p.add_argument("--json", help="also write the figures to this file")
+    p.add_argument(
+        "--out",
+        required=True,
+        help="directory for the frames (fpgfx.png, mitsuba-VARIANT.png, their off-edge "
+        "mismatches as mismatch-VARIANT.png) and figures.json",
+    )
     a = p.parse_args()
     if a.runs < 1:
         p.error("--runs must be at least 1")
@@ -268,15 +288,18 @@ def main():
     import mitsuba as mi
 
     try:
-        with tempfile.TemporaryDirectory() as tmp:
-            png = Path(tmp) / "fpgfx.png"
-            fp = time_fpgfx(a.fpgfx, path, png, a.runs)
-            mi.set_variant("scalar_rgb")
-            ours = np.array(mi.Bitmap(str(png)))
+        out = Path(a.out)
+        out.mkdir(parents=True, exist_ok=True)
+        png = out / "fpgfx.png"
+        fp = time_fpgfx(a.fpgfx, path, png, a.runs)
+        mi.set_variant("scalar_rgb")
+        ours = np.array(mi.Bitmap(str(png)))
         results = {}
         for variant in ("llvm_ad_rgb", "scalar_rgb"):
             times, first, img = time_mitsuba(variant, scene, size, a.runs)
             theirs = np.floor(np.clip(img, 0.0, 1.0) * 255.0).astype(np.uint8)
+            write_png(mi, out / f"mitsuba-{variant}.png", theirs)
+            write_png(mi, out / f"mismatch-{variant}.png", mismatch_mask(ours, theirs))
             results[variant] = (
                 times,
                 first,
@@ -316,8 +339,8 @@ def main():
     print("(fpgfx is: Mitsuba's best time over fpgfx's; > 1 means fpgfx is faster)")
     for variant, (_, first, _, _) in results.items():
         print(f"Mitsuba {variant}: first call (compiles its kernels) {first:.3f} s, untimed")
-    if a.json:
-        Path(a.json).write_text(json.dumps(figures, indent=2))
+    (out / "figures.json").write_text(json.dumps(figures, indent=2))
+    print(f"frames, mismatch masks and figures.json in {out}")
     if not ok:
         sys.exit(
             f"compare.py: more than {limit:.0f} pixels away from edges differ by more "

@@ -102,7 +102,8 @@ fn has_libllvm() -> bool {
         .unwrap_or(false)
 }
 
-/// Runs the comparison: the release `fpgfx`, the venv, then `compare.py`.
+/// Runs the comparison: the release `fpgfx`, the venv, then `compare.py`, which leaves
+/// the frames, the mismatch masks and the figures in `target/mitsuba/`.
 pub fn run(root: &Path, opts: &Options) -> Result<()> {
     if !has_libllvm() {
         eprintln!(
@@ -134,6 +135,8 @@ pub fn run(root: &Path, opts: &Options) -> Result<()> {
         .arg("--scene")
         .arg(&scene)
         .args(["--runs", &opts.runs.to_string()])
+        .arg("--out")
+        .arg(root.join("target").join("mitsuba"))
         .status()
         .with_context(|| format!("could not start {}", python.display()))?;
     if !status.success() {
