@@ -440,8 +440,11 @@ fn install_packages() -> Result<()> {
 /// its bridge crate (run with the workspace's tests).
 const RT_CORE: &str = "hw/rt-core";
 
-/// The RTL's own checks before the synthesis gate: Verilator's lint on the synthesisable
-/// files (warnings are errors) and the Icarus testbenches.
+/// The RTL's own checks: Verilator's lint on the synthesisable files (warnings are
+/// errors) and each block's `run-tests.sh` (its lints, formal proofs and Icarus
+/// testbenches). They run side by side, and beside the synthesis gate in the test
+/// command: each takes a core from [`cores::take`] like the gate's tools, so the two
+/// cores stay busy (the scripts are single-threaded, about 140 s and 35 s here).
 fn rtl_sims() -> Result<()> {
     let root = workspace_root();
     let files: Vec<String> = synth::sources(&root, synth::BLOCK)?
@@ -451,15 +454,84 @@ fn rtl_sims() -> Result<()> {
     let include = format!("-I{}", synth::rtl_dir(&root, synth::BLOCK).display());
     let mut lint = vec!["--lint-only", "-Wall", &include, "--top-module", synth::TOP];
     lint.extend(files.iter().map(String::as_str));
-    run("verilator", &lint)?;
-    for block in [synth::BLOCK, RT_CORE] {
-        let script = root.join(block).join("run-tests.sh");
-        run("sh", &[&script.to_string_lossy()])?;
+    let scripts: Vec<(String, u32)> = [(synth::BLOCK, 140), (RT_CORE, 35)]
+        .iter()
+        .map(|(block, cost)| {
+            (
+                root.join(block)
+                    .join("run-tests.sh")
+                    .to_string_lossy()
+                    .into_owned(),
+                *cost,
+            )
+        })
+        .collect();
+    std::thread::scope(|s| {
+        let lint = s.spawn(|| captured("verilator", &lint, 5));
+        let runs: Vec<_> = scripts
+            .iter()
+            .map(|(script, cost)| s.spawn(move || captured("sh", &[script], *cost)))
+            .collect();
+        let mut result = lint
+            .join()
+            .unwrap_or_else(|_| Err(anyhow::anyhow!("the lint's thread panicked")));
+        for r in runs {
+            let r = r
+                .join()
+                .unwrap_or_else(|_| Err(anyhow::anyhow!("a testbench script's thread panicked")));
+            result = both(result, r);
+        }
+        result
+    })
+}
+
+/// `program args` on a core of its own ([`cores::take`] with `priority`, its rough
+/// cost in core-seconds); its output is printed whole when it ends, so that checks
+/// running side by side never interleave their lines.
+fn captured(program: &str, args: &[&str], priority: u32) -> Result<()> {
+    let _core = cores::take(priority);
+    let started = std::time::Instant::now();
+    let out = Command::new(program)
+        .args(args)
+        .output()
+        .with_context(|| format!("could not start `{program}`: run `cargo xtask setup`"))?;
+    eprintln!(
+        "+ {program} {} ({:.1} s, side by side with other checks; its output:)",
+        args.join(" "),
+        started.elapsed().as_secs_f64()
+    );
+    eprint!("{}", String::from_utf8_lossy(&out.stdout));
+    eprint!("{}", String::from_utf8_lossy(&out.stderr));
+    if !out.status.success() {
+        bail!(
+            "`{program} {}` failed with {} (its output is just above)",
+            args.join(" "),
+            out.status
+        );
     }
     Ok(())
 }
 
-/// The synthesis gate: every design at its `Gate`, held to the committed baseline.
+/// Both results: the first error, with the second's added when both failed.
+fn both(a: Result<()>, b: Result<()>) -> Result<()> {
+    match (a, b) {
+        (Err(a), Err(b)) => Err(a.context(format!("and also: {b:#}"))),
+        (a, b) => a.and(b),
+    }
+}
+
+/// The RTL checks beside the synthesis gate (both hold cores from [`cores::take`]).
+fn rtl_and_synth_gate() -> Result<()> {
+    std::thread::scope(|s| {
+        let rtl = s.spawn(rtl_sims);
+        let gate = synth_gate();
+        let rtl = rtl
+            .join()
+            .unwrap_or_else(|_| Err(anyhow::anyhow!("the RTL checks' thread panicked")));
+        both(gate, rtl)
+    })
+}
+
 fn synth_gate() -> Result<()> {
     synth::synth(
         &workspace_root(),
@@ -611,8 +683,10 @@ fn test_steps(steps: &mut steps::Steps) -> Result<()> {
     // (the workspace's stable cargo cannot); once per part's register module. The
     // build and its simulator run are `firmware/tests/msp430.rs`, among the tests below.
     steps.run("MSP430 clippy", msp430_clippy)?;
-    steps.run("RTL lint and simulations", rtl_sims)?;
-    steps.run("synthesis gate", synth_gate)?;
+    steps.run(
+        "RTL lint and simulations beside the synthesis gate",
+        rtl_and_synth_gate,
+    )?;
     steps.run("cargo test: build", || {
         run(cargo, &["test", "--workspace", "--no-run"])
     })?;
@@ -737,4 +811,37 @@ fn python_package() -> Result<()> {
     // default held to what the module has at run time.
     run(&bin("stubtest"), &["--ignore-disjoint-bases", "fpgfx"])?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_captured_check_that_fails_says_which_and_with_what() {
+        captured("sh", &["-c", "exit 0"], 1).expect("a passing command passes");
+        let e = captured("sh", &["-c", "echo half-way; exit 3"], 1).expect_err("exit 3 fails");
+        let text = format!("{e:#}");
+        assert!(
+            text.contains("`sh -c echo half-way; exit 3` failed"),
+            "{text}"
+        );
+        assert!(text.contains("exit status: 3"), "{text}");
+    }
+
+    #[test]
+    fn side_by_side_checks_report_every_failure() {
+        let fail = |m: &str| Err(anyhow::anyhow!("{m}"));
+        assert!(both(Ok(()), Ok(())).is_ok());
+        assert_eq!(
+            format!("{:#}", both(fail("gate"), Ok(())).expect_err("one")),
+            "gate"
+        );
+        assert_eq!(
+            format!("{:#}", both(Ok(()), fail("rtl")).expect_err("one")),
+            "rtl"
+        );
+        let e = format!("{:#}", both(fail("gate"), fail("rtl")).expect_err("two"));
+        assert!(e.contains("gate") && e.contains("rtl"), "{e}");
+    }
 }
