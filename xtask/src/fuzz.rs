@@ -158,6 +158,10 @@ struct Outcome {
     seconds: f64,
     /// Inputs libFuzzer wrote for a crash, leak, timeout or OOM.
     crashes: Vec<String>,
+    /// Inputs libFuzzer wrote as slow units (one run over 10 s of wall time): not a
+    /// failure, and a fuzzer that was stopped or starved of CPU mid-input writes them too,
+    /// so they are listed apart for a second look, not counted as crashes.
+    slow: Vec<String>,
     /// libFuzzer's exit status was not success.
     failed: bool,
 }
@@ -200,7 +204,14 @@ fn read_outcome(target: &str, log: &str) -> Outcome {
             .split_once("Test unit written to ")
             .map(|(_, p)| p.trim().to_string())
         {
-            o.crashes.push(p);
+            let slow = Path::new(&p)
+                .file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("slow-unit-"));
+            if slow {
+                o.slow.push(p);
+            } else {
+                o.crashes.push(p);
+            }
         }
     }
     o
@@ -350,6 +361,13 @@ pub fn run(root: &Path, toolchain: &str, opts: &Options) -> Result<()> {
             }
         );
     }
+    for o in outcomes.iter().filter(|o| !o.slow.is_empty()) {
+        println!(
+            "{}: slow units (not failures; time each with the target's binary and the file, as a stopped or starved fuzzer writes them too): {}",
+            o.target,
+            o.slow.join(", ")
+        );
+    }
     let bad: Vec<&str> = outcomes
         .iter()
         .filter(|o| o.failed)
@@ -411,6 +429,7 @@ mod tests {
         let log = "INFO: Seed: 1\n#2\tINITED cov: 10 ft: 12 corp: 1/1b exec/s: 0 rss: 30Mb\n\
                    #3000\tDONE   cov: 1234 ft: 5678 corp: 90/1234b lim: 4 exec/s: 1500 rss: 60Mb\n\
                    ==1== ERROR: libFuzzer: deadly signal\n\
+                   artifact_prefix='a/'; Test unit written to a/slow-unit-0a0a\n\
                    artifact_prefix='a/'; Test unit written to a/crash-00ff\n\
                    stat::number_of_executed_units: 3000\nstat::average_exec_per_sec:     1500\n";
         let o = read_outcome("t", log);
@@ -419,6 +438,7 @@ mod tests {
             (3000, 1500, 1234, 5678, 90)
         );
         assert_eq!(o.crashes, ["a/crash-00ff"]);
+        assert_eq!(o.slow, ["a/slow-unit-0a0a"]);
     }
 
     #[test]
