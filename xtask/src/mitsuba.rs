@@ -65,31 +65,11 @@ fn env(root: &Path) -> PathBuf {
     root.join("target").join("mitsuba-env")
 }
 
-/// Makes sure the venv holds [`PACKAGES`] (a stamp file names the set installed).
+/// Makes sure the venv holds [`PACKAGES`]; returns its Python.
 fn ensure_env(root: &Path) -> Result<PathBuf> {
     let env = env(root);
     let python = env.join("bin").join("python");
-    let stamp = env.join(format!(
-        "{}.installed",
-        PACKAGES.join("+").replace("==", "-")
-    ));
-    if python.is_file() && stamp.is_file() {
-        return Ok(python);
-    }
-    let env_s = env.to_string_lossy().into_owned();
-    if !env.join("bin").join("pip").is_file() {
-        crate::run("python3", &["-m", "venv", &env_s])
-            .context("a Python venv for Mitsuba (Debian: apt install python3-venv)")?;
-    }
-    eprintln!(
-        "xtask mitsuba: installing {} into {env_s} (the renderer fpgfx is compared with)",
-        PACKAGES.join(" ")
-    );
-    let pip = env.join("bin").join("pip").to_string_lossy().into_owned();
-    let mut args = vec!["install", "--quiet", "--disable-pip-version-check"];
-    args.extend_from_slice(PACKAGES);
-    crate::run(&pip, &args)?;
-    std::fs::write(&stamp, "")?;
+    crate::synth::ensure_venv(&env, PACKAGES, "Mitsuba", !python.is_file())?;
     Ok(python)
 }
 

@@ -741,22 +741,34 @@ pub fn ensure_pypi(root: &Path, program: &str, package: &str) -> Result<PathBuf>
     let _pip = PIP.lock().unwrap_or_else(|p| p.into_inner());
     let env = pyenv(root);
     let path = env.join("bin").join(program);
-    let stamp = env.join(format!("{}.installed", package.replace("==", "-")));
-    if path.is_file() && stamp.is_file() {
-        return Ok(path);
+    ensure_venv(&env, &[package], "the PyPI tools", !path.is_file())?;
+    Ok(path)
+}
+
+/// Makes sure the venv at `env` holds the pinned `packages`: a stamp file named after
+/// them says an earlier run installed them; otherwise (or with `force`) a venv is made
+/// if there is none (Debian's python3-venv; `what` says what for) and pip installs
+/// them. pip only adds: nothing installed is removed, nothing outside `env` changes.
+pub fn ensure_venv(env: &Path, packages: &[&str], what: &str, force: bool) -> Result<()> {
+    let stamp = env.join(format!(
+        "{}.installed",
+        packages.join("+").replace("==", "-")
+    ));
+    if stamp.is_file() && !force {
+        return Ok(());
     }
     let env_s = env.to_string_lossy().into_owned();
     if !env.join("bin").join("pip").is_file() {
-        crate::run("python3", &["-m", "venv", &env_s])
-            .context("a Python venv for the PyPI tools (Debian: apt install python3-venv)")?;
+        crate::run("python3", &["-m", "venv", &env_s]).with_context(|| {
+            format!("a Python venv for {what} (Debian: apt install python3-venv)")
+        })?;
     }
     let pip = env.join("bin").join("pip").to_string_lossy().into_owned();
-    crate::run(
-        &pip,
-        &["install", "--quiet", "--disable-pip-version-check", package],
-    )?;
+    let mut args = vec!["install", "--quiet", "--disable-pip-version-check"];
+    args.extend_from_slice(packages);
+    crate::run(&pip, &args)?;
     std::fs::write(&stamp, "")?;
-    Ok(path)
+    Ok(())
 }
 
 /// Whether `module` imports in the workspace's venv.
