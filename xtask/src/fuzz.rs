@@ -164,6 +164,9 @@ struct Outcome {
     slow: Vec<String>,
     /// libFuzzer's exit status was not success.
     failed: bool,
+    /// libFuzzer was interrupted (SIGINT: "run interrupted", exit 72): the run ended
+    /// early, which is no finding about the target.
+    interrupted: bool,
 }
 
 /// The number after `key` in `line` (`cov: 123`, `stat::…: 45`).
@@ -193,6 +196,9 @@ fn read_outcome(target: &str, log: &str) -> Outcome {
             if let Some(v) = number_after(line, "corp:") {
                 o.corpus = v;
             }
+        }
+        if line.contains("libFuzzer: run interrupted") {
+            o.interrupted = true;
         }
         if let Some(v) = number_after(line, "stat::number_of_executed_units:") {
             o.execs = v;
@@ -318,7 +324,7 @@ pub fn run(root: &Path, toolchain: &str, opts: &Options) -> Result<()> {
         let text = std::fs::read_to_string(&log_path).unwrap_or_default();
         let mut o = read_outcome(t, &text);
         o.seconds = t0.elapsed().as_secs_f64();
-        o.failed = !status.success();
+        o.failed = !status.success() && !o.interrupted;
         if o.failed {
             // The end of the log says why and holds the input (libFuzzer's "Base64:"
             // line): printed, so a failure on a machine whose files are gone (CI) can
@@ -354,10 +360,11 @@ pub fn run(root: &Path, toolchain: &str, opts: &Options) -> Result<()> {
             o.ft,
             o.corpus,
             o.seconds,
-            if o.crashes.is_empty() {
-                "0".to_string()
-            } else {
-                o.crashes.join(", ")
+            match (o.crashes.is_empty(), o.interrupted) {
+                (true, false) => "0".to_string(),
+                (true, true) =>
+                    "0 (interrupted: the counts are up to the interruption)".to_string(),
+                (false, _) => o.crashes.join(", "),
             }
         );
     }
@@ -373,6 +380,14 @@ pub fn run(root: &Path, toolchain: &str, opts: &Options) -> Result<()> {
         .filter(|o| o.failed)
         .map(|o| o.target.as_str())
         .collect();
+    let stopped: Vec<&str> = outcomes
+        .iter()
+        .filter(|o| o.interrupted)
+        .map(|o| o.target.as_str())
+        .collect();
+    if bad.is_empty() && !stopped.is_empty() {
+        bail!("interrupted during {} (no crash)", stopped.join(", "));
+    }
     if !bad.is_empty() {
         bail!(
             "fuzz targets crashed: {} (inputs in fuzz/artifacts/; minimise with `cargo +{toolchain} fuzz tmin TARGET FILE` in fuzz/)",
@@ -439,6 +454,13 @@ mod tests {
         );
         assert_eq!(o.crashes, ["a/crash-00ff"]);
         assert_eq!(o.slow, ["a/slow-unit-0a0a"]);
+        assert!(!o.interrupted);
+        let o = read_outcome(
+            "t",
+            "==7== libFuzzer: run interrupted; exiting\nstat::number_of_executed_units: 42\n",
+        );
+        assert!(o.interrupted && o.crashes.is_empty());
+        assert_eq!(o.execs, 42);
     }
 
     #[test]
