@@ -16,7 +16,7 @@ use protocol::names::Named;
 use protocol::raster::{Aa, AaPattern, RasterSetup};
 use sim_target::num::instrumented::{self, Counted, OpKind};
 use sim_target::raster::Raster;
-use sim_target::rt::{self, Math, Numeric, RenderOptions, Scene};
+use sim_target::rt::{self, Kernel, Math, Numeric, RenderOptions, Scene};
 
 /// Errors of a bench run. Every one names the file or point it is about.
 #[derive(Debug, thiserror::Error)]
@@ -138,6 +138,9 @@ pub struct Point {
     pub cost: f64,
     /// Median host time over all scenes (ms, summed over the scenes).
     pub host_ms: f64,
+    /// The same on the scalar kernel (`Kernel::Scalar`), for the formats whose default
+    /// kernel traces packets ([`rt::PACKET_FORMATS`]): what the packets gain.
+    pub scalar_ms: Option<f64>,
     /// Mean PSNR over the scenes (dB; capped at [`PSNR_CAP`] for identical images).
     pub psnr: f64,
     /// Worst channel error over the scenes (0–255).
@@ -485,13 +488,15 @@ pub fn sweep_rt(
 ) -> Result<Vec<Point>, BenchError> {
     let files = workloads(&cfg.scenes, || builtin_scenes(cfg.quick))?;
     let size = if cfg.quick { (48, 27) } else { (160, 90) };
-    let opts = |numeric, math| RenderOptions {
+    let opts_with = |numeric, math, kernel| RenderOptions {
         numeric,
         math,
         aovs: true,
         size: Some(size),
+        kernel,
         ..Default::default()
     };
+    let opts = |numeric, math| opts_with(numeric, math, Kernel::Planned);
     let mut scenes = Vec::new();
     for Workload { name, text } in files {
         let scene = jobs::scene::parse(&text, &name)?;
@@ -531,6 +536,7 @@ pub fn sweep_rt(
         runs: (repeats * configs.len() * scenes.len()) as u64,
     });
     let mut times = vec![vec![Vec::new(); scenes.len()]; configs.len()];
+    let mut scalar_times = vec![vec![Vec::new(); scenes.len()]; configs.len()];
     let mut frames: Vec<Vec<Option<rt::Frame>>> = vec![vec![None; scenes.len()]; configs.len()];
     for _ in 0..repeats {
         for (ci, (n, _, m)) in configs.iter().enumerate() {
@@ -543,6 +549,16 @@ pub fn sweep_rt(
                     })?;
                 times[ci][si].push(t.elapsed().as_secs_f64() * 1e3);
                 frames[ci][si] = Some(f);
+                if rt::PACKET_FORMATS.contains(n) {
+                    let t = Instant::now();
+                    rt::render(&s.scene, &opts_with(*n, *m, Kernel::Scalar)).map_err(|source| {
+                        BenchError::Render {
+                            scene: s.name.clone(),
+                            source,
+                        }
+                    })?;
+                    scalar_times[ci][si].push(t.elapsed().as_secs_f64() * 1e3);
+                }
                 progress(Progress::Ran { sweep });
             }
         }
@@ -556,6 +572,7 @@ pub fn sweep_rt(
             config: format!("{}/{set}", n.name()),
             cost: 0.0,
             host_ms: 0.0,
+            scalar_ms: rt::PACKET_FORMATS.contains(n).then_some(0.0),
             psnr: 0.0,
             max_err: 0,
             depth_rmse: 0.0,
@@ -568,6 +585,9 @@ pub fn sweep_rt(
         for (si, s) in scenes.iter().enumerate() {
             p.cost += rt_cost(&mixes[si][mi], *n) / scenes.len() as f64;
             p.host_ms += median(&mut times[ci][si]);
+            if let Some(ms) = &mut p.scalar_ms {
+                *ms += median(&mut scalar_times[ci][si]);
+            }
             if let Some(f) = &frames[ci][si] {
                 let (max, mism, area) = image_errors(&s.reference.rgb8, &f.rgb8);
                 p.psnr += psnr_capped(&s.reference.rgb8, &f.rgb8) / scenes.len() as f64;
@@ -735,6 +755,7 @@ pub fn sweep_raster(
             config: format!("{b}bit/{}x{}", p.name(), effective_samples(*p, *n)),
             cost: raster_cost(*b, *p, *n),
             host_ms: 0.0,
+            scalar_ms: None,
             psnr: 0.0,
             max_err: 0,
             depth_rmse: 0.0,
@@ -789,16 +810,17 @@ pub fn run_with_progress(
 /// CSV of every point (one header line).
 pub fn to_csv(r: &Report) -> String {
     let mut s = String::from(
-        "block,config,cost,host_ms,psnr_db,max_channel_err,depth_rmse,mismatched_px,coverage_mismatch_px,aa_area_err,default,front\n",
+        "block,config,cost,host_ms,scalar_host_ms,psnr_db,max_channel_err,depth_rmse,mismatched_px,coverage_mismatch_px,aa_area_err,default,front\n",
     );
     for p in r.rt.iter().chain(&r.raster) {
         let _ = writeln!(
             s,
-            "{},{},{:.1},{:.3},{:.2},{},{:.6},{},{},{:.6},{},{}",
+            "{},{},{:.1},{:.3},{},{:.2},{},{:.6},{},{},{:.6},{},{}",
             p.block,
             p.config,
             p.cost,
             p.host_ms,
+            p.scalar_ms.map(|ms| format!("{ms:.3}")).unwrap_or_default(),
             p.psnr,
             p.max_err,
             p.depth_rmse,
@@ -823,9 +845,9 @@ pub fn to_markdown(r: &Report) -> String {
         let _ = writeln!(s, "### {title}\n");
         let _ = writeln!(
             s,
-            "| config | cost ({unit}) | host ms | PSNR dB | max err | depth RMSE | mismatched px | coverage mism. | AA area err | front |"
+            "| config | cost ({unit}) | host ms | scalar ms | PSNR dB | max err | depth RMSE | mismatched px | coverage mism. | AA area err | front |"
         );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|");
         let mut sorted: Vec<&Point> = pts.iter().collect();
         sorted.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         for p in sorted {
@@ -843,9 +865,12 @@ pub fn to_markdown(r: &Report) -> String {
             };
             let _ = writeln!(
                 s,
-                "| {name} | {:.0} | {:.2} | {psnr} | {} | {:.2e} | {} | {} | {:.2e} | {} |",
+                "| {name} | {:.0} | {:.2} | {} | {psnr} | {} | {:.2e} | {} | {} | {:.2e} | {} |",
                 p.cost,
                 p.host_ms,
+                p.scalar_ms
+                    .map(|ms| format!("{ms:.2}"))
+                    .unwrap_or_else(|| "—".into()),
                 p.max_err,
                 p.depth_rmse,
                 p.mismatched,

@@ -2,7 +2,7 @@
 //! (`perf stat -e instructions:u`, or callgrind) when the shared machine is too busy for
 //! wall-clock figures:
 //! `cargo run --release -p sim-target --example rt_once -- SCENE.toml FORMAT [WxH]
-//! [general|nocull] [seed] [aovs] [spheres|noshadows|notextures|depth1]` (the last: a feature
+//! [general|scalar|nocull] [seed] [aovs] [spheres|noshadows|notextures|depth1]` (the last: a feature
 //! subset, `rt::Subset`; `aovs` also fills the depth and normal planes, as the device does).
 
 use sim_target::rt::{self, Kernel, RenderOptions, Subset};
@@ -10,7 +10,7 @@ use sim_target::rt::{self, Kernel, RenderOptions, Subset};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let [path, format, rest @ ..] = args.as_slice() else {
-        return Err("usage: rt_once SCENE.toml FORMAT [WxH] [general|nocull] [seed] [aovs] [spheres|noshadows|notextures|depth1]".into());
+        return Err("usage: rt_once SCENE.toml FORMAT [WxH] [general|scalar|nocull] [seed] [aovs] [spheres|noshadows|notextures|depth1]".into());
     };
     let text = std::fs::read_to_string(path)?;
     let mut scene = jobs::scene::parse(&text, path)?;
@@ -22,6 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for a in rest {
         match a.as_str() {
             "general" => opts.kernel = Kernel::General,
+            "scalar" => opts.kernel = Kernel::Scalar,
             "nocull" => opts.cull = false,
             "seed" => opts.math = rt::Math::SEED,
             "aovs" => opts.aovs = true,
@@ -30,9 +31,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "notextures" => scene = Subset::NoTextures.apply(&scene),
             "depth1" => scene = Subset::Depth1.apply(&scene),
             size => {
-                let (w, h) = size
-                    .split_once('x')
-                    .ok_or_else(|| format!("expected WxH, general or nocull, got {size}"))?;
+                let (w, h) = size.split_once('x').ok_or_else(|| {
+                    format!("expected WxH, general, scalar or nocull, got {size}")
+                })?;
                 opts.size = Some((w.parse()?, h.parse()?));
             }
         }

@@ -194,6 +194,7 @@ fn point(config: &str, cost: f64, psnr: f64, front: bool, is_default: bool) -> P
         config: config.into(),
         cost,
         host_ms: 1.0,
+        scalar_ms: None,
         psnr,
         max_err: 0,
         depth_rmse: 0.0,

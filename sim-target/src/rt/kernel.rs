@@ -30,25 +30,25 @@ pub(super) type RowFn<S> = fn(&Prepared<S>, &FrameCtx<S>, u32) -> Rendered<Vec<f
 /// What every row of a frame shares, computed once per frame.
 pub(super) struct FrameCtx<S> {
     /// u·x of every column and sub-pixel column.
-    cols: Vec<V3<S>>,
-    cv: V3<S>,
-    cw: V3<S>,
-    eye: V3<S>,
+    pub(super) cols: Vec<V3<S>>,
+    pub(super) cv: V3<S>,
+    pub(super) cw: V3<S>,
+    pub(super) eye: V3<S>,
     /// The plan's per-tile candidates of primary rays (None: every object, `all`).
-    tiles: Option<cull::Tiles>,
-    all: Vec<u16>,
-    width: u32,
+    pub(super) tiles: Option<cull::Tiles>,
+    pub(super) all: Vec<u16>,
+    pub(super) width: u32,
     /// Sub-pixel grid side, samples per pixel and 1/spp.
-    grid: u32,
-    spp: u32,
-    inv_spp: S,
+    pub(super) grid: u32,
+    pub(super) spp: u32,
+    pub(super) inv_spp: S,
     /// Sample rows in the frame (height · grid).
-    sample_rows: i64,
+    pub(super) sample_rows: i64,
     /// The pixel pitch in 2⁻⁴⁰ units ([`derive::pitch`]).
-    pitch: u64,
-    aovs: bool,
-    tone_map: ToneMap,
-    sqrt: SqrtKind,
+    pub(super) pitch: u64,
+    pub(super) aovs: bool,
+    pub(super) tone_map: ToneMap,
+    pub(super) sqrt: SqrtKind,
 }
 
 impl<S: Scalar> FrameCtx<S> {
@@ -118,8 +118,16 @@ pub(super) struct Counts {
     occluder: usize,
 }
 
+/// What a ray from the eye may hit: the plan's candidates (in object order), and the
+/// nearest hit when the packet search has found it already (`Some(None)`: nothing).
+#[derive(Clone, Copy)]
+pub(super) struct Primary<'a, S> {
+    pub(super) objs: &'a [u16],
+    pub(super) found: Option<Option<(S, usize)>>,
+}
+
 /// A ray's first hit: distance, the shading normal and the object's index.
-struct Hit<S> {
+pub(super) struct Hit<S> {
     t: S,
     n: V3<S>,
     obj: usize,
@@ -312,13 +320,19 @@ impl<S: Scalar> Prepared<S> {
     /// keeps it together with the per-material/per-scene runtime test.
     #[allow(clippy::too_many_lines)]
     #[inline(always)]
-    fn trace<const SH: bool, const TX: bool, const SP: bool, const RF: bool, const SO: bool>(
+    pub(super) fn trace<
+        const SH: bool,
+        const TX: bool,
+        const SP: bool,
+        const RF: bool,
+        const SO: bool,
+    >(
         &self,
         o: V3<S>,
         d: V3<S>,
         start: u32,
         refracted: bool,
-        eye_objs: &[u16],
+        primary: Primary<'_, S>,
         cnt: &mut Counts,
     ) -> (V3<S>, Option<Hit<S>>) {
         let zero = S::zero();
@@ -337,8 +351,16 @@ impl<S: Scalar> Prepared<S> {
                 cnt.reflected += 1;
             }
             let from_eye = level == 0 && !refracted && o == self.eye;
-            let Some((t, i, lo, ld)) = self.closest::<SO>(o, d, from_eye.then_some(eye_objs))
-            else {
+            let near = match primary.found {
+                // the packet's search found it (only ever for a ray from the eye): the
+                // object-space ray as `closest` forms it
+                Some(found) if level == start => found.and_then(|(t, i)| {
+                    let ob = self.objs.get(i)?;
+                    Some((t, i, ob.eye, ob.to_object(V3::zero(), d).1))
+                }),
+                _ => self.closest::<SO>(o, d, from_eye.then_some(primary.objs)),
+            };
+            let Some((t, i, lo, ld)) = near else {
                 color = color + self.background.scale(weight);
                 break;
             };
@@ -481,88 +503,160 @@ impl<S: Scalar> Prepared<S> {
         level: u32,
         cnt: &mut Counts,
     ) -> V3<S> {
-        self.trace::<SH, TX, SP, RF, SO>(o, d, level, true, &[], cnt)
+        let primary = Primary {
+            objs: &[],
+            found: None,
+        };
+        self.trace::<SH, TX, SP, RF, SO>(o, d, level, true, primary, cnt)
             .0
     }
 
+    /// What `trace` returns for a ray from the eye that the plan proved hits nothing
+    /// (its tile has no candidates), without the direction or the object loop.
+    #[inline(always)]
+    pub(super) fn miss_from_eye(&self, cnt: &mut Counts) -> V3<S> {
+        cnt.primary += 1;
+        V3::zero() + self.background.scale(S::one())
+    }
+
     /// Row `j` of the frame: colour bytes, the AOVs when asked for, and the ray counts.
-    fn row<const SH: bool, const TX: bool, const SP: bool, const RF: bool, const SO: bool>(
+    pub(super) fn row<
+        const SH: bool,
+        const TX: bool,
+        const SP: bool,
+        const RF: bool,
+        const SO: bool,
+    >(
         &self,
         f: &FrameCtx<S>,
         j: u32,
     ) -> Rendered<Vec<f32>, Vec<u16>> {
-        let row: Vec<V3<S>> = (0..f.grid)
-            .map(|k| {
-                let r = i64::from(j) * i64::from(f.grid) + i64::from(k);
-                let y = derive::coordinate(f.sample_rows - 2 * r - 1, f.pitch);
-                f.cv.scale(S::from_f64(y))
-            })
-            .collect();
-        let mut cnt = Counts::default();
-        let mut rgb = Vec::with_capacity(f.width as usize * 3);
-        let mut depth = Vec::new();
-        let mut normal = Vec::new();
-        let mut object = Vec::new();
+        let vys = f.sample_row_offsets(j);
+        let mut out = RowOut::new(f);
         for i in 0..f.width {
-            let eye_objs = match &f.tiles {
-                Some(t) => t.at(i, j),
-                None => &f.all,
-            };
+            let eye_objs = f.eye_objs(i, j);
             let mut acc = V3::<S>::zero();
+            let mut first = None;
             for s in 0..f.spp {
-                let (Some(&ux), Some(&vy)) = (
-                    f.cols.get((i * f.grid + s % f.grid) as usize),
-                    row.get((s / f.grid) as usize),
-                ) else {
+                let (Some(ux), Some(&vy)) = (f.col(i, s), vys.get((s / f.grid) as usize)) else {
                     continue;
                 };
                 let (c, hit) = if eye_objs.is_empty() {
-                    // the plan proved the tile's rays hit nothing: what `trace` returns
-                    // for a miss, without the direction or the object loop
-                    cnt.primary += 1;
-                    (V3::zero() + self.background.scale(S::one()), None)
+                    (self.miss_from_eye(&mut out.cnt), None)
                 } else {
                     let d = (ux + vy - f.cw).normalize(f.sqrt);
-                    self.trace::<SH, TX, SP, RF, SO>(f.eye, d, 0, false, eye_objs, &mut cnt)
+                    let primary = Primary {
+                        objs: eye_objs,
+                        found: None,
+                    };
+                    self.trace::<SH, TX, SP, RF, SO>(f.eye, d, 0, false, primary, &mut out.cnt)
                 };
                 acc = acc + c;
-                if f.aovs && s == 0 {
-                    match hit {
-                        Some(h) => {
-                            depth.push(h.t.to_f64() as f32);
-                            normal.extend(h.n.to_f64().map(|v| v as f32));
-                            object.push(u16::try_from(h.obj).unwrap_or(super::NO_OBJECT));
-                        }
-                        None => {
-                            depth.push(f32::INFINITY);
-                            normal.extend([0.0f32; 3]);
-                            object.push(super::NO_OBJECT);
-                        }
-                    }
+                if s == 0 {
+                    first = Some(hit);
                 }
             }
-            let c = if f.spp == 1 {
-                acc
-            } else {
-                acc.scale(f.inv_spp)
-            };
-            let c = match f.tone_map {
-                ToneMap::Clamp => c,
-                ToneMap::Reinhard => {
-                    let one = S::one();
-                    let r = |v: S| {
-                        let v = v.max(S::zero());
-                        v / (one + v)
-                    };
-                    V3::new(r(c.x), r(c.y), r(c.z))
-                }
-            };
-            // ⌊255·c⌋: the product is ≥ 0 (or NaN → 0), where `as` truncation is the
-            // floor; cheaper than the format's floor and the same bits
-            let q = |v: S| (v.clamp(S::zero(), S::one()) * S::from_f64(255.0)).to_f64() as u8;
-            rgb.extend([q(c.x), q(c.y), q(c.z)]);
+            out.pixel(f, acc, first);
         }
-        (rgb, depth, normal, object, cnt)
+        out.finish()
+    }
+}
+
+impl<S: Scalar> FrameCtx<S> {
+    /// v·y of each sub-pixel row of row `j`.
+    pub(super) fn sample_row_offsets(&self, j: u32) -> Vec<V3<S>> {
+        (0..self.grid)
+            .map(|k| {
+                let r = i64::from(j) * i64::from(self.grid) + i64::from(k);
+                let y = derive::coordinate(self.sample_rows - 2 * r - 1, self.pitch);
+                self.cv.scale(S::from_f64(y))
+            })
+            .collect()
+    }
+
+    /// u·x of sample `s`'s column in pixel column `i` (None only outside the frame).
+    #[inline(always)]
+    pub(super) fn col(&self, i: u32, s: u32) -> Option<V3<S>> {
+        self.cols
+            .get((i * self.grid + s % self.grid) as usize)
+            .copied()
+    }
+
+    /// The objects a primary ray through pixel (i, j) can hit, in object order.
+    #[inline(always)]
+    pub(super) fn eye_objs(&self, i: u32, j: u32) -> &[u16] {
+        match &self.tiles {
+            Some(t) => t.at(i, j),
+            None => &self.all,
+        }
+    }
+}
+
+/// A row's output as its pixels are finished: colour bytes, AOVs, ray counts.
+pub(super) struct RowOut<S> {
+    rgb: Vec<u8>,
+    depth: Vec<f32>,
+    normal: Vec<f32>,
+    object: Vec<u16>,
+    pub(super) cnt: Counts,
+    _format: std::marker::PhantomData<S>,
+}
+
+impl<S: Scalar> RowOut<S> {
+    pub(super) fn new(f: &FrameCtx<S>) -> Self {
+        RowOut {
+            rgb: Vec::with_capacity(f.width as usize * 3),
+            depth: Vec::new(),
+            normal: Vec::new(),
+            object: Vec::new(),
+            cnt: Counts::default(),
+            _format: std::marker::PhantomData,
+        }
+    }
+
+    /// The next pixel from the sum of its samples' radiance and its first sample's hit
+    /// (None: the pixel had no first sample): mean, tone map, ⌊255·c⌋, and the AOVs.
+    #[inline(always)]
+    pub(super) fn pixel(&mut self, f: &FrameCtx<S>, acc: V3<S>, first: Option<Option<Hit<S>>>) {
+        if let (true, Some(hit)) = (f.aovs, first) {
+            match hit {
+                Some(h) => {
+                    self.depth.push(h.t.to_f64() as f32);
+                    self.normal.extend(h.n.to_f64().map(|v| v as f32));
+                    self.object
+                        .push(u16::try_from(h.obj).unwrap_or(super::NO_OBJECT));
+                }
+                None => {
+                    self.depth.push(f32::INFINITY);
+                    self.normal.extend([0.0f32; 3]);
+                    self.object.push(super::NO_OBJECT);
+                }
+            }
+        }
+        let c = if f.spp == 1 {
+            acc
+        } else {
+            acc.scale(f.inv_spp)
+        };
+        let c = match f.tone_map {
+            ToneMap::Clamp => c,
+            ToneMap::Reinhard => {
+                let one = S::one();
+                let r = |v: S| {
+                    let v = v.max(S::zero());
+                    v / (one + v)
+                };
+                V3::new(r(c.x), r(c.y), r(c.z))
+            }
+        };
+        // ⌊255·c⌋: the product is ≥ 0 (or NaN → 0), where `as` truncation is the
+        // floor; cheaper than the format's floor and the same bits
+        let q = |v: S| (v.clamp(S::zero(), S::one()) * S::from_f64(255.0)).to_f64() as u8;
+        self.rgb.extend([q(c.x), q(c.y), q(c.z)]);
+    }
+
+    pub(super) fn finish(self) -> Rendered<Vec<f32>, Vec<u16>> {
+        (self.rgb, self.depth, self.normal, self.object, self.cnt)
     }
 }
 

@@ -37,6 +37,7 @@ pub mod texture;
 
 mod kernel;
 mod output;
+mod packet;
 mod plan;
 mod prepare;
 mod pretest;
@@ -56,7 +57,7 @@ pub use protocol::frame::Numeric;
 pub use render::{
     nominal_rays, primary_candidates, render, render_instrumented, render_with_progress, Dispatch,
     Frame, Kernel, Math, RenderOptions, RtError, Stats, ToneMap, BOARD_CLOCK_HZ,
-    BOARD_FRAME_OVERHEAD, BOARD_II, NO_OBJECT,
+    BOARD_FRAME_OVERHEAD, BOARD_II, NO_OBJECT, PACKET_FORMATS,
 };
 pub use scene::{
     Camera, DiffuseModel, Filter, Light, Mapping, Material, Object, Reflection, Scene, Shape,

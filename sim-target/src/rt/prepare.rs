@@ -17,10 +17,10 @@ use crate::num::Scalar;
 /// An object as the kernel tests it: its transform in format `S` and its intersector.
 pub(super) struct PObj<S> {
     /// M⁻¹'s diagonal when the object is not rotated: 3 products instead of 9 + 6 sums.
-    diag: Option<V3<S>>,
+    pub(super) diag: Option<V3<S>>,
     pub(super) shape: Shape,
     pub(super) intersect: IntersectFn<S>,
-    minv: M3<S>,
+    pub(super) minv: M3<S>,
     pub(super) nmat: M3<S>,
     translate: V3<S>,
     /// The camera position in object space: every primary ray starts there, so its
@@ -226,7 +226,7 @@ pub(super) fn prepare<S: Scalar>(
         // the general kernel does not use the plan's depth: a non-reflecting hit ends the
         // ray by its own test, with the same result
         depth: match kernel {
-            Kernel::Planned => plan.depth,
+            Kernel::Planned | Kernel::Scalar => plan.depth,
             Kernel::General => scene.depth,
         },
         shadows: scene.shadows,

@@ -104,13 +104,21 @@ pub struct RenderOptions {
     pub cull: bool,
 }
 
+/// The formats whose [`Kernel::Planned`] traces its primary rays in SIMD packets (the
+/// others' is the scalar kernel; the `packet` module says why only these).
+pub const PACKET_FORMATS: &[Numeric] = &[Numeric::F32];
+
 /// Which compiled kernel renders a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Kernel {
     /// The kernel monomorphised for the plan's [`Features`]: code for unused features is
-    /// not compiled into it.
+    /// not compiled into it. In f32 its primary rays are searched in packets of eight
+    /// (SIMD lanes); the same image as [`Kernel::Scalar`], bit for bit.
     #[default]
     Planned,
+    /// [`Kernel::Planned`] one ray at a time in every format: the oracle the packets are
+    /// held to, and their speed measured against.
+    Scalar,
     /// Every feature compiled in, each tested at run time against the scene (what one
     /// fixed-function pipeline for all scenes would do).
     General,
@@ -288,6 +296,20 @@ impl<S: Scalar> Build<S> {
     }
 }
 
+impl Build<f32> {
+    /// f32's kernels: [`Self::production`] with the primary rays in packets unless the
+    /// options ask for the scalar or the general kernel.
+    fn packets(kernel: Kernel) -> Self {
+        Self {
+            kernel: match kernel {
+                Kernel::Planned => Prepared::<f32>::packet_kernel,
+                Kernel::Scalar | Kernel::General => Prepared::<f32>::kernel,
+            },
+            parallel: true,
+        }
+    }
+}
+
 /// One frame's inputs as the entry points resolved them (size and spp after overrides).
 #[derive(Clone, Copy)]
 struct Job<'a> {
@@ -319,14 +341,14 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
     // culling is exact only where a ray missing an object's bound makes the datapath
     // answer "no hit" too: not with a coarse √ (see `SqrtKind::max_rel_error`)
     let bounds = if opts.cull
-        && opts.kernel == Kernel::Planned
+        && opts.kernel != Kernel::General
         && opts.math.sqrt.max_rel_error() <= cull::MAX_SQRT_ERROR
     {
         cull::bounds::<S>(scene, &opts.math)
     } else {
         vec![None; scene.objects.len()]
     };
-    let cull = opts.cull && opts.kernel == Kernel::Planned;
+    let cull = opts.cull && opts.kernel != Kernel::General;
     let prep = prepare::<S>(
         scene,
         plan,
@@ -337,7 +359,7 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
         cull,
     );
     let features = match opts.kernel {
-        Kernel::Planned => plan.features(),
+        Kernel::Planned | Kernel::Scalar => plan.features(),
         Kernel::General => Features::ALL,
     };
     let row_fn = (build.kernel)(features);
@@ -426,7 +448,7 @@ pub fn render_with_progress(
     progress: &(dyn Fn(u32, u32) + Sync),
 ) -> Result<Frame, RtError> {
     frame_with(scene, opts, progress, |job| match opts.numeric {
-        Numeric::F32 => render_generic::<f32>(job, Build::production()),
+        Numeric::F32 => render_generic::<f32>(job, Build::packets(opts.kernel)),
         Numeric::Q16_16 => render_generic::<Q16_16>(job, Build::production()),
         Numeric::F64 => render_generic::<f64>(job, Build::compact()),
         Numeric::F16 => render_generic::<half::f16>(job, Build::compact()),

@@ -27,6 +27,7 @@ mod rt_flat_side;
 mod rt_golden;
 mod rt_golden_formats;
 mod rt_golden_paths;
+mod rt_packets;
 mod rt_plan;
 mod rt_precision;
 mod rt_props;

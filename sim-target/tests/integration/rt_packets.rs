@@ -1,0 +1,155 @@
+//! f32's packet kernel (primary rays searched eight at a time, `Kernel::Planned`) against
+//! the scalar kernel it must equal (`Kernel::Scalar`, one ray at a time): RGB, depth,
+//! normal and object AOVs and every ray count bit for bit, on the gallery and its feature
+//! subsets, at sizes that leave partial packets and tiles, with several samples per pixel,
+//! culled and unculled; and on random scenes of every shape, turned, stretched and seen
+//! from inside, where the lanes' selects meet every branch of the intersectors (parallel
+//! rays, Δ′ < 0, roots behind the eye, a = 0).
+
+use sim_target::rt::{self, Kernel, Numeric, RenderOptions, Scene, Shape, Subset};
+
+use crate::common;
+use common::{assert_same_frame, Rng};
+
+const SCENES: &[(&str, &str)] = &[
+    (
+        "reference",
+        include_str!("../../../examples/reference.toml"),
+    ),
+    ("fresnel", include_str!("../../../examples/rt/fresnel.toml")),
+    ("shapes", include_str!("../../../examples/rt/shapes.toml")),
+    (
+        "textures",
+        include_str!("../../../examples/rt/textures.toml"),
+    ),
+    ("brdf", include_str!("../../../examples/rt/brdf.toml")),
+    (
+        "lambert",
+        include_str!("../../../bench/mitsuba/lambert.toml"),
+    ),
+];
+
+fn frame(scene: &Scene, kernel: Kernel, size: (u32, u32), spp: u32, cull: bool) -> rt::Frame {
+    rt::render(
+        scene,
+        &RenderOptions {
+            numeric: Numeric::F32,
+            aovs: true,
+            size: Some(size),
+            spp: Some(spp),
+            kernel,
+            cull,
+            ..Default::default()
+        },
+    )
+    .expect("renders")
+}
+
+/// Packets and scalar at one setting: the whole frame and the object AOV.
+fn assert_packets_equal(scene: &Scene, size: (u32, u32), spp: u32, cull: bool, what: &str) {
+    let p = frame(scene, Kernel::Planned, size, spp, cull);
+    let s = frame(scene, Kernel::Scalar, size, spp, cull);
+    assert_same_frame(&p, &s, what);
+    assert_eq!(p.object, s.object, "{what}: object AOV");
+    assert_eq!(
+        (
+            p.stats.primary_rays,
+            p.stats.shadow_rays,
+            p.stats.reflected_rays,
+            p.stats.refracted_rays
+        ),
+        (
+            s.stats.primary_rays,
+            s.stats.shadow_rays,
+            s.stats.reflected_rays,
+            s.stats.refracted_rays
+        ),
+        "{what}: ray counts"
+    );
+}
+
+#[test]
+fn packets_equal_the_scalar_kernel_on_the_gallery() {
+    for (name, text) in SCENES {
+        let scene = jobs::scene::parse(text, name).expect("gallery scene parses");
+        for sub in Subset::ALL {
+            let s = sub.apply(&scene);
+            let what = format!("{name}/{}", sub.label());
+            // 53 columns: six whole packets and a partial one, tiles cut at 48
+            assert_packets_equal(&s, (53, 31), 1, true, &what);
+        }
+        assert_packets_equal(&scene, (37, 20), 4, true, &format!("{name} spp 4"));
+        assert_packets_equal(&scene, (40, 22), 1, false, &format!("{name} unculled"));
+    }
+}
+
+/// A random object: any shape, anywhere near the origin, turned and stretched.
+fn object(rng: &mut Rng, material: usize) -> rt::Object {
+    let shapes = [
+        Shape::Sphere,
+        Shape::Plane,
+        Shape::Disk,
+        Shape::Square,
+        Shape::Cylinder,
+        Shape::Cone,
+        Shape::Cube,
+    ];
+    let shape = shapes[(rng.next() * shapes.len() as f64) as usize % shapes.len()];
+    // a third of the objects keep the axes (the diagonal transform), and some sit at
+    // right angles so that rays run parallel to their faces and axes
+    let rotate = match (rng.next() * 3.0) as u32 {
+        0 => [0.0; 3],
+        1 => [90.0 * (rng.next() * 4.0).floor(), 0.0, 90.0],
+        _ => [
+            rng.range(-180.0, 180.0),
+            rng.range(-180.0, 180.0),
+            rng.range(-180.0, 180.0),
+        ],
+    };
+    let s = rng.range(0.3, 1.5);
+    let scale = if rng.next() < 0.5 {
+        [s; 3]
+    } else {
+        [s, s * rng.range(0.2, 3.0), s * rng.range(0.2, 3.0)]
+    };
+    rt::Object {
+        shape,
+        translate: [
+            rng.range(-3.0, 3.0),
+            rng.range(-2.0, 2.0),
+            rng.range(-3.0, 3.0),
+        ],
+        scale,
+        rotate,
+        material,
+    }
+}
+
+#[test]
+fn packets_equal_the_scalar_kernel_on_random_scenes() {
+    let base = jobs::scene::parse(
+        include_str!("../../../examples/reference.toml"),
+        "reference",
+    )
+    .expect("parses");
+    let materials = base.materials.len();
+    let mut rng = Rng(0x9ac7);
+    for n in 0..40 {
+        let mut scene = base.clone();
+        let count = 1 + (rng.next() * 9.0) as usize;
+        scene.objects = (0..count)
+            .map(|k| object(&mut rng, k % materials))
+            .collect();
+        // every fourth camera sits among the objects (inside some of them)
+        let r = if n % 4 == 0 { 1.5 } else { 9.0 };
+        let (th, ph) = (rng.range(0.0, std::f64::consts::TAU), rng.range(-1.2, 1.2));
+        scene.camera.position = [
+            r * th.cos() * ph.cos(),
+            r * ph.sin(),
+            r * th.sin() * ph.cos(),
+        ];
+        scene.camera.look_at = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0];
+        scene.camera.up = [0.0, 1.0, 0.0];
+        assert_packets_equal(&scene, (45, 26), 1, true, &format!("random scene {n}"));
+    }
+}
