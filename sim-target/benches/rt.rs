@@ -56,7 +56,7 @@ fn plan(c: &mut Criterion) {
             );
         }
         g.throughput(Throughput::Elements(p.stats.nominal_rays));
-        for kernel in [Kernel::Planned, Kernel::General] {
+        for kernel in [Kernel::Planned, Kernel::Scalar, Kernel::General] {
             let o = opts(kernel);
             g.bench_with_input(
                 BenchmarkId::new(sub.label(), format!("{kernel:?}")),
