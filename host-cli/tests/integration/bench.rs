@@ -40,6 +40,25 @@ fn quick_bench_writes_outputs_and_default_is_on_the_front() {
         assert!(p.cost.is_finite() && p.cost > 0.0, "{p:?}");
         assert!(p.psnr.is_finite(), "{p:?}");
     }
+    // the scalar kernel's time beside the packets', for f32's configurations only
+    let col = csv
+        .lines()
+        .next()
+        .and_then(|h| h.split(',').position(|c| c == "scalar_host_ms"))
+        .expect("scalar_host_ms column");
+    for line in csv.lines().skip(1) {
+        let cells: Vec<&str> = line.split(',').collect();
+        let packets = cells[0] == "rt" && cells[1].starts_with("f32/");
+        let scalar = cells[col];
+        assert_eq!(
+            !scalar.is_empty(),
+            packets,
+            "{line}: scalar time only for f32's ray tracing"
+        );
+        if packets {
+            assert!(scalar.parse::<f64>().is_ok_and(|ms| ms > 0.0), "{line}");
+        }
+    }
     // the reference configuration reproduces itself exactly
     let f64_exact = report
         .rt
