@@ -19,16 +19,6 @@ use sim_target::rt::{
 
 use super::report::{AcneDetail, AcnePixel, CaseResult};
 
-const SHAPES: [Shape; 7] = [
-    Shape::Sphere,
-    Shape::Plane,
-    Shape::Disk,
-    Shape::Square,
-    Shape::Cylinder,
-    Shape::Cone,
-    Shape::Cube,
-];
-
 /// Rendered side of an rt case.
 const RT_SIDE: u32 = 8;
 
@@ -510,7 +500,7 @@ fn wild_scene(rng: &mut SmallRng) -> Scene {
             }
         };
         scene.objects.push(Object {
-            shape: SHAPES[rng.gen_range(0..SHAPES.len())],
+            shape: Shape::ALL[rng.gen_range(0..Shape::ALL.len())],
             translate: f::scale(unit_dir(rng), world * rng.gen_range(0.0..3.0)),
             scale: [scale(rng), scale(rng), scale(rng)],
             rotate: if rng.gen() {

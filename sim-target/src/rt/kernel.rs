@@ -27,6 +27,62 @@ use crate::num::{Scalar, SqrtKind};
 /// inside the kernel, `trace` inlines into it and the result stays in registers.
 pub(super) type RowFn<S> = fn(&Prepared<S>, &FrameCtx<S>, u32) -> Rendered<Vec<f32>, Vec<u16>>;
 
+/// A row function monomorphised over the five features: the scalar rows
+/// ([`ScalarRows`]) or f32's packet rows (`packet::PacketRows`).
+pub(super) trait Rows<S> {
+    fn row<const SH: bool, const TX: bool, const SP: bool, const RF: bool, const SO: bool>(
+    ) -> RowFn<S>;
+}
+
+/// [`Prepared::row`]: one ray at a time.
+pub(super) struct ScalarRows;
+
+impl<S: Scalar> Rows<S> for ScalarRows {
+    fn row<const SH: bool, const TX: bool, const SP: bool, const RF: bool, const SO: bool>(
+    ) -> RowFn<S> {
+        Prepared::<S>::row::<SH, TX, SP, RF, SO>
+    }
+}
+
+/// The row of family `R` for a feature set: one of 32 monomorphisations.
+pub(super) fn rows_for<S, R: Rows<S>>(f: Features) -> RowFn<S> {
+    fn so<S, R: Rows<S>, const SH: bool, const TX: bool, const SP: bool, const RF: bool>(
+        f: Features,
+    ) -> RowFn<S> {
+        if f.spheres_only {
+            R::row::<SH, TX, SP, RF, true>()
+        } else {
+            R::row::<SH, TX, SP, RF, false>()
+        }
+    }
+    fn rf<S, R: Rows<S>, const SH: bool, const TX: bool, const SP: bool>(f: Features) -> RowFn<S> {
+        if f.reflect {
+            so::<S, R, SH, TX, SP, true>(f)
+        } else {
+            so::<S, R, SH, TX, SP, false>(f)
+        }
+    }
+    fn sp<S, R: Rows<S>, const SH: bool, const TX: bool>(f: Features) -> RowFn<S> {
+        if f.specular {
+            rf::<S, R, SH, TX, true>(f)
+        } else {
+            rf::<S, R, SH, TX, false>(f)
+        }
+    }
+    fn tx<S, R: Rows<S>, const SH: bool>(f: Features) -> RowFn<S> {
+        if f.textures {
+            sp::<S, R, SH, true>(f)
+        } else {
+            sp::<S, R, SH, false>(f)
+        }
+    }
+    if f.shadows {
+        tx::<S, R, true>(f)
+    } else {
+        tx::<S, R, false>(f)
+    }
+}
+
 /// What every row of a frame shares, computed once per frame.
 pub(super) struct FrameCtx<S> {
     /// u·x of every column and sub-pixel column.
@@ -258,41 +314,7 @@ impl<S: Scalar> Prepared<S> {
 
     /// The kernel for a feature set, picked once per frame.
     pub(super) fn kernel(f: Features) -> RowFn<S> {
-        fn so<S: Scalar, const SH: bool, const TX: bool, const SP: bool, const RF: bool>(
-            f: Features,
-        ) -> RowFn<S> {
-            if f.spheres_only {
-                Prepared::<S>::row::<SH, TX, SP, RF, true>
-            } else {
-                Prepared::<S>::row::<SH, TX, SP, RF, false>
-            }
-        }
-        fn rf<S: Scalar, const SH: bool, const TX: bool, const SP: bool>(f: Features) -> RowFn<S> {
-            if f.reflect {
-                so::<S, SH, TX, SP, true>(f)
-            } else {
-                so::<S, SH, TX, SP, false>(f)
-            }
-        }
-        fn sp<S: Scalar, const SH: bool, const TX: bool>(f: Features) -> RowFn<S> {
-            if f.specular {
-                rf::<S, SH, TX, true>(f)
-            } else {
-                rf::<S, SH, TX, false>(f)
-            }
-        }
-        fn tx<S: Scalar, const SH: bool>(f: Features) -> RowFn<S> {
-            if f.textures {
-                sp::<S, SH, true>(f)
-            } else {
-                sp::<S, SH, false>(f)
-            }
-        }
-        if f.shadows {
-            tx::<S, true>(f)
-        } else {
-            tx::<S, false>(f)
-        }
+        rows_for::<S, ScalarRows>(f)
     }
 
     /// The four kernels that the secondary formats and the instrumented number types

@@ -20,7 +20,7 @@
 //! So does a frame with a non-default square root or quadratic (`Math`), whose scalar
 //! forms these lanes do not repeat.
 
-use super::kernel::{FrameCtx, Hit, Primary, Rendered, RowOut};
+use super::kernel::{rows_for, FrameCtx, Hit, Primary, Rendered, RowFn, RowOut, Rows};
 use super::prepare::{PObj, Prepared};
 use super::scene::Shape;
 use super::shapes::Quadratic;
@@ -361,47 +361,21 @@ fn closest<const SO: bool>(
     per_lane(|l| (found[l] > 0.0).then(|| (best[l], found[l] as usize - 1)))
 }
 
+/// [`Prepared::row_packets`]: primary rays in packets.
+pub(super) struct PacketRows;
+
+impl Rows<f32> for PacketRows {
+    fn row<const SH: bool, const TX: bool, const SP: bool, const RF: bool, const SO: bool>(
+    ) -> RowFn<f32> {
+        Prepared::<f32>::row_packets::<SH, TX, SP, RF, SO>
+    }
+}
+
 impl Prepared<f32> {
     /// The packet kernel for a feature set: [`Self::row_packets`] over the same 32
     /// monomorphisations as [`Prepared::kernel`].
-    pub(super) fn packet_kernel(f: super::Features) -> super::kernel::RowFn<f32> {
-        fn so<const SH: bool, const TX: bool, const SP: bool, const RF: bool>(
-            f: super::Features,
-        ) -> super::kernel::RowFn<f32> {
-            if f.spheres_only {
-                Prepared::<f32>::row_packets::<SH, TX, SP, RF, true>
-            } else {
-                Prepared::<f32>::row_packets::<SH, TX, SP, RF, false>
-            }
-        }
-        fn rf<const SH: bool, const TX: bool, const SP: bool>(
-            f: super::Features,
-        ) -> super::kernel::RowFn<f32> {
-            if f.reflect {
-                so::<SH, TX, SP, true>(f)
-            } else {
-                so::<SH, TX, SP, false>(f)
-            }
-        }
-        fn sp<const SH: bool, const TX: bool>(f: super::Features) -> super::kernel::RowFn<f32> {
-            if f.specular {
-                rf::<SH, TX, true>(f)
-            } else {
-                rf::<SH, TX, false>(f)
-            }
-        }
-        fn tx<const SH: bool>(f: super::Features) -> super::kernel::RowFn<f32> {
-            if f.textures {
-                sp::<SH, true>(f)
-            } else {
-                sp::<SH, false>(f)
-            }
-        }
-        if f.shadows {
-            tx::<true>(f)
-        } else {
-            tx::<false>(f)
-        }
+    pub(super) fn packet_kernel(f: super::Features) -> RowFn<f32> {
+        rows_for::<f32, PacketRows>(f)
     }
 
     /// Row `j` with the primary rays' nearest hits found eight pixels at a time; the
@@ -535,15 +509,7 @@ mod tests {
     fn lanes_equal_the_scalar_intersectors() {
         let m = Math::default();
         let mut seed = 7;
-        for shape in [
-            Shape::Sphere,
-            Shape::Plane,
-            Shape::Disk,
-            Shape::Square,
-            Shape::Cylinder,
-            Shape::Cone,
-            Shape::Cube,
-        ] {
+        for &shape in Shape::ALL {
             for _ in 0..5000 {
                 let o: [V3<f32>; LANES] = std::array::from_fn(|_| v3(&mut seed));
                 let d: [V3<f32>; LANES] = std::array::from_fn(|_| v3(&mut seed));

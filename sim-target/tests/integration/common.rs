@@ -5,6 +5,22 @@
 
 use sim_target::rt::{self, Numeric, RenderOptions, Scene};
 
+/// The gallery's ray-traced scenes (name, TOML): the reference scene and the four of
+/// `examples/rt/`.
+pub const GALLERY: &[(&str, &str)] = &[
+    (
+        "reference",
+        include_str!("../../../examples/reference.toml"),
+    ),
+    ("fresnel", include_str!("../../../examples/rt/fresnel.toml")),
+    ("shapes", include_str!("../../../examples/rt/shapes.toml")),
+    (
+        "textures",
+        include_str!("../../../examples/rt/textures.toml"),
+    ),
+    ("brdf", include_str!("../../../examples/rt/brdf.toml")),
+];
+
 /// RGB, depth and normal AOVs bit for bit, and the ray counts; a failure says how many
 /// values differ instead of printing the buffers.
 pub fn assert_same_frame(a: &rt::Frame, b: &rt::Frame, what: &str) {

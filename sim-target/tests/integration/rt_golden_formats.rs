@@ -11,19 +11,7 @@ use sim_target::rt::{self, Math, Numeric, RenderOptions};
 
 use crate::common;
 
-const SCENES: &[(&str, &str)] = &[
-    (
-        "reference",
-        include_str!("../../../examples/reference.toml"),
-    ),
-    ("fresnel", include_str!("../../../examples/rt/fresnel.toml")),
-    ("shapes", include_str!("../../../examples/rt/shapes.toml")),
-    (
-        "textures",
-        include_str!("../../../examples/rt/textures.toml"),
-    ),
-    ("brdf", include_str!("../../../examples/rt/brdf.toml")),
-];
+use common::GALLERY as SCENES;
 
 const FORMATS: &[Numeric] = &[
     Numeric::F32,

@@ -11,23 +11,13 @@ use sim_target::rt::{self, Kernel, Numeric, RenderOptions, Scene, Shape, Subset}
 use crate::common;
 use common::{assert_same_frame, Rng};
 
-const SCENES: &[(&str, &str)] = &[
-    (
-        "reference",
-        include_str!("../../../examples/reference.toml"),
-    ),
-    ("fresnel", include_str!("../../../examples/rt/fresnel.toml")),
-    ("shapes", include_str!("../../../examples/rt/shapes.toml")),
-    (
-        "textures",
-        include_str!("../../../examples/rt/textures.toml"),
-    ),
-    ("brdf", include_str!("../../../examples/rt/brdf.toml")),
-    (
+/// The gallery and the Mitsuba comparison's Lambert scene.
+fn scenes() -> impl Iterator<Item = (&'static str, &'static str)> {
+    common::GALLERY.iter().copied().chain([(
         "lambert",
         include_str!("../../../bench/mitsuba/lambert.toml"),
-    ),
-];
+    )])
+}
 
 fn frame(scene: &Scene, kernel: Kernel, size: (u32, u32), spp: u32, cull: bool) -> rt::Frame {
     rt::render(
@@ -70,7 +60,7 @@ fn assert_packets_equal(scene: &Scene, size: (u32, u32), spp: u32, cull: bool, w
 
 #[test]
 fn packets_equal_the_scalar_kernel_on_the_gallery() {
-    for (name, text) in SCENES {
+    for (name, text) in scenes() {
         let scene = jobs::scene::parse(text, name).expect("gallery scene parses");
         for sub in Subset::ALL {
             let s = sub.apply(&scene);
@@ -85,15 +75,7 @@ fn packets_equal_the_scalar_kernel_on_the_gallery() {
 
 /// A random object: any shape, anywhere near the origin, turned and stretched.
 fn object(rng: &mut Rng, material: usize) -> rt::Object {
-    let shapes = [
-        Shape::Sphere,
-        Shape::Plane,
-        Shape::Disk,
-        Shape::Square,
-        Shape::Cylinder,
-        Shape::Cone,
-        Shape::Cube,
-    ];
+    let shapes = Shape::ALL;
     let shape = shapes[(rng.next() * shapes.len() as f64) as usize % shapes.len()];
     // a third of the objects keep the axes (the diagonal transform), and some sit at
     // right angles so that rays run parallel to their faces and axes

@@ -11,19 +11,7 @@ use sim_target::scene_regs::from_regs;
 use crate::common;
 use common::assert_same_frame;
 
-const SCENES: &[(&str, &str)] = &[
-    (
-        "reference",
-        include_str!("../../../examples/reference.toml"),
-    ),
-    ("fresnel", include_str!("../../../examples/rt/fresnel.toml")),
-    ("shapes", include_str!("../../../examples/rt/shapes.toml")),
-    (
-        "textures",
-        include_str!("../../../examples/rt/textures.toml"),
-    ),
-    ("brdf", include_str!("../../../examples/rt/brdf.toml")),
-];
+use common::GALLERY as SCENES;
 
 fn scenes() -> Vec<(String, Scene)> {
     let mut out = Vec::new();
