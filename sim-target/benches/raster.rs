@@ -2,7 +2,9 @@
 //! the same triangles into a comparable RGB888 framebuffer, against tiny-skia on the
 //! workloads the traversal-independence requirement names, and line pixel rate.
 //!
-//! `cargo bench -p sim-target --bench raster -- --warm-up-time 1 --measurement-time 2`
+//! `cargo bench -p sim-target --bench raster -- --warm-up-time 1 --measurement-time 2`;
+//! `RASTER_RATIO=sliver cargo bench -p sim-target --bench raster` for the tiny-skia
+//! ratios paired round by round ([`ratio_mode`]), `RASTER_CG=…` for callgrind.
 
 use std::convert::Infallible;
 
@@ -442,9 +444,60 @@ fn callgrind_mode(spec: &str) {
     println!("{spec}: {} fragments", r.stats().fragments);
 }
 
+/// Paired mode for the tiny-skia ratios on a noisy shared machine, where two criterion
+/// runs a minute apart differ by more than the effect measured:
+/// `RASTER_RATIO=100px` draws that `vs-tiny-skia` workload with the default, every
+/// traversal and tiny-skia in turn, round after round (`RASTER_RATIO_ROUNDS`, default
+/// 40), and prints each one's fastest round and its ratio to tiny-skia's fastest. The
+/// interleaving exposes every contender to the same drifts in the machine's speed, and
+/// the fastest round is the one least disturbed.
+fn ratio_mode(workload: &str) {
+    use std::time::{Duration, Instant};
+    let rounds: usize = std::env::var("RASTER_RATIO_ROUNDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(40);
+    let Some((_, tris)) = skia_workloads().into_iter().find(|(n, _)| *n == workload) else {
+        eprintln!("RASTER_RATIO: no workload {workload:?} (100px, 10000px, sliver)");
+        std::process::exit(2);
+    };
+    let cmds = cmds(&tris);
+    let mut models: Vec<(String, Raster)> =
+        std::iter::once(("default".to_string(), Traversal::default()))
+            .chain(Traversal::ALL.into_iter().map(|t| (format!("{t:?}"), t)))
+            .map(|(name, t)| (name, Raster::new(W, H, &setup(t)).expect("setup")))
+            .collect();
+    let mut sk = Skia::new(&tris);
+    let mut best = vec![Duration::MAX; models.len() + 1];
+    for _ in 0..rounds {
+        for (k, (_, r)) in models.iter_mut().enumerate() {
+            let t = Instant::now();
+            for cmd in &cmds {
+                r.draw(std::hint::black_box(cmd)).expect("draw");
+            }
+            best[k] = best[k].min(t.elapsed());
+        }
+        let t = Instant::now();
+        sk.fill();
+        best[models.len()] = best[models.len()].min(t.elapsed());
+    }
+    let ts = best[models.len()];
+    println!("{workload}: fastest of {rounds} interleaved rounds, ms (× tiny-skia)");
+    for (k, (name, _)) in models.iter().enumerate() {
+        let ms = best[k].as_secs_f64() * 1e3;
+        let x = ts.as_secs_f64() / best[k].as_secs_f64();
+        println!("  {name:<12} {ms:8.3} ({x:.2}×)");
+    }
+    println!("  {:<12} {:8.3}", "tiny-skia", ts.as_secs_f64() * 1e3);
+}
+
 fn main() {
     if let Ok(spec) = std::env::var("RASTER_CG") {
         callgrind_mode(&spec);
+        return;
+    }
+    if let Ok(w) = std::env::var("RASTER_RATIO") {
+        ratio_mode(&w);
         return;
     }
     benches();

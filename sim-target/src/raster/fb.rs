@@ -46,14 +46,39 @@ pub struct Framebuffer {
 /// and cheap to rebuild when the colour changes).
 const PAT_BYTES: usize = 3 * 256;
 
-/// Copies the start of the span pattern `pat` over `dst`. One memcpy per 256 pixels from
-/// a cached pattern row, since per-pixel 3-byte stores cost more than the copy; but a
-/// memcpy call dominates the spans of slivers and triangle tips, so up to 32 bytes
-/// (10 pixels) are two overlapping fixed-size copies instead (the pattern is the same
-/// at every offset, so the overlap writes the same bytes twice).
+/// Copies the start of the span pattern `pat` over `rgb[at..at + n]`. One memcpy per 256
+/// pixels from a cached pattern row, since per-pixel 3-byte stores cost more than the
+/// copy; but a memcpy call dominates the spans of slivers and triangle tips, so up to 32
+/// bytes (10 pixels) are two overlapping fixed-size copies instead (the pattern is the
+/// same at every offset, so the overlap writes the same bytes twice). Spans of up to five
+/// pixels, a sliver's every row, vary in width from row to row, where the choice between
+/// copy sizes was a mispredicted branch per row: they are one 16-byte read-modify-write
+/// that keeps the bytes past the span (the plane is ours alone, nobody sees the rewrite).
 #[inline(always)]
-fn copy_pattern(dst: &mut [u8], pat: &[u8; PAT_BYTES]) {
-    let n = dst.len();
+fn copy_pattern(rgb: &mut [u8], at: usize, n: usize, pat: &[u8; PAT_BYTES]) {
+    const W: usize = 16;
+    /// `KEEP[n]`: the bytes of a 16-byte word past its first `n` (a load, where a
+    /// 128-bit shift by a variable count is a dozen instructions).
+    const KEEP: [u128; W] = {
+        let mut k = [0; W];
+        let mut n = 0;
+        while n < W {
+            k[n] = !((1u128 << (8 * n)) - 1);
+            n += 1;
+        }
+        k
+    };
+    if n < W {
+        if let Some(Ok(word)) = rgb.get_mut(at..at + W).map(<&mut [u8; W]>::try_from) {
+            let mut p = [0; W];
+            p.copy_from_slice(&pat[..W]);
+            let keep = KEEP[n];
+            let old = u128::from_le_bytes(*word);
+            *word = ((old & keep) | (u128::from_le_bytes(p) & !keep)).to_le_bytes();
+            return;
+        }
+    }
+    let dst = &mut rgb[at..at + n];
     macro_rules! two {
         ($k:literal) => {{
             dst[..$k].copy_from_slice(&pat[..$k]);
@@ -236,20 +261,39 @@ impl Framebuffer {
     /// slice write with no per-pixel test.
     #[inline]
     pub fn fill_span(&mut self, y: u32, x0: u32, x1: u32, c: Rgb) {
-        let x1 = x1.min(self.width);
-        if y >= self.height || x0 >= x1 {
-            return;
-        }
-        let idx = y as usize * self.width as usize + x0 as usize;
-        let n = (x1 - x0) as usize;
+        self.fill_spans(y, &[(x0, x1)], c);
+    }
+
+    /// Fills the runs `spans[k] = (x0, x1)` of the rows `y + k` with one colour (empty runs
+    /// skipped, pixels outside the frame ignored): a triangle's band of rows in one call,
+    /// so that the pattern check and the bookkeeping's branches are paid once per band.
+    pub fn fill_spans(&mut self, y: u32, spans: &[(u32, u32)], c: Rgb) {
         if self.pat_color != Some(c) {
             for px in self.pat.chunks_exact_mut(3) {
                 px.copy_from_slice(&[c.r, c.g, c.b]);
             }
             self.pat_color = Some(c);
         }
-        copy_pattern(&mut self.rgb[idx * 3..(idx + n) * 3], &self.pat);
-        self.count(idx, n);
+        let (w, tracking) = (self.width, self.tracking());
+        // Rows below the frame are ignored.
+        let rows = spans.len().min(self.height.saturating_sub(y) as usize);
+        for (row, &(x0, x1)) in (y as usize * w as usize..)
+            .step_by(w as usize)
+            .zip(&spans[..rows])
+        {
+            let x1 = x1.min(w);
+            if x0 >= x1 {
+                continue;
+            }
+            let idx = row + x0 as usize;
+            let n = (x1 - x0) as usize;
+            copy_pattern(&mut self.rgb, idx * 3, n * 3, &self.pat);
+            if tracking {
+                self.count(idx, n);
+            } else {
+                self.fragments += n as u64;
+            }
+        }
     }
 
     /// Whether writes are counted per pixel or recorded: fast paths that write the plane

@@ -135,11 +135,15 @@ pub struct Raster {
 /// covered span `[a, b)` beyond one per step: the RTL's triangle unit hands the covered
 /// pixels of a step to the one-pixel-wide fragment FIFO one per cycle, so a step costs
 /// max(1, covered) cycles. `x0` is the box's left column, where the steps start.
-fn lane_extra(a: u32, b: u32, x0: u32, lanes: u32) -> u64 {
+/// `lanes` is a power of two ([`Raster::set_tri_lanes`]), so the divisions are shifts by
+/// `shift` = log2(lanes): this runs once per span, and two integer divisions there were
+/// most of a sliver's fill time.
+#[inline(always)]
+fn lane_extra(a: u32, b: u32, x0: u32, shift: u32) -> u64 {
     if b <= a {
         return 0;
     }
-    let steps = (b - 1 - x0) / lanes - (a - x0) / lanes + 1;
+    let steps = ((b - 1 - x0) >> shift) - ((a - x0) >> shift) + 1;
     u64::from(b - a - steps)
 }
 
@@ -475,6 +479,9 @@ impl Raster {
         let mut c = TravCounters::default();
         let trav = self.setup.traversal;
         let (bx0, lanes) = (s.bbox[0], self.tri_lanes);
+        // Only a multi-lane bounding-box walk is costed per span.
+        let lane_shift =
+            (trav == Traversal::BoundingBox && lanes > 1).then(|| lanes.trailing_zeros());
         let mut extra = 0u64;
         let wait = self.mem_wait.take();
         // the covered span of each box row, when the stalls need the walk's schedule
@@ -483,19 +490,27 @@ impl Raster {
         match (t.shade, t.z, t.tex) {
             (Shade::Flat(col), None, None) => {
                 let fb = &mut self.fb;
-                tri::traverse(&s, trav, &mut c, &mut |y, x0, x1| {
-                    extra += lane_extra(x0, x1, bx0, lanes);
-                    if keep {
-                        spans.push((y, x0, x1));
+                tri::traverse_bands(&s, trav, &mut c, &mut |y, band| {
+                    if lane_shift.is_some() || keep {
+                        for (j, &(x0, x1)) in (y..).zip(band) {
+                            if let Some(sh) = lane_shift {
+                                extra += lane_extra(x0, x1, bx0, sh);
+                            }
+                            if keep && x0 < x1 {
+                                spans.push((j, x0, x1));
+                            }
+                        }
                     }
-                    fb.fill_span(y, x0, x1, col)
+                    fb.fill_spans(y, band, col)
                 });
             }
             _ => {
                 let sh = Shader::new(t, &s, &self.texture);
                 let fb = &mut self.fb;
                 tri::traverse(&s, trav, &mut c, &mut |y, x0, x1| {
-                    extra += lane_extra(x0, x1, bx0, lanes);
+                    if let Some(sh) = lane_shift {
+                        extra += lane_extra(x0, x1, bx0, sh);
+                    }
                     if keep {
                         spans.push((y, x0, x1));
                     }
@@ -723,12 +738,14 @@ mod tests {
     #[test]
     fn a_step_costs_its_covered_pixels_or_one() {
         // one lane: every pixel its own step, nothing beyond one per step
-        assert_eq!(lane_extra(3, 11, 0, 1), 0);
-        // eight lanes from column 0: [3, 8) is 5 pixels in one step, [8, 11) 3 in the next
-        assert_eq!(lane_extra(3, 11, 0, 8), 4 + 2);
+        assert_eq!(lane_extra(3, 11, 0, 0), 0);
+        // eight lanes (shift 3) from column 0: [3, 8) is 5 pixels in one step, [8, 11) 3 in the next
+        assert_eq!(lane_extra(3, 11, 0, 3), 4 + 2);
         // steps start at the box's left column
-        assert_eq!(lane_extra(5, 13, 5, 8), 7);
-        assert_eq!(lane_extra(4, 4, 0, 8), 0);
+        assert_eq!(lane_extra(5, 13, 5, 3), 7);
+        // two lanes: [5, 13) from column 4 is steps [4,6) [6,8) [8,10) [10,12) [12,14)
+        assert_eq!(lane_extra(5, 13, 4, 1), 8 - 5);
+        assert_eq!(lane_extra(4, 4, 0, 3), 0);
         let setup = RasterSetup {
             width: 8,
             height: 8,

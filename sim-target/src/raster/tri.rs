@@ -573,13 +573,40 @@ impl BlockCost {
 }
 
 /// Emits the covered pixels of the triangle as runs `emit(y, x0, x1)`, top to bottom,
-/// and adds to `c` the work that traversal `t` does to find them. Coverage does not
-/// depend on the traversal, so every traversal is filled by the fastest exact walk (the
-/// scanline's edge bounds) and only the counters are the modelled traversal's: derived
-/// from the bounding box, the spans, or the block classes that the bounds determine,
-/// never by testing pixels. They equal what walking that traversal counts, which the
-/// tests check against the pixel walks kept as an oracle.
+/// and adds to `c` the work that traversal `t` does to find them: [`traverse_bands`]
+/// one row at a time, for callers that draw span by span.
 pub fn traverse<F: FnMut(u32, u32, u32)>(
+    s: &TriSetup,
+    t: Traversal,
+    c: &mut TravCounters,
+    emit: &mut F,
+) {
+    traverse_bands(s, t, c, &mut |y, spans| {
+        for (j, &(a, b)) in (y..).zip(spans) {
+            if a < b {
+                emit(j, a, b);
+            }
+        }
+    });
+}
+
+/// A band's spans: `(x0, x1)` per row, `(0, 0)` for a row with no covered pixel.
+pub type Spans<'a> = &'a [(u32, u32)];
+
+/// The triangle's covered pixels as bands of consecutive rows, `emit(y, spans)` with
+/// `spans[k]` the covered columns of row `y + k`, top to bottom, at most a coarse tile
+/// (32 rows) per call; adds to `c` the work that traversal `t` does to find them.
+/// Coverage does not depend on the traversal, so every traversal is filled by the
+/// fastest exact walk (the scanline's edge bounds) and only the counters are the
+/// modelled traversal's: derived from the bounding box, the spans, or the block classes
+/// that the bounds determine, never by testing pixels. They equal what walking that
+/// traversal counts, which the tests check against the pixel walks kept as an oracle.
+///
+/// A band at a time, not a span at a time, because a call per span made the caller's
+/// span fill an out-of-line call in the walk's loop: the walk's bounds, stepped in vector
+/// registers, were reloaded from the stack after every span, and the fill's own set-up
+/// (colour pattern, bookkeeping) ran per row instead of per band.
+pub fn traverse_bands<F: FnMut(u32, Spans<'_>)>(
     s: &TriSetup,
     t: Traversal,
     c: &mut TravCounters,
@@ -596,8 +623,9 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
     let (ya, yb) = walk.rows;
     let mut covered = 0;
     // Bounds are computed a band of rows at a time with no call in the loop, so the
-    // walk's state stays in registers instead of being spilled around `emit`.
+    // walk's state stays in registers.
     let mut band = [[0i64; 4]; SPAN_BAND];
+    let mut spans = [(0u32, 0u32); SPAN_BAND];
     let mut y = y0;
     while y < y1 {
         let n = ((y1 - y) as usize).min(SPAN_BAND);
@@ -606,12 +634,15 @@ pub fn traverse<F: FnMut(u32, u32, u32)>(
         }
         // Rows trimmed by a horizontal edge are walked only for the accounting.
         let (ra, rb) = (ya.clamp(y, y + n as u32), yb.clamp(y, y + n as u32));
-        for (j, b) in (ra..rb).zip(&band[(ra - y) as usize..]) {
-            let (a, b) = walk.span(b);
-            if a < b {
-                covered += (b - a) as u64;
-                emit(j, a as u32, b as u32);
+        if ra < rb {
+            let rows = (ra - y) as usize..(rb - y) as usize;
+            for (out, b) in spans[rows.clone()].iter_mut().zip(&band[rows.clone()]) {
+                let (a, b) = walk.span(b);
+                // Inside the box, so both fit u32 when the span is not empty.
+                *out = if a < b { (a as u32, b as u32) } else { (0, 0) };
+                covered += (b - a).max(0) as u64;
             }
+            emit(ra, &spans[rows]);
         }
         if let Some(bc) = &mut blocks {
             bc.band(y, &band[..n]);
