@@ -210,16 +210,46 @@ pub fn seed004_rejects(edges: &[Edge; 3], x0: u32, y0: u32, x1: u32, y1: u32) ->
 /// `d` (in `[−d, 0)`), so that the carry is its sign bit: an arithmetic shift, where a
 /// 64-bit compare costs several instructions once LLVM vectorises the four bounds.
 #[derive(Clone, Copy)]
-struct Step {
-    q: i64,
+struct Step<T> {
+    q: T,
     /// Remainder − d.
-    r: i64,
-    d: i64,
-    dq: i64,
-    dr: i64,
+    r: T,
+    d: T,
+    dq: T,
+    dr: T,
 }
 
-impl Step {
+/// The integer an edge walk steps its bounds in. `i64` holds every walk the set-up
+/// admits; `i32` holds most (pixel-sized edges, bounds near the box), and four `i32`
+/// bounds step in one SSE2 register with a native arithmetic shift, where `i64` needs
+/// two registers and an emulated one.
+trait WalkInt:
+    Copy
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::BitAnd<Output = Self>
+    + core::ops::Not<Output = Self>
+    + core::ops::Shr<u32, Output = Self>
+    + Into<i64>
+    + TryFrom<i64>
+{
+    /// The sign bit's position.
+    const SIGN: u32;
+    /// 1.
+    const ONE: Self;
+}
+
+impl WalkInt for i32 {
+    const SIGN: u32 = 31;
+    const ONE: Self = 1;
+}
+
+impl WalkInt for i64 {
+    const SIGN: u32 = 63;
+    const ONE: Self = 1;
+}
+
+impl Step<i64> {
     /// A bound that never binds: `q` stays at `at`.
     const fn neutral(at: i64) -> Self {
         Self {
@@ -243,13 +273,36 @@ impl Step {
         }
     }
 
+    /// The same walk in `T`, if every value it takes over `rows` rows fits: `r` stays in
+    /// `[−d, d)` and `q` moves by at most `|dq| + 1` a row.
+    fn narrow<T: WalkInt>(&self, rows: i64) -> Option<Step<T>> {
+        let fits = |v: i64| T::try_from(v).is_ok() && T::try_from(-v).is_ok();
+        let reach = self
+            .q
+            .abs()
+            .saturating_add(rows.saturating_mul(self.dq.abs() + 1));
+        if !fits(2 * self.d) || !fits(reach) {
+            return None;
+        }
+        let t = |v: i64| T::try_from(v).ok();
+        Some(Step {
+            q: t(self.q)?,
+            r: t(self.r)?,
+            d: t(self.d)?,
+            dq: t(self.dq)?,
+            dr: t(self.dr)?,
+        })
+    }
+}
+
+impl<T: WalkInt> Step<T> {
     #[inline(always)]
     fn advance(&mut self) {
-        self.r += self.dr;
+        self.r = self.r + self.dr;
         // All ones when the remainder reached d.
-        let carry = !(self.r >> 63);
-        self.q += self.dq + (carry & 1);
-        self.r -= self.d & carry;
+        let carry = !(self.r >> T::SIGN);
+        self.q = self.q + self.dq + (carry & T::ONE);
+        self.r = self.r - (self.d & carry);
     }
 }
 
@@ -264,11 +317,11 @@ type Bounds = [i64; 4];
 /// horizontal edge (`a = 0`) does not depend on the column: it only trims the row range,
 /// which is decided here once. The bounds are stepped over every row of the bounding
 /// box, trimmed or not, because the block accounting needs them at block corners.
-struct EdgeWalk {
+struct EdgeWalk<T = i64> {
     x0: i64,
     x1: i64,
-    lo: [Step; 2],
-    hi: [Step; 2],
+    lo: [Step<T>; 2],
+    hi: [Step<T>; 2],
     /// Rows `[y0, y1)` left after the horizontal edge, if any.
     rows: (u32, u32),
 }
@@ -323,10 +376,29 @@ impl EdgeWalk {
         }
     }
 
+    /// The same walk in `T`, if it fits over `rows` rows.
+    fn narrow<T: WalkInt>(&self, rows: u32) -> Option<EdgeWalk<T>> {
+        let n = i64::from(rows);
+        Some(EdgeWalk {
+            x0: self.x0,
+            x1: self.x1,
+            lo: [self.lo[0].narrow(n)?, self.lo[1].narrow(n)?],
+            hi: [self.hi[0].narrow(n)?, self.hi[1].narrow(n)?],
+            rows: self.rows,
+        })
+    }
+}
+
+impl<T: WalkInt> EdgeWalk<T> {
     /// The current row's bounds, then steps to the next row.
     #[inline(always)]
     fn next_row(&mut self) -> Bounds {
-        let b = [self.lo[0].q, self.lo[1].q, self.hi[0].q, self.hi[1].q];
+        let b = [
+            self.lo[0].q.into(),
+            self.lo[1].q.into(),
+            self.hi[0].q.into(),
+            self.hi[1].q.into(),
+        ];
         self.lo[0].advance();
         self.lo[1].advance();
         self.hi[0].advance();
@@ -520,7 +592,7 @@ struct BlockCost {
 }
 
 impl BlockCost {
-    fn new(walk: &EdgeWalk, zigzag: bool) -> Self {
+    fn new<T>(walk: &EdgeWalk<T>, zigzag: bool) -> Self {
         let fine = Grid {
             x0: walk.x0,
             x1: walk.x1,
@@ -612,9 +684,24 @@ pub fn traverse_bands<F: FnMut(u32, Spans<'_>)>(
     c: &mut TravCounters,
     emit: &mut F,
 ) {
+    let walk = EdgeWalk::new(s);
+    match walk.narrow::<i32>(s.bbox[3] - s.bbox[1]) {
+        Some(narrow) => walk_bands(s, t, c, emit, narrow),
+        None => walk_bands(s, t, c, emit, walk),
+    }
+}
+
+/// [`traverse_bands`] with the walk's integer chosen.
+#[inline(always)]
+fn walk_bands<T: WalkInt, F: FnMut(u32, Spans<'_>)>(
+    s: &TriSetup,
+    t: Traversal,
+    c: &mut TravCounters,
+    emit: &mut F,
+    mut walk: EdgeWalk<T>,
+) {
     let [x0, y0, x1, y1] = s.bbox;
     let (w, h) = ((x1 - x0) as u64, (y1 - y0) as u64);
-    let mut walk = EdgeWalk::new(s);
     let mut blocks = match t {
         Traversal::Tiles => Some(BlockCost::new(&walk, false)),
         Traversal::Zigzag => Some(BlockCost::new(&walk, true)),

@@ -4,7 +4,7 @@
 use proptest::prelude::*;
 use protocol::raster::{Cull, Point, Rgb, Traversal};
 
-use super::{setup, traverse, walk_oracle, TravCounters, COORD_LIMIT};
+use super::{setup, traverse, walk_oracle, EdgeWalk, TravCounters, COORD_LIMIT};
 use crate::raster::Framebuffer;
 use protocol::raster::MAX_SUBPIXEL_BITS;
 
@@ -25,6 +25,14 @@ fn check(v: &[Point; 3], bits: u8, w: u32, h: u32) -> Result<bool, TestCaseError
     let Some(s) = setup(v, bits, w, h, Cull::None) else {
         return Ok(false);
     };
+    // The walk in i32, where it fits, steps the same bounds as in i64 over every row.
+    let rows = s.bbox[3] - s.bbox[1];
+    let mut wide = EdgeWalk::new(&s);
+    if let Some(mut narrow) = wide.narrow::<i32>(rows) {
+        for row in 0..rows {
+            prop_assert_eq!(narrow.next_row(), wide.next_row(), "row {} of {:?}", row, v);
+        }
+    }
     for t in Traversal::ALL {
         let (mut got, mut want) = (TravCounters::default(), TravCounters::default());
         let (mut got_spans, mut want_spans) = (Vec::new(), Vec::new());
@@ -141,7 +149,7 @@ proptest! {
 fn accounting_equals_the_walk_on_chosen_triangles() {
     let l = COORD_LIMIT;
     let p = |x: i32, y: i32| Point { x, y };
-    let mut visible = 0;
+    let (mut visible, mut narrow) = (0, 0);
     for bits in [0u8, 4, 8] {
         let s = 1 << bits;
         let cases = [
@@ -155,6 +163,11 @@ fn accounting_equals_the_walk_on_chosen_triangles() {
         ];
         for v in cases {
             for (w, h) in [(256, 256), (97, 203), (300, 33)] {
+                if let Some(s) = setup(&v, bits, w, h, Cull::None) {
+                    narrow += EdgeWalk::new(&s)
+                        .narrow::<i32>(s.bbox[3] - s.bbox[1])
+                        .is_some() as u32;
+                }
                 visible += check(&v, bits, w, h)
                     .map_err(|e| e.to_string())
                     .expect("equal") as u32;
@@ -162,4 +175,9 @@ fn accounting_equals_the_walk_on_chosen_triangles() {
         }
     }
     assert!(visible > 40, "the chosen triangles are visible");
+    // Both widths of the walk are tried: the guard band's triangles do not fit i32.
+    assert!(
+        narrow > 20 && narrow < visible,
+        "{narrow} of {visible} walks in i32"
+    );
 }
