@@ -150,6 +150,7 @@ impl Device {
             float_regs: NumericSet::default().with(Numeric::F32).with(Numeric::F64),
             // the golden model renders everything the register map can express
             rt_build: protocol::frame::RtBuild::FULL,
+            link_payload: 0,
         }
     }
 
@@ -399,15 +400,52 @@ impl Device {
     /// Copies read-back bytes `offset..offset + out.len()` of `req` into `out`; bytes
     /// past the end of the request (a caller bug) read as zero.
     pub fn read(&mut self, req: &ReadRequest, offset: u32, out: &mut [u8]) {
-        out.fill(0);
-        if self.read_cache.as_ref().map(|(r, _)| r) != Some(req) {
-            self.read_cache = self.plane_bytes(req).map(|b| (*req, b));
+        let copied = if (req.plane, req.format) == (Plane::Color, PixelFormat::Rgb888) {
+            // The frame's own bytes, a row span at a time: no copy of the whole plane
+            // first (a 1080p read-back spent more time building it than crossing the link).
+            self.rgb888_span(req.rect, offset as usize, out)
+        } else {
+            if self.read_cache.as_ref().map(|(r, _)| r) != Some(req) {
+                self.read_cache = self.plane_bytes(req).map(|b| (*req, b));
+            }
+            self.read_cache.as_ref().map_or(0, |(_, bytes)| {
+                let start = (offset as usize).min(bytes.len());
+                let end = (start + out.len()).min(bytes.len());
+                out[..end - start].copy_from_slice(&bytes[start..end]);
+                end - start
+            })
+        };
+        out[copied..].fill(0);
+    }
+
+    /// Copies bytes `offset..` of `rect`'s RGB888 read-back (its rows, left to right)
+    /// from the shown frame into `out`; returns how many there were.
+    fn rgb888_span(&self, rect: protocol::frame::Rect, offset: usize, out: &mut [u8]) -> usize {
+        let rgb = match self.shown {
+            Block::Raster => self.raster.as_ref().map(|r| r.framebuffer().rgb()),
+            Block::RayTrace => self.rt_frame.as_ref().map(|f| &f.rgb8[..]),
+        };
+        let (Some(rgb), Some((width, _))) = (rgb, self.shown_size()) else {
+            return 0;
+        };
+        let row_bytes = usize::from(rect.w) * 3;
+        let mut done = 0;
+        while done < out.len() && row_bytes > 0 {
+            let at = offset + done;
+            let (row, col) = (at / row_bytes, at % row_bytes);
+            if row >= usize::from(rect.h) {
+                break;
+            }
+            let y = usize::from(rect.y) + row;
+            let start = (y * width as usize + usize::from(rect.x)) * 3 + col;
+            let n = (row_bytes - col).min(out.len() - done);
+            let Some(src) = rgb.get(start..start + n) else {
+                break;
+            };
+            out[done..done + n].copy_from_slice(src);
+            done += n;
         }
-        if let Some((_, bytes)) = &self.read_cache {
-            let start = (offset as usize).min(bytes.len());
-            let end = (start + out.len()).min(bytes.len());
-            out[..end - start].copy_from_slice(&bytes[start..end]);
-        }
+        done
     }
 
     /// The whole read-back of `req` in its pixel format.
