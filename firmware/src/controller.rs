@@ -12,7 +12,7 @@ use embedded_io::{Read, ReadReady, Write};
 use heapless::Deque;
 use protocol::bus::BusLayout;
 use protocol::frame::{decode, encode, Caps, ErrorCode, Request};
-use protocol::link::{Config, Event, Link, MAX_FRAME};
+use protocol::link::{Buffer, Capacity, Config, Event, Link, Small};
 use protocol::MAX_PAYLOAD;
 
 use crate::engine::Engine;
@@ -52,18 +52,21 @@ pub enum ControllerError<H, B> {
 ///
 /// The const parameters size its RAM, so that one program serves a 128 KiB Cortex-M4 and
 /// an 8 KiB MSP430: `INBOX` requests queued (the credit the link advertises, and
-/// [`Caps::queue_depth`] should say the same), a link `WINDOW` (a power of two, 4..=128:
-/// each slot holds a [`MAX_PAYLOAD`] frame each way) and `SHADOW` mirrored ray-tracer
-/// registers (0 for a board without a ray tracer, which refuses animation steps).
+/// [`Caps::queue_depth`] should say the same), a link `WINDOW` (a power of two, 4..=128)
+/// of frames of the link's capacity `C` each way ([`Small`], [`MAX_PAYLOAD`]-byte, on an
+/// MCU; [`protocol::link::Bulk`] where RAM allows, so that a read-back goes in large
+/// chunks to a host that takes them) and `SHADOW` mirrored ray-tracer registers (0 for a
+/// board without a ray tracer, which refuses animation steps).
 pub struct Controller<
     H,
     B: FpgaBus,
     const INBOX: usize = { crate::controller::INBOX },
     const WINDOW: usize = { crate::controller::WINDOW },
     const SHADOW: usize = { crate::controller::SHADOW },
+    C: Capacity = Small,
 > {
     host: H,
-    link: Link<WINDOW>,
+    link: Link<WINDOW, C>,
     engine: Engine<B, SHADOW>,
     /// Requests as received (postcard bytes), decoded one at a time when handled.
     inbox: Deque<(u16, heapless::Vec<u8, MAX_PAYLOAD>), INBOX>,
@@ -95,8 +98,8 @@ where
     }
 }
 
-impl<H, B, const INBOX: usize, const WINDOW: usize, const SHADOW: usize>
-    Controller<H, B, INBOX, WINDOW, SHADOW>
+impl<H, B, const INBOX: usize, const WINDOW: usize, const SHADOW: usize, C: Capacity>
+    Controller<H, B, INBOX, WINDOW, SHADOW, C>
 where
     H: Read + ReadReady + Write,
     B: FpgaBus,
@@ -274,7 +277,7 @@ where
     #[inline(never)]
     fn send(&mut self, now_ms: u64) -> Result<(), ControllerError<H::Error, B::Error>> {
         loop {
-            if self.outgoing.is_empty() {
+            if self.outgoing.is_empty() && !self.engine.chunk_due() {
                 let Some(frame) = self.engine.next_output().map_err(ControllerError::Fpga)? else {
                     return Ok(());
                 };
@@ -285,10 +288,26 @@ where
                     let _ = self.outgoing.extend_from_slice(bytes);
                 }
             }
+            // The encoded answer, or else a read-back chunk written into the link's slot
+            // itself (up to the link's payload: a bulk link's 16 KiB) with no copy on the
+            // way. One call for both, so the MSP430 carries one copy of the link's send.
             // Trying even without credit matters: a refused send makes the link probe
             // the host for a window update.
-            match self.link.send(now_ms, &self.outgoing) {
-                Ok(_) => self.outgoing.clear(),
+            let (engine, outgoing) = (&mut self.engine, &self.outgoing);
+            let sent = self.link.send_with(now_ms, |slot| {
+                if outgoing.is_empty() {
+                    engine.write_chunk(slot)
+                } else {
+                    // A slot holds at least MAX_PAYLOAD bytes, the answer at most that.
+                    slot[..outgoing.len()].copy_from_slice(outgoing);
+                    Ok(outgoing.len())
+                }
+            });
+            match sent {
+                Ok(Ok(_)) => self.outgoing.clear(),
+                // No read-back after all: nothing was written or queued.
+                Ok(Err(None)) => {}
+                Ok(Err(Some(e))) => return Err(ControllerError::Fpga(e)),
                 Err(_) => return Ok(()),
             }
         }
@@ -296,8 +315,9 @@ where
 
     #[inline(never)]
     fn transmit(&mut self, now_ms: u64) -> Result<(), ControllerError<H::Error, B::Error>> {
-        let mut out = [0u8; MAX_FRAME];
-        while let Some(n) = self.link.poll_transmit(now_ms, &mut out) {
+        let mut out = C::Frame::ZERO;
+        let out = out.as_mut();
+        while let Some(n) = self.link.poll_transmit(now_ms, out) {
             self.host
                 .write_all(&out[..n])
                 .map_err(ControllerError::Host)?;

@@ -123,7 +123,7 @@ fuzz_target!(|data: &[u8]| {
                     }
                 }
                 Err(e) => {
-                    assert_eq!(e, LinkError::TooLarge { len: payload.len() });
+                    assert_eq!(e, LinkError::TooLarge { len: payload.len(), max: MAX_PAYLOAD });
                     assert!(payload.len() > MAX_PAYLOAD);
                 }
             }

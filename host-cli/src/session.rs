@@ -11,9 +11,9 @@ use std::io;
 use std::time::{Duration, Instant};
 
 use protocol::frame::{
-    decode, encode, Caps, DeviceFrame, ErrorReport, Hello, HostFrame, ReadRequest,
+    chunk_view, decode, encode, Caps, DeviceFrame, ErrorReport, Hello, HostFrame, ReadRequest,
 };
-use protocol::link::{Event, Link, LinkError, MAX_FRAME};
+use protocol::link::{Buffer, Bulk, Capacity, Crc32Digest, Event, Link, LinkError};
 use protocol::MAX_PAYLOAD;
 
 /// Application bytes moved in one direction and how long it took, for throughput figures
@@ -119,13 +119,60 @@ pub enum SessionError {
 /// Describes a request for error messages: called with the index the target reports.
 pub type Describe = Box<dyn Fn(u32) -> String>;
 
+/// The host's link: it accepts [`Bulk`] frames (and says so in its hello), so a target
+/// that can send them reads back in 16 KiB chunks; it sends [`MAX_PAYLOAD`]-byte ones,
+/// which every target accepts.
+type HostLink = Link<8, Bulk>;
+
+/// Bytes taken from the transport at a time: several bulk frames.
+const READ_BUF: usize = 64 * 1024;
+
+/// A read-back being received: chunks go straight here from the link's buffer (a bulk
+/// chunk is larger than a [`DeviceFrame`] holds), checked for order and length on the way.
+struct ReadSink {
+    data: Vec<u8>,
+    expected: usize,
+    crc: Crc32Digest,
+    /// The first thing wrong with the chunks; the rest is ignored and this reported.
+    error: Option<String>,
+}
+
+impl ReadSink {
+    fn take(&mut self, offset: u32, bytes: &[u8]) {
+        if self.error.is_some() {
+            return;
+        }
+        if offset as usize != self.data.len() {
+            self.error = Some(format!(
+                "chunk at offset {offset} where {} was expected",
+                self.data.len()
+            ));
+        } else if self.data.len() + bytes.len() > self.expected {
+            self.error = Some(format!(
+                "chunk of {} bytes at offset {offset} runs past the {} bytes requested",
+                bytes.len(),
+                self.expected
+            ));
+        } else {
+            self.data.extend_from_slice(bytes);
+            // The checksum grows with the chunks, while each is still in cache.
+            self.crc.update(bytes);
+        }
+    }
+}
+
 /// The host end of one connection.
 pub struct Session<T: Transport> {
     transport: T,
-    link: Link,
+    /// Boxed: a window of bulk frames each way is half a megabyte.
+    link: Box<HostLink>,
+    /// Where frames to send are encoded, and where transport bytes are read to.
+    out: Box<<Bulk as Capacity>::Frame>,
+    input: Box<[u8; READ_BUF]>,
     epoch: Instant,
     requests: HashMap<u16, Describe>,
     inbox: VecDeque<DeviceFrame>,
+    reading: Option<ReadSink>,
     /// Give up when nothing moves for this long.
     pub timeout: Duration,
     next_token: u32,
@@ -151,10 +198,13 @@ impl<T: Transport> Session<T> {
     pub fn new(transport: T) -> Self {
         Self {
             transport,
-            link: Link::new(Default::default()),
+            link: Box::new(Link::new(Default::default())),
+            out: Box::new(Buffer::ZERO),
+            input: Box::new([0; READ_BUF]),
             epoch: Instant::now(),
             requests: HashMap::new(),
             inbox: VecDeque::new(),
+            reading: None,
             timeout: Duration::from_secs(10),
             next_token: 1,
             peer: None,
@@ -181,12 +231,6 @@ impl<T: Transport> Session<T> {
         &self.traffic
     }
 
-    fn write(&mut self, bytes: &[u8]) -> Result<(), SessionError> {
-        self.transport.write_all(bytes)?;
-        self.traffic.sent += bytes.len() as u64;
-        Ok(())
-    }
-
     /// This end's link counters.
     pub fn link_counters(&self) -> protocol::frame::LinkCounters {
         self.link.counters()
@@ -196,38 +240,53 @@ impl<T: Transport> Session<T> {
     fn pump(&mut self, wait: Duration) -> Result<(), SessionError> {
         let now = self.now();
         self.link.handle_timeout(now);
-        let mut out = [0u8; MAX_FRAME];
-        while let Some(n) = self.link.poll_transmit(now, &mut out) {
-            self.write(&out[..n])?;
-        }
-        let mut buf = [0u8; 4096];
-        let n = self.transport.read(&mut buf, wait)?;
+        self.transmit(now)?;
+        let n = self.transport.read(&mut self.input[..], wait)?;
         self.traffic.received += n as u64;
         let room = 32usize.saturating_sub(self.traffic.first.len()).min(n);
-        self.traffic.first.extend_from_slice(&buf[..room]);
+        self.traffic.first.extend_from_slice(&self.input[..room]);
         let now = self.now();
-        let mut input = &buf[..n];
+        let mut at = 0;
         loop {
-            let (used, event) = self.link.handle_input(now, input);
-            input = &input[used..];
+            let (used, event) = self.link.handle_input(now, &self.input[at..n]);
+            at += used;
             match event {
-                Some(Event::Data(payload)) => {
-                    let frame = decode::<DeviceFrame>(payload).map_err(SessionError::Malformed)?;
-                    self.inbox.push_back(frame);
-                }
+                Some(Event::Data(payload)) => match chunk_view(payload) {
+                    Some(Ok((offset, bytes))) => match &mut self.reading {
+                        Some(sink) => sink.take(offset, bytes),
+                        None => {
+                            return Err(SessionError::Unexpected(format!(
+                                "a read-back chunk (offset {offset}, {} bytes) outside a read-back",
+                                bytes.len()
+                            )))
+                        }
+                    },
+                    Some(Err(e)) => return Err(SessionError::Malformed(e)),
+                    None => {
+                        let frame =
+                            decode::<DeviceFrame>(payload).map_err(SessionError::Malformed)?;
+                        self.inbox.push_back(frame);
+                    }
+                },
                 Some(Event::PeerReset { .. }) => {
                     return Err(SessionError::Unexpected(
                         "the target restarted its link mid-session".into(),
                     ))
                 }
                 Some(Event::Synced) => {}
-                None if input.is_empty() => break,
+                None if at == n => break,
                 None => {}
             }
         }
         let now = self.now();
-        while let Some(n) = self.link.poll_transmit(now, &mut out) {
-            self.write(&out[..n])?;
+        self.transmit(now)
+    }
+
+    /// Writes every frame the link has due.
+    fn transmit(&mut self, now: u64) -> Result<(), SessionError> {
+        while let Some(n) = self.link.poll_transmit(now, self.out.as_mut()) {
+            self.transport.write_all(&self.out[..n])?;
+            self.traffic.sent += n as u64;
         }
         Ok(())
     }
@@ -316,10 +375,11 @@ impl<T: Transport> Session<T> {
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(1, |d| d.subsec_nanos() as u16 | 1);
         self.link.reset(self.now(), nonce);
-        let ours = Hello::new(
-            Caps::default(),
-            concat!("fpgfx ", env!("CARGO_PKG_VERSION")),
-        );
+        let caps = Caps {
+            link_payload: HostLink::PAYLOAD as u32,
+            ..Caps::default()
+        };
+        let ours = Hello::new(caps, concat!("fpgfx ", env!("CARGO_PKG_VERSION")));
         let start = Instant::now();
         // The hello waits for the reset to be confirmed: silence shows up here first.
         match self.send(&HostFrame::Hello(ours), Box::new(|_| "the hello".into())) {
@@ -400,58 +460,69 @@ impl<T: Transport> Session<T> {
             Box::new(move |_| format!("read-back of {req:?}")),
         )?;
         let expected = req.rect.area() as usize * req.format.bytes_per_pixel();
-        let mut data = Vec::with_capacity(expected);
-        // The checksum grows with the chunks, while each is still in cache, with the
-        // link's own CRC (the slice-by-16 table on a host; a byte-wise table here took a
-        // third of a 50 MB read-back's time).
-        let mut crc = protocol::link::CRC32.digest();
+        self.reading = Some(ReadSink {
+            data: Vec::with_capacity(expected),
+            expected,
+            crc: protocol::link::CRC32.digest(),
+            error: None,
+        });
+        let done = self.read_done();
+        // Whatever happened, chunks from now on belong to no read-back.
+        let sink = self.reading.take();
+        let (done, sink) = match (done?, sink) {
+            (done, Some(sink)) => (done, sink),
+            (_, None) => return Err(SessionError::Unexpected("read-back lost its sink".into())),
+        };
+        if let Some(e) = sink.error {
+            return Err(SessionError::ReadBack(e));
+        }
+        let received = sink.data.len();
+        if done.len as usize != received || received != expected {
+            return Err(SessionError::ReadBack(format!(
+                "{received} bytes received, the target announced {}, the request needs {expected}",
+                done.len
+            )));
+        }
+        let crc = sink.crc.finalize();
+        if done.crc32 != crc {
+            return Err(SessionError::ReadBack(format!(
+                "CRC-32 {crc:#010x} of the received bytes, the target announced {:#010x}",
+                done.crc32
+            )));
+        }
+        Ok(sink.data)
+    }
+
+    /// Waits for the end of a read-back whose chunks [`Session::pump`] collects; a stall
+    /// is [`Session::timeout`] without a new chunk or answer.
+    fn read_done(&mut self) -> Result<protocol::frame::ReadDone, SessionError> {
+        let received = |s: &Self| s.reading.as_ref().map_or(0, |r| r.data.len());
+        let (mut since, mut got) = (Instant::now(), received(self));
         loop {
-            let answer = match self.recv() {
-                Err(SessionError::Timeout(waited)) => {
-                    return Err(SessionError::Stalled {
-                        during: "in a read-back",
-                        progress: format!("{} of {expected} bytes received", data.len()),
-                        waited,
-                    })
-                }
-                other => other?,
-            };
-            match answer {
-                DeviceFrame::Chunk(c) => {
-                    if c.offset as usize != data.len() {
-                        return Err(SessionError::ReadBack(format!(
-                            "chunk at offset {} where {} was expected",
-                            c.offset,
-                            data.len()
-                        )));
+            if let Some(f) = self.inbox.pop_front() {
+                since = Instant::now();
+                match f {
+                    DeviceFrame::ReadDone(done) => return Ok(done),
+                    DeviceFrame::Error(r) => return Err(self.refused(r)),
+                    DeviceFrame::Done(_) => continue,
+                    other => {
+                        return Err(SessionError::Unexpected(format!(
+                            "{other:?} during a read-back"
+                        )))
                     }
-                    data.extend_from_slice(&c.data);
-                    crc.update(&c.data);
-                }
-                DeviceFrame::ReadDone(done) => {
-                    let crc = crc.finalize();
-                    if done.len as usize != data.len() || done.len as usize != expected {
-                        return Err(SessionError::ReadBack(format!(
-                            "{} bytes received, the target announced {}, the request needs {expected}",
-                            data.len(),
-                            done.len
-                        )));
-                    }
-                    if done.crc32 != crc {
-                        return Err(SessionError::ReadBack(format!(
-                            "CRC-32 {crc:#010x} of the received bytes, the target announced {:#010x}",
-                            done.crc32
-                        )));
-                    }
-                    return Ok(data);
-                }
-                DeviceFrame::Done(_) => {}
-                other => {
-                    return Err(SessionError::Unexpected(format!(
-                        "{other:?} during a read-back"
-                    )))
                 }
             }
+            if received(self) != got {
+                (since, got) = (Instant::now(), received(self));
+            } else if since.elapsed() > self.timeout {
+                let expected = self.reading.as_ref().map_or(0, |r| r.expected);
+                return Err(SessionError::Stalled {
+                    during: "in a read-back",
+                    progress: format!("{got} of {expected} bytes received"),
+                    waited: since.elapsed(),
+                });
+            }
+            self.pump(Duration::from_millis(5))?;
         }
     }
 

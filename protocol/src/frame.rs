@@ -27,8 +27,16 @@ pub const RASTER_BATCH: usize = 8;
 pub const REG_WRITE_WORDS: usize = 40;
 /// Bytes of texel data in one [`TextureWrite`].
 pub const TEXTURE_CHUNK: usize = 224;
-/// Bytes of pixel data in one [`ReadChunk`].
+/// Bytes of pixel data in one [`ReadChunk`] on a link of [`MAX_PAYLOAD`]-byte frames; a
+/// link with larger frames carries [`read_chunk_len`] of its payload.
 pub const READ_CHUNK: usize = 224;
+
+/// The most read-back bytes a chunk carries on a link whose payloads go up to `payload`
+/// bytes ([`READ_CHUNK`] on a [`MAX_PAYLOAD`] link): the rest of the payload is left for
+/// the message around the bytes, as on the smallest link.
+pub const fn read_chunk_len(payload: usize) -> usize {
+    payload - (MAX_PAYLOAD - READ_CHUNK)
+}
 /// Bytes of the human-readable firmware identification in [`Hello`].
 pub const IDENT_LEN: usize = 32;
 /// The schema hash of this build's message set: FNV-1a over the postcard-schema of
@@ -218,6 +226,18 @@ pub struct Caps {
     /// naming the field, before anything is sent. [`RtBuild::FULL`] (the default) for the
     /// golden model and every block that implements the whole register map.
     pub rt_build: RtBuild,
+    /// The largest link payload this end accepts ([`crate::link::Capacity::PAYLOAD`]); a
+    /// peer never sends it more. Below [`MAX_PAYLOAD`] (0 in particular, from an end that
+    /// does not say) it counts as [`MAX_PAYLOAD`], which every end accepts. A read-back's
+    /// chunks are sized for the smaller of the two ends' payloads ([`read_chunk_len`]).
+    pub link_payload: u32,
+}
+
+impl Caps {
+    /// [`Caps::link_payload`] with its floor applied.
+    pub fn link_payload(&self) -> usize {
+        (self.link_payload as usize).max(MAX_PAYLOAD)
+    }
 }
 
 /// The shapes, lights and shading terms a ray-tracing datapath builds ([`Caps::rt_build`]).
@@ -745,6 +765,54 @@ pub fn decode<'de, T: Deserialize<'de>>(bytes: &'de [u8]) -> Result<T, CodecErro
     } else {
         Err(CodecError::Trailing(rest.len()))
     }
+}
+
+/// The variant index serde gives [`DeviceFrame::Chunk`] (its place in the enum), which
+/// postcard writes as the message's first varint. Stated here so that a controller can
+/// write a chunk's message without serialising a whole [`DeviceFrame`] (on the MSP430
+/// that call, no longer inlined, cost 1.7 KB of flash); a test holds it to serde's.
+pub const CHUNK_TAG: u32 = 3;
+
+/// The most bytes [`chunk_header`] writes: the tag, and the offset and the length as
+/// varints of up to five bytes.
+pub const CHUNK_HEADER_MAX: usize = 11;
+
+/// The start of a [`DeviceFrame::Chunk`] message carrying `len` bytes at read-back offset
+/// `offset`, and how many of the array's bytes it is: the message is these bytes, then the
+/// chunk's. This is how a controller writes a chunk of any size straight into its link's
+/// slot (a [`ReadChunk`] holds at most [`READ_CHUNK`]); the bytes are postcard's for the
+/// same message (the tag, the offset, the length, each a varint, then the bytes), which
+/// [`chunk_view`] reads back.
+pub fn chunk_header(offset: u32, len: u32) -> ([u8; CHUNK_HEADER_MAX], usize) {
+    // The tag is below 0x80: its varint is the byte itself.
+    const _: () = assert!(CHUNK_TAG < 0x80);
+    let mut head = [0u8; CHUNK_HEADER_MAX];
+    head[0] = CHUNK_TAG as u8;
+    let mut n = 1;
+    // Varints written out (LEB128: seven bits a byte, low first) rather than serialised:
+    // on the MSP430 postcard's `u32` serialiser was 216 bytes of flash for this one use.
+    for mut v in [offset, len] {
+        while v >= 0x80 {
+            head[n] = (v as u8) | 0x80;
+            v >>= 7;
+            n += 1;
+        }
+        head[n] = v as u8;
+        n += 1;
+    }
+    (head, n)
+}
+
+/// A read-back chunk's offset and bytes, borrowed from a received payload, if the payload
+/// is a [`DeviceFrame::Chunk`] (of any length: a chunk from a link with large frames
+/// does not fit a [`ReadChunk`]); `None` for any other message. A chunk whose length
+/// disagrees with the payload is an error, as [`decode`] would say.
+pub fn chunk_view(payload: &[u8]) -> Option<Result<(u32, &[u8]), CodecError>> {
+    match postcard::take_from_bytes::<u32>(payload) {
+        Ok((CHUNK_TAG, _)) => {}
+        _ => return None,
+    }
+    Some(decode::<(u32, u32, &[u8])>(payload).map(|(_, offset, data)| (offset, data)))
 }
 
 /// Why a raster command cannot be batched.

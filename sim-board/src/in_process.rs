@@ -12,9 +12,13 @@ use std::io;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use firmware::{Controller, ControllerError, FpgaBus, FpgaLink, MmioBus, MmioError, Registers};
+use firmware::{
+    Controller, ControllerError, FpgaBus, FpgaLink, MmioBus, MmioError, Registers, INBOX, SHADOW,
+    WINDOW,
+};
 use protocol::bus::BusLayout;
 use protocol::frame::{Caps, DeviceCounters, FrameDone, ReadRequest, StartFrame};
+use protocol::link::Bulk;
 use protocol::raster::RasterSetup;
 use sim_target::mmio::{RegisterError, RegisterFile};
 
@@ -95,10 +99,16 @@ impl embedded_io::Write for PipeEnd {
     }
 }
 
+/// The controller of a [`BuiltIn`]: a board's defaults, but a link of
+/// [`Bulk`] frames, since memory is no object here and the pipe has no line rate (a
+/// read-back then goes in 16 KiB chunks to a host that takes them, not 224-byte ones).
+pub type BuiltInController<B> = Controller<PipeEnd, B, INBOX, WINDOW, SHADOW, Bulk>;
+
 /// The host's end of an in-process controller driving `B`: a byte transport with the
 /// same two calls as a serial line (host-cli wraps it as its `Transport`).
 pub struct BuiltIn<B: FpgaBus> {
-    controller: Controller<PipeEnd, B>,
+    /// Boxed: its link's window of bulk frames is half a megabyte.
+    controller: Box<BuiltInController<B>>,
     to_device: Queue,
     from_device: Queue,
     epoch: Instant,
@@ -123,7 +133,7 @@ where
             tx: from_device.clone(),
         };
         Self {
-            controller: Controller::new(end, bus, caps, layout, ident),
+            controller: Box::new(Controller::sized(end, bus, caps, layout, ident)),
             to_device,
             from_device,
             epoch: Instant::now(),

@@ -54,6 +54,7 @@ pub fn caps() -> Caps {
         float_regs: NumericSet::default(),
         // no ray tracer: `ray_trace` is false, which refuses every scene first
         rt_build: protocol::frame::RtBuild::FULL,
+        link_payload: 0,
     }
 }
 

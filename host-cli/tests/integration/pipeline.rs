@@ -125,6 +125,7 @@ fn caps() -> Caps {
         raster_layout: None,
         float_regs: NumericSet::default(),
         rt_build: protocol::frame::RtBuild::FULL,
+        link_payload: 0,
     }
 }
 

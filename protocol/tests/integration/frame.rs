@@ -32,6 +32,7 @@ fn caps() -> Caps {
         raster_layout: Some(protocol::bus::LayoutId::Fitkit),
         float_regs: NumericSet(0b11),
         rt_build: protocol::frame::RtBuild::FULL,
+        link_payload: 16384,
     }
 }
 
@@ -57,6 +58,7 @@ const HELLO: &[u8] = &[
     0x03, // float_regs mask (f64, f32)
     0x7f, 0xff, // rt_build: every shape, any number of lights
     0xff, 0xff, 0x03, 0x3f, // max_spp 65535, every feature
+    0x80, 0x80, 0x01, // link_payload 16384
     0x02, 0x66, 0x77, // "fw"
 ];
 
@@ -374,7 +376,7 @@ fn schema_hash_is_pinned() {
     // by version rather than by hash.
     assert_eq!(SCHEMA_HASH, schema_hash());
     println!("schema hash {SCHEMA_HASH:#018x}");
-    assert_eq!(SCHEMA_HASH, 0x0fda_4794_50b3_6bc8);
+    assert_eq!(SCHEMA_HASH, 0xa32e_579f_563e_8418);
 }
 
 #[test]
@@ -765,6 +767,7 @@ fn hello_s() -> impl Strategy<Value = Hello> {
                     raster_layout,
                     float_regs: NumericSet(float_regs),
                     rt_build: protocol::frame::RtBuild::FULL,
+                    link_payload: 0,
                 },
                 ident: String::try_from(ident.as_str()).expect("≤ 32 ASCII bytes"),
             }
@@ -1072,5 +1075,89 @@ mod animation {
             .apply(q16(1.5)),
             q16(0.5)
         );
+    }
+}
+
+/// A chunk message as a controller writes it in place: the header, then the bytes.
+fn chunk_in_place(offset: u32, data: &[u8]) -> std::vec::Vec<u8> {
+    let (head, n) = chunk_header(offset, data.len() as u32);
+    let mut out = head[..n].to_vec();
+    out.extend_from_slice(data);
+    out
+}
+
+#[test]
+fn the_chunk_tag_is_the_variant_serde_gives_chunk() {
+    let mut buf = [0u8; MAX_PAYLOAD];
+    let empty = DeviceFrame::Chunk(ReadChunk {
+        offset: 0,
+        data: Vec::new(),
+    });
+    let bytes = encode(&empty, &mut buf).expect("fits");
+    assert_eq!(bytes, [CHUNK_TAG as u8, 0, 0]);
+}
+
+#[test]
+fn chunks_of_any_size_read_back_where_a_read_chunk_cannot() {
+    for len in [0, 1, 127, 128, READ_CHUNK, 16_352, 70_000] {
+        let data: std::vec::Vec<u8> = (0..len).map(|i| (i * 7) as u8).collect();
+        let msg = chunk_in_place(0x1234_5678, &data);
+        let (offset, bytes) = chunk_view(&msg).expect("a chunk").expect("decodes");
+        assert_eq!((offset, bytes), (0x1234_5678, &data[..]), "len {len}");
+        // Only a board-sized one is also a `DeviceFrame`.
+        assert_eq!(
+            decode::<DeviceFrame>(&msg).is_ok(),
+            len <= READ_CHUNK,
+            "len {len}"
+        );
+    }
+}
+
+#[test]
+fn chunk_view_leaves_other_answers_and_refuses_a_chunk_whose_length_is_wrong() {
+    let mut buf = [0u8; MAX_PAYLOAD];
+    for msg in [
+        DeviceFrame::Synced(7),
+        DeviceFrame::ReadDone(ReadDone { len: 3, crc32: 9 }),
+        DeviceFrame::Hello(hello()),
+    ] {
+        let bytes = encode(&msg, &mut buf).expect("fits");
+        assert!(chunk_view(bytes).is_none(), "{msg:?}");
+    }
+    let msg = chunk_in_place(5, &[1, 2, 3, 4]);
+    assert!(matches!(chunk_view(&msg[..msg.len() - 1]), Some(Err(_))));
+    let mut long = msg.clone();
+    long.push(0);
+    assert_eq!(chunk_view(&long), Some(Err(CodecError::Trailing(1))));
+    // The longest header is CHUNK_HEADER_MAX bytes.
+    assert_eq!(chunk_header(u32::MAX, u32::MAX).1, CHUNK_HEADER_MAX);
+    assert_eq!(chunk_header(0, 0).1, 3);
+}
+
+#[test]
+fn a_board_sized_link_carries_read_chunk_bytes_and_larger_ones_the_same_margin() {
+    assert_eq!(read_chunk_len(MAX_PAYLOAD), READ_CHUNK);
+    assert_eq!(
+        Caps::default().link_payload(),
+        MAX_PAYLOAD,
+        "an end that says nothing accepts MAX_PAYLOAD"
+    );
+    // The worst header (tag, a 5-byte offset, a 3-byte length) fits the margin.
+    let len = read_chunk_len(protocol::link::BULK_PAYLOAD);
+    let msg = chunk_in_place(u32::MAX, &std::vec![0xAB; len]);
+    assert!(msg.len() <= protocol::link::BULK_PAYLOAD, "{}", msg.len());
+}
+
+proptest! {
+    /// The header written in place is postcard's encoding of the same message.
+    #[test]
+    fn a_chunk_written_in_place_is_postcards_encoding(
+        offset in any::<u32>(),
+        data in proptest::collection::vec(any::<u8>(), 0..=READ_CHUNK),
+    ) {
+        let mut buf = [0u8; MAX_PAYLOAD];
+        let msg = DeviceFrame::Chunk(ReadChunk { offset, data: Vec::from_slice(&data).expect("cap") });
+        let serde = encode(&msg, &mut buf).expect("fits").to_vec();
+        prop_assert_eq!(chunk_in_place(offset, &data), serde);
     }
 }

@@ -308,6 +308,7 @@ fn the_format_follows_the_targets_caps() {
     let caps = Caps {
         float_regs: NumericSet::default().with(Numeric::F32).with(Numeric::F64),
         rt_build: protocol::frame::RtBuild::FULL,
+        link_payload: 0,
         ..Default::default()
     };
     for n in Numeric::ALL {

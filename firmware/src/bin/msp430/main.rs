@@ -326,6 +326,7 @@ fn caps() -> Caps {
         raster_layout: None,
         float_regs: NumericSet::default(),
         rt_build: RtBuild::FULL,
+        link_payload: 0,
     }
 }
 
