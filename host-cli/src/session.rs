@@ -164,7 +164,7 @@ impl ReadSink {
 /// The host end of one connection.
 pub struct Session<T: Transport> {
     transport: T,
-    /// Boxed: a window of bulk frames each way is half a megabyte.
+    /// Boxed: a window of bulk frames each way is 280 KiB.
     link: Box<HostLink>,
     /// Where frames to send are encoded, and where transport bytes are read to.
     out: Box<<Bulk as Capacity>::Frame>,

@@ -107,7 +107,7 @@ pub type BuiltInController<B> = Controller<PipeEnd, B, INBOX, WINDOW, SHADOW, Bu
 /// The host's end of an in-process controller driving `B`: a byte transport with the
 /// same two calls as a serial line (host-cli wraps it as its `Transport`).
 pub struct BuiltIn<B: FpgaBus> {
-    /// Boxed: its link's window of bulk frames is half a megabyte.
+    /// Boxed: its link's windows of bulk frames are 280 KiB.
     controller: Box<BuiltInController<B>>,
     to_device: Queue,
     from_device: Queue,
