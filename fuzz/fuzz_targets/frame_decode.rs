@@ -6,12 +6,18 @@
 //! - the in-place walker (`raster_commands`, what the controller uses) and the full
 //!   decoder agree on every raster batch, and the batcher rebuilds the canonical bytes;
 //! - a link frame that decodes re-encodes to exactly the input (COBS and the CRC leave no
-//!   freedom), and any header + payload survives `encode_frame` → `decode_frame`.
+//!   freedom), and any header + payload survives `encode_frame` → `decode_frame`;
+//! - the host's chunk reader (`chunk_view`, any length) and the full decoder agree on
+//!   every chunk a `ReadChunk` can hold, and a chunk it reads re-encodes through
+//!   `chunk_header` to canonical bytes.
 #![no_main]
 use std::fmt::Debug;
 
 use libfuzzer_sys::fuzz_target;
-use protocol::frame::{decode, encode, raster_commands, DeviceFrame, HostFrame, RasterBatcher};
+use protocol::frame::{
+    chunk_header, chunk_view, decode, encode, raster_commands, DeviceFrame, HostFrame,
+    RasterBatcher, READ_CHUNK,
+};
 use protocol::link::{decode_frame, encode_frame, Header, Kind, LinkError, HEADER_LEN, MAX_FRAME};
 use protocol::raster::RasterCmd;
 use protocol::MAX_PAYLOAD;
@@ -48,7 +54,32 @@ where
 
 fn check_payload(data: &[u8]) {
     let host = round_trip::<HostFrame>(data);
-    let _ = round_trip::<DeviceFrame>(data);
+    let device = round_trip::<DeviceFrame>(data);
+
+    // The chunk reader and the full decoder agree where both can read.
+    match (chunk_view(data), &device) {
+        (Some(Ok((offset, bytes))), _) => {
+            if bytes.len() <= READ_CHUNK && data.len() <= MAX_PAYLOAD {
+                match decode::<DeviceFrame>(data) {
+                    Ok(DeviceFrame::Chunk(c)) => {
+                        assert_eq!((c.offset, c.data.as_slice()), (offset, bytes));
+                    }
+                    other => panic!("chunk_view read {offset} {bytes:02x?}, decoder {other:?}"),
+                }
+            }
+            let (head, n) = chunk_header(offset, bytes.len() as u32);
+            let canon = [&head[..n], bytes].concat();
+            assert!(canon.len() <= data.len(), "canonical chunk longer than {data:02x?}");
+            assert_eq!(chunk_view(&canon), Some(Ok((offset, bytes))));
+        }
+        (Some(Err(_)), Some((DeviceFrame::Chunk(c), _))) => {
+            panic!("chunk_view refused {data:02x?}, the decoder read {c:?}")
+        }
+        (None, Some((DeviceFrame::Chunk(c), _))) => {
+            panic!("chunk_view missed {data:02x?}, the decoder read {c:?}")
+        }
+        _ => {}
+    }
 
     // The walker and the full decoder agree.
     if let Ok(it) = raster_commands(data) {
