@@ -189,6 +189,13 @@ pub(super) struct Hit<S> {
     obj: usize,
 }
 
+impl<S> Hit<S> {
+    /// A hit at distance `t` on object `obj`, shading normal `n` (after the side flip).
+    pub(super) fn new(t: S, n: V3<S>, obj: usize) -> Self {
+        Hit { t, n, obj }
+    }
+}
+
 impl<S: Scalar> Prepared<S> {
     #[inline(always)]
     fn hit_object(&self, ob: &PObj<S>, o: V3<S>, d: V3<S>, tmax: S) -> Option<S> {

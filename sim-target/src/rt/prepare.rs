@@ -22,7 +22,7 @@ pub(super) struct PObj<S> {
     pub(super) intersect: IntersectFn<S>,
     pub(super) minv: M3<S>,
     pub(super) nmat: M3<S>,
-    translate: V3<S>,
+    pub(super) translate: V3<S>,
     /// The camera position in object space: every primary ray starts there, so its
     /// transform is done once per object instead of once per pixel (same operations, same
     /// bits).
@@ -30,6 +30,43 @@ pub(super) struct PObj<S> {
     /// |eye′|² − 1: a sphere's c for every primary ray (the spheres-only kernel's hoist).
     pub(super) eye_c: S,
     pub(super) material: usize,
+    /// Its material's shading when that is Lambert's term alone ([`Plain`]): what f32's
+    /// packet lanes shade without reading the material.
+    pub(super) plain: Option<Plain<S>>,
+}
+
+/// A material whose shading at one level is an ambient term plus Lambert's term per
+/// light (no texture, specular term or reflection that would be traced), with both
+/// constants formed as `Prepared::trace` forms them.
+#[derive(Clone, Copy)]
+pub(super) struct Plain<S> {
+    /// k_a·(c_a ⊙ the scene's ambient), or zero.
+    pub(super) ambient: V3<S>,
+    /// (c_d·k_d)·(1/π): the BRDF times the diffuse colour.
+    pub(super) brdf: V3<S>,
+}
+
+impl<S: Scalar> PMat<S> {
+    /// The material as [`Plain`] constants for a kernel of `depth` levels, if it is one.
+    fn plain(&self, depth: u32, ambient: V3<S>) -> Option<Plain<S>> {
+        // one level: whatever the material reflects is never traced
+        let reflects = depth > 1 && !matches!(self.refl, PRefl::None);
+        if self.oren_nayar || self.tex.is_some() || self.spec.is_some() || reflects {
+            return None;
+        }
+        // `trace`'s n, wi, wo do not enter Lambert's term
+        let z = V3::zero();
+        Some(Plain {
+            ambient: match &self.ambient {
+                Some((ka, a)) => a.hadamard(ambient).scale(*ka),
+                None => V3::zero(),
+            },
+            brdf: self
+                .cd
+                .scale(self.kd)
+                .scale(super::shade::lambert(z, z, z, &self.dparams)),
+        })
+    }
 }
 
 /// A point or spot light in format `S` (a spot's cone: direction, cos of the outer angle,
@@ -97,7 +134,7 @@ pub(super) fn prepare<S: Scalar>(
     cull: bool,
 ) -> Prepared<S> {
     let eye = V3::<S>::from_f64(scene.camera.position);
-    let objs: Vec<PObj<S>> = scene
+    let mut objs: Vec<PObj<S>> = scene
         .objects
         .iter()
         .map(|o| {
@@ -113,6 +150,7 @@ pub(super) fn prepare<S: Scalar>(
                 eye: V3::zero(),
                 eye_c: S::zero(),
                 material: o.material,
+                plain: None,
             };
             ob.eye = ob.to_object(eye, V3::zero()).0;
             ob.eye_c = ob.eye.dot(ob.eye) - S::one();
@@ -139,7 +177,7 @@ pub(super) fn prepare<S: Scalar>(
     let side = plan.texture_side;
     let texmem = texture::memory(scene);
     let mut next_slot = 0usize;
-    let mats = scene
+    let mats: Vec<PMat<S>> = scene
         .materials
         .iter()
         .map(|mat| {
@@ -195,6 +233,16 @@ pub(super) fn prepare<S: Scalar>(
             }
         })
         .collect();
+    // the general kernel does not use the plan's depth: a non-reflecting hit ends the
+    // ray by its own test, with the same result
+    let depth = match kernel {
+        Kernel::Planned | Kernel::Scalar => plan.depth,
+        Kernel::General => scene.depth,
+    };
+    let ambient = V3::from_f64(scene.ambient);
+    for ob in &mut objs {
+        ob.plain = mats.get(ob.material).and_then(|m| m.plain(depth, ambient));
+    }
     // the flat objects' side test (`pretest::Flat`): only where culling is on (the planned
     // kernel with `RenderOptions::cull`; a count of every operation turns it off), for
     // formats that declare their rounding (all do; the instrumented wrappers declare their
@@ -215,7 +263,7 @@ pub(super) fn prepare<S: Scalar>(
         eye,
         lights,
         mats,
-        ambient: V3::from_f64(scene.ambient),
+        ambient,
         background: V3::from_f64(scene.background),
         texmem,
         bias: S::from_f64(scene.bias),
@@ -223,12 +271,7 @@ pub(super) fn prepare<S: Scalar>(
         // 1e6) it would round to ∞ and let a root at t = ∞ count as a hit; the format's
         // largest finite value is the same "infinity" without that.
         maxd: S::from_f64(scene.max_distance.min(S::max_value().to_f64())),
-        // the general kernel does not use the plan's depth: a non-reflecting hit ends the
-        // ray by its own test, with the same result
-        depth: match kernel {
-            Kernel::Planned | Kernel::Scalar => plan.depth,
-            Kernel::General => scene.depth,
-        },
+        depth,
         shadows: scene.shadows,
         m,
         by_match: dispatch == Dispatch::Match,

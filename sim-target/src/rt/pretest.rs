@@ -9,6 +9,10 @@
 //! same IEEE f32 operations in the same order as the scalar test did, so the mask is that
 //! test's answer bit for bit (checked against [`may_hit_scalar`] in the tests below).
 //!
+//! The same test also runs the other way round ([`Spheres::misses`]): eight rays in
+//! lanes (a packet's shadow rays) against one object, with the same operations, so each
+//! lane's answer is its ray's pretest bit.
+//!
 //! A fixed-point cylinder or cone carries a gate on the ray's own quadratic coefficient
 //! |a| = |dᵀFd| ([`super::cull::Secondary`]): its lane culls only where the sphere test
 //! says "miss" and |a| is at least the gate's threshold. The coefficient is six products
@@ -19,7 +23,7 @@ use super::cull::{Bound, GATE_DD};
 use crate::num::Scalar;
 
 use super::vec::V3;
-use wide::{f32x4, CmpGe, CmpGt, CmpLe, CmpLt};
+use wide::{f32x4, f32x8, CmpGe, CmpGt, CmpLe, CmpLt};
 
 /// Objects per block: one SSE register of f32.
 const LANES: usize = 4;
@@ -153,6 +157,8 @@ fn lane_gate(b: &Bound) -> (f32, [f32; 6], f32) {
 pub struct Spheres {
     len: usize,
     blocks: Vec<Block>,
+    /// The same values object by object, for [`Spheres::misses`].
+    lanes: Vec<Lane>,
     /// False when no object has a bound: every ray tests every object, without the
     /// pretest's arithmetic.
     any: bool,
@@ -212,6 +218,7 @@ impl Spheres {
             blocks,
             any: lanes.iter().any(|l| l.safe2 >= 0.0 || l.flat.is_some()),
             gated: lanes.iter().any(|l| l.amin >= 0.0),
+            lanes,
         }
     }
 
@@ -273,32 +280,99 @@ fn gate_products(r: &RayF32) -> [f32x4; 6] {
     }
 }
 
-/// Bit l set: the ray certainly misses lane l's sphere (the scalar test's operations, lane
-/// by lane, without branches). `GATE`: evaluate the lanes' gates on the ray's products
-/// `p` (without it every lane must be ungated, which passes every ray).
+/// Lane-wise f32 arithmetic and ordered compares, as `wide` gives them for four and
+/// eight lanes: the one [`cull_test`] serves both layouts (objects in lanes against one
+/// ray, rays in lanes against one object).
+trait Lanes:
+    Copy
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::BitAnd<Output = Self>
+    + core::ops::BitOr<Output = Self>
+    + CmpLt<Output = Self>
+    + CmpGt<Output = Self>
+    + CmpLe<Output = Self>
+{
+    fn splat(x: f32) -> Self;
+}
+
+impl Lanes for f32x4 {
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        f32x4::splat(x)
+    }
+}
+
+impl Lanes for f32x8 {
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        f32x8::splat(x)
+    }
+}
+
+/// One sphere-and-side test, each value an object's or a ray's (splatted where the
+/// other is in lanes).
+struct Test<V> {
+    /// The sphere: centre, radius², squared safe distance, |c|₁.
+    c: [V; 3],
+    r2: V,
+    safe2: V,
+    cmag: V,
+    /// 1 for a flat object, and its plane's height.
+    flat: V,
+    ty: V,
+    /// The ray: origin, direction, |d|², |o|₁.
+    o: [V; 3],
+    d: [V; 3],
+    dd: V,
+    omag: V,
+}
+
+/// The pretest's arithmetic (the scalar test's operations, without branches): where the
+/// ray certainly misses the sphere, and where it leaves a flat object's plane.
 #[inline(always)]
-fn cull_lanes<const GATE: bool>(b: &Block, r: &RayF32, p: &[f32x4; 6]) -> u8 {
+fn cull_test<V: Lanes>(t: &Test<V>) -> (V, V) {
     // `wide` maps each operation onto SSE (NEON, wasm SIMD, or plain arrays elsewhere):
     // every lane rounds exactly as scalar f32 does, and the compares are ordered (false
     // on NaN) exactly as Rust's `<`, `>`, `<=`.
-    let s = f32x4::splat;
-    let (ox, oy, oz) = (b.cx - s(r.o[0]), b.cy - s(r.o[1]), b.cz - s(r.o[2]));
+    let s = V::splat;
+    let (ox, oy, oz) = (t.c[0] - t.o[0], t.c[1] - t.o[1], t.c[2] - t.o[2]);
     let oc2 = ox * ox + oy * oy + oz * oz;
-    let tca = ox * s(r.d[0]) + oy * s(r.d[1]) + oz * s(r.d[2]);
-    let near = oc2.cmp_le(b.safe2);
+    let tca = ox * t.d[0] + oy * t.d[1] + oz * t.d[2];
+    let near = oc2.cmp_le(t.safe2);
     // the centre behind the origin and the origin outside: every point of the sphere has
     // t < 0
-    let behind = tca.cmp_lt(f32x4::ZERO) & oc2.cmp_gt(b.r2);
+    let behind = tca.cmp_lt(s(0.0)) & oc2.cmp_gt(t.r2);
     // squared distance of the line from the centre (times |d|²) beyond r²
-    let mag = b.cmag + s(r.omag);
-    let dd = s(r.dd);
-    let apart = (oc2 * dd - tca * tca).cmp_gt((b.r2 + s(1e-6) * mag * mag) * dd);
+    let mag = t.cmag + t.omag;
+    let apart = (oc2 * t.dd - tca * tca).cmp_gt((t.r2 + s(1e-6) * mag * mag) * t.dd);
     // a flat object the ray leaves on its side of the plane ([`Flat`])
-    let (y, dy, zero) = (s(r.o[1]), s(r.d[1]), f32x4::ZERO);
-    let up = y.cmp_gt(b.ty) & dy.cmp_gt(zero);
-    let down = y.cmp_lt(b.ty) & dy.cmp_lt(zero);
-    let away = b.flat.cmp_gt(zero) & (up | down);
-    let sphere = near & (behind | apart);
+    let (y, dy, zero) = (t.o[1], t.d[1], s(0.0));
+    let up = y.cmp_gt(t.ty) & dy.cmp_gt(zero);
+    let down = y.cmp_lt(t.ty) & dy.cmp_lt(zero);
+    let away = t.flat.cmp_gt(zero) & (up | down);
+    (near & (behind | apart), away)
+}
+
+/// Bit l set: the ray certainly misses lane l's sphere. `GATE`: evaluate the lanes'
+/// gates on the ray's products `p` (without it every lane must be ungated, which passes
+/// every ray).
+#[inline(always)]
+fn cull_lanes<const GATE: bool>(b: &Block, r: &RayF32, p: &[f32x4; 6]) -> u8 {
+    let s = f32x4::splat;
+    let (sphere, away) = cull_test(&Test {
+        c: [b.cx, b.cy, b.cz],
+        r2: b.r2,
+        safe2: b.safe2,
+        cmag: b.cmag,
+        flat: b.flat,
+        ty: b.ty,
+        o: r.o.map(s),
+        d: r.d.map(s),
+        dd: s(r.dd),
+        omag: s(r.omag),
+    });
     let sphere = if GATE {
         // |dᵀFd| at or above the gate (`cull::Secondary`); ungated lanes have a = 0 ≥ −1
         let a = b.f[0] * p[0]
@@ -312,6 +386,59 @@ fn cull_lanes<const GATE: bool>(b: &Block, r: &RayF32, p: &[f32x4; 6]) -> u8 {
         sphere
     };
     (sphere | away).move_mask() as u8
+}
+
+/// Eight f32 rays, one per lane, for [`Spheres::misses`]: a packet's shadow rays.
+pub struct Rays8 {
+    o: [f32x8; 3],
+    d: [f32x8; 3],
+    dd: f32x8,
+    omag: f32x8,
+    /// Lanes whose direction is near unit ([`RayF32::unit`]).
+    unit: f32x8,
+}
+
+impl Rays8 {
+    /// Rays o + t·d, lane by lane: |d|² and |o|₁ formed as [`RayF32::new`] forms them.
+    #[inline(always)]
+    pub fn new(o: [f32x8; 3], d: [f32x8; 3]) -> Self {
+        let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        Rays8 {
+            o,
+            d,
+            dd,
+            omag: o[0].abs() + o[1].abs() + o[2].abs(),
+            unit: dd.cmp_gt(f32x8::splat(0.25)) & dd.cmp_lt(f32x8::splat(4.0)),
+        }
+    }
+}
+
+impl Spheres {
+    /// Lanes of `r` that certainly miss object `k`: the pretest's answer for each ray
+    /// (its [`may_hit`](Self::may_hit) bit clear), with the rays in lanes instead of the
+    /// objects. A gated object is culled only by its side test (a subset of what the
+    /// pretest culls); an object beyond the list, never.
+    #[inline(always)]
+    pub fn misses(&self, k: usize, r: &Rays8) -> f32x8 {
+        let Some(l) = self.lanes.get(k).filter(|_| self.any) else {
+            return f32x8::ZERO;
+        };
+        let s = f32x8::splat;
+        let (sphere, away) = cull_test(&Test {
+            c: l.c.map(s),
+            r2: s(l.r2),
+            safe2: s(l.safe2),
+            cmag: s(l.cmag),
+            flat: s(if l.flat.is_some() { 1.0 } else { 0.0 }),
+            ty: s(l.flat.unwrap_or(0.0)),
+            o: r.o,
+            d: r.d,
+            dd: r.dd,
+            omag: r.omag,
+        });
+        let sphere = if l.amin >= 0.0 { f32x8::ZERO } else { sphere };
+        (sphere | away) & r.unit
+    }
 }
 
 /// The same test on one sphere with branches, as the kernel did it before the lanes: the
@@ -487,6 +614,79 @@ mod tests {
             let last = sph.may_hit(sph.chunks() - 1, &ray);
             let n = bounds.len() - (sph.chunks() - 1) * CHUNK;
             prop_assert_eq!(if n == CHUNK { 0 } else { last >> n }, 0);
+        });
+    }
+
+    /// Eight rays in lanes against one object at a time (`Spheres::misses`): every lane
+    /// it culls the pretest culls too, and for an ungated object it culls exactly those.
+    #[test]
+    fn rays_in_lanes_match_the_pretest() {
+        let coord = prop_oneof![
+            8 => -20.0f32..20.0,
+            1 => Just(f32::NAN),
+            1 => Just(1e30f32),
+        ];
+        let obj = (
+            prop::option::weighted(
+                0.8,
+                (
+                    prop::array::uniform3(-10.0f64..10.0),
+                    0.01f64..5.0,
+                    prop_oneof![4 => 0.5f64..50.0, 2 => Just(0.0)],
+                    prop::option::weighted(0.3, prop::array::uniform6(-2.0f64..2.0)),
+                ),
+            ),
+            prop::option::weighted(0.3, prop_oneof![-3.0f32..3.0, Just(0.0f32)]),
+        );
+        let ray = (
+            prop::array::uniform3(coord),
+            prop_oneof![
+                prop::array::uniform3(-1.5f32..1.5),
+                (prop::array::uniform3(-1.0f32..1.0), 0.85f32..1.15).prop_map(|(v, l)| {
+                    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-9);
+                    v.map(|x| x * l / n)
+                }),
+            ],
+        );
+        let cases = (
+            prop::collection::vec(obj, 1..70),
+            prop::array::uniform8(ray),
+        );
+        proptest!(ProptestConfig::with_cases(400), |((objs, rays) in cases)| {
+            let bounds: Vec<Option<Bound>> = objs
+                .iter()
+                .map(|(b, _)| {
+                    b.map(|(c, r, s, g)| Bound {
+                        secondary: g.map(|e| gate(e, 0.5, 20.0)),
+                        ..bound(c, r, s)
+                    })
+                })
+                .collect();
+            let flats: Vec<Flat> = objs.iter().map(|(_, f)| *f).collect();
+            let sph = Spheres::new(&bounds, &flats);
+            let lane = |i: usize| f32x8::new(core::array::from_fn(|l| rays[l].0[i]));
+            let dir = |i: usize| f32x8::new(core::array::from_fn(|l| rays[l].1[i]));
+            let r8 = Rays8::new([lane(0), lane(1), lane(2)], [dir(0), dir(1), dir(2)]);
+            for (k, b) in bounds.iter().enumerate() {
+                let culled = sph.misses(k, &r8).move_mask();
+                let gated = b.is_some_and(|b| b.safe_distance <= 0.0 && b.secondary.is_some());
+                for (l, (o, d)) in rays.iter().enumerate() {
+                    let one = RayF32 {
+                        o: *o,
+                        d: *d,
+                        dd: d[0] * d[0] + d[1] * d[1] + d[2] * d[2],
+                        omag: o[0].abs() + o[1].abs() + o[2].abs(),
+                    };
+                    let pretest = sph.may_hit(k / CHUNK, &one) >> (k % CHUNK) & 1 == 0;
+                    let lanes = culled >> l & 1 == 1;
+                    prop_assert!(!lanes || pretest, "object {} ray {}: culled, pretest keeps it", k, l);
+                    if !gated {
+                        prop_assert_eq!(lanes, pretest, "object {} ray {}", k, l);
+                    }
+                }
+            }
+            // beyond the list: never culled
+            prop_assert_eq!(sph.misses(bounds.len(), &r8).move_mask(), 0);
         });
     }
 

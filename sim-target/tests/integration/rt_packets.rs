@@ -135,3 +135,76 @@ fn packets_equal_the_scalar_kernel_on_random_scenes() {
         assert_packets_equal(&scene, (45, 26), 1, true, &format!("random scene {n}"));
     }
 }
+
+/// Scenes the packet lanes shade (`rt/packet/shade.rs`): the Lambert scene's
+/// materials, half of them with an ambient term, one or two point lights (sometimes
+/// among the objects), shadows on and off, and random objects of every shape, turned,
+/// stretched and around the camera. A third of the scenes give one material a specular
+/// term, which leaves its lanes to `trace` inside the same packets; every sixth adds a
+/// spot light, which leaves the whole frame to it.
+#[test]
+fn packet_shading_equals_the_scalar_kernel_on_random_scenes() {
+    let base = jobs::scene::parse(
+        include_str!("../../../bench/mitsuba/lambert.toml"),
+        "lambert",
+    )
+    .expect("parses");
+    let reference = jobs::scene::parse(
+        include_str!("../../../examples/reference.toml"),
+        "reference",
+    )
+    .expect("parses");
+    let specular = reference
+        .materials
+        .iter()
+        .find_map(|m| m.specular.clone())
+        .expect("the reference scene has a specular material");
+    let mut rng = Rng(0x5ade);
+    for n in 0..48 {
+        let mut scene = base.clone();
+        scene.ambient = [0.3, 0.25, 0.2];
+        for m in scene.materials.iter_mut().step_by(2) {
+            m.ambient = Some(rt::Term {
+                k: rng.range(0.1, 1.0),
+                color: [rng.next(), rng.next(), rng.next()],
+            });
+        }
+        if n % 3 == 1 {
+            scene.materials[1].specular = Some(specular.clone());
+        }
+        let materials = scene.materials.len();
+        let count = 1 + (rng.next() * 9.0) as usize;
+        scene.objects = (0..count)
+            .map(|k| object(&mut rng, k % materials))
+            .collect();
+        let mut light = scene.lights[0].clone();
+        light.position = [
+            rng.range(-3.0, 3.0),
+            rng.range(-2.0, 4.0),
+            rng.range(-3.0, 3.0),
+        ];
+        if n % 2 == 0 {
+            scene.lights.push(light.clone());
+        }
+        if n % 6 == 5 {
+            let spot = reference
+                .lights
+                .iter()
+                .find(|l| l.spot.is_some())
+                .cloned()
+                .expect("the reference scene has a spot light");
+            scene.lights.push(spot);
+        }
+        scene.shadows = n % 4 != 3;
+        let r = if n % 4 == 0 { 1.5 } else { 9.0 };
+        let (th, ph) = (rng.range(0.0, std::f64::consts::TAU), rng.range(-1.2, 1.2));
+        scene.camera.position = [
+            r * th.cos() * ph.cos(),
+            r * ph.sin(),
+            r * th.sin() * ph.cos(),
+        ];
+        scene.camera.look_at = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0];
+        scene.camera.up = [0.0, 1.0, 0.0];
+        assert_packets_equal(&scene, (45, 26), 1, true, &format!("plain scene {n}"));
+    }
+}

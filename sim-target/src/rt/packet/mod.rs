@@ -6,7 +6,9 @@
 //! time. Eight pixels of one row share their tile's candidate list and the eye, so each
 //! object is tested against all eight directions with branch-free lane-wise arithmetic
 //! (`wide::f32x8`: AVX where the build enables it, two SSE halves otherwise, plain arrays
-//! on other architectures), and only the shading after the hit goes on ray by ray.
+//! on other architectures). Where the hit's material is Lambert's term alone, the
+//! shading and the shadow rays run in lanes too ([`shade`]); every other lane goes on
+//! ray by ray in `trace`.
 //!
 //! Why bit for bit: every lane performs the same IEEE f32 operations in the same order as
 //! the scalar code ([`super::shapes`], `V3::normalize`, `PObj::to_object`), each branch
@@ -27,6 +29,8 @@ use super::shapes::Quadratic;
 use super::{cull, V3};
 use crate::num::SqrtKind;
 use wide::{f32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
+
+mod shade;
 
 /// Rays per packet.
 pub(super) const LANES: usize = 8;
@@ -60,10 +64,17 @@ fn sel(m: M, t: F, f: F) -> F {
     m.blend(t, f)
 }
 
+/// IEEE negation: the sign bit flipped. Why not `-x`: `wide`'s `Neg` is 0 − x, which
+/// gives +0 for +0 and drops a NaN's sign, where f32's `-` gives −0.
+#[inline(always)]
+fn neg(x: F) -> F {
+    x ^ F::splat(-0.0)
+}
+
 /// `composed::abs`: −x where x < 0 (so −0 stays −0, unlike a sign-bit clear).
 #[inline(always)]
 fn abs(x: F) -> F {
-    sel(x.cmp_lt(F::ZERO), -x, x)
+    sel(x.cmp_lt(F::ZERO), neg(x), x)
 }
 
 /// `composed::max`: x where x > o, else o.
@@ -126,9 +137,9 @@ impl P3 {
     #[inline(always)]
     fn cross2(self, o: Self) -> Self {
         P3 {
-            x: self.y * o.z + (-self.z) * o.y,
-            y: self.z * o.x + (-self.x) * o.z,
-            z: self.x * o.y + (-self.y) * o.x,
+            x: self.y * o.z + neg(self.z) * o.y,
+            y: self.z * o.x + neg(self.x) * o.z,
+            z: self.x * o.y + neg(self.y) * o.x,
         }
     }
     /// `V3::normalize` with the exact √: v·(1/√(v·v)), v itself where v·v ≤ 0, and
@@ -177,7 +188,9 @@ type Lanes = (M, F);
 fn clearly_misses(a: F, h: F, c: F) -> M {
     let hh = h * h;
     let ac = a * c;
-    (hh - ac).cmp_lt(-((hh + abs(ac)) * F::splat(1.0 / 256.0) + F::splat(1.0 / 64.0)))
+    (hh - ac).cmp_lt(neg(
+        (hh + abs(ac)) * F::splat(1.0 / 256.0) + F::splat(1.0 / 64.0)
+    ))
 }
 
 /// `shapes::solve_lagrange`: whether there are roots, and both in ascending order.
@@ -186,12 +199,12 @@ fn solve_lagrange(a: F, h: F, c: F, disc: F) -> (M, F, F) {
     let zero = F::ZERO;
     // a = 0: one root −c/2h unless h = 0
     let linear = a.cmp_eq(zero);
-    let tl = -c / (h + h);
+    let tl = neg(c) / (h + h);
     let ok_linear = !h.cmp_eq(zero);
     // a ≠ 0: none when Δ′ < 0 (a NaN Δ′ goes on, as in the scalar code)
     let ok_quad = !disc.cmp_lt(zero);
     let sq = sqrt(disc);
-    let q = sel(h.cmp_lt(zero), sq - h, -(h + sq));
+    let q = sel(h.cmp_lt(zero), sq - h, neg(h + sq));
     let q0 = q.cmp_eq(zero);
     let t1 = sel(q0, zero, q / a);
     let t2 = sel(q0, zero, c / q);
@@ -242,7 +255,7 @@ fn sphere(o: P3, d: P3, c: F, tmin: F, tmax: F) -> Lanes {
 /// `shapes::plane_t`, and the point's x, z at that t.
 #[inline(always)]
 fn plane(o: P3, d: P3, tmin: F, tmax: F) -> (M, F, F, F) {
-    let t = -o.y / d.y;
+    let t = neg(o.y) / d.y;
     let ok = !d.y.cmp_eq(F::ZERO) & in_range(t, tmin, tmax);
     (ok, t, o.x + d.x * t, o.z + d.z * t)
 }
@@ -254,7 +267,7 @@ fn cylinder(o: P3, d: P3, tmin: F, tmax: F) -> Lanes {
     let c = o.x * o.x + o.z * o.z - F::ONE;
     let h = d.x * o.x + d.z * o.z;
     let miss = clearly_misses(a, h, c);
-    let x = d.x * o.z + (-d.z) * o.x;
+    let x = d.x * o.z + neg(d.z) * o.x;
     let (ok, t1, t2) = solve_lagrange(a, h, c, a - x * x);
     let ok = ok & !miss & !a.cmp_eq(F::ZERO);
     pick_in_height(ok, (t1, t2), o, d, tmin, tmax, -1.0)
@@ -269,13 +282,13 @@ fn cone(o: P3, d: P3, tmin: F, tmax: F) -> Lanes {
         y: o.y - F::ONE,
         z: o.z,
     };
-    let h = d.x * p.x + (-d.y) * p.y + d.z * p.z;
-    let c = p.x * p.x + (-p.y) * p.y + p.z * p.z;
+    let h = d.x * p.x + neg(d.y) * p.y + d.z * p.z;
+    let c = p.x * p.x + neg(p.y) * p.y + p.z * p.z;
     let miss = clearly_misses(a, h, c);
-    let xy = d.x * p.y + (-d.y) * p.x;
-    let yz = d.y * p.z + (-d.z) * p.y;
-    let xz = d.x * p.z + (-d.z) * p.x;
-    let (ok, t1, t2) = solve_lagrange(a, h, c, xy * xy + yz * yz + (-xz) * xz);
+    let xy = d.x * p.y + neg(d.y) * p.x;
+    let yz = d.y * p.z + neg(d.z) * p.y;
+    let xz = d.x * p.z + neg(d.z) * p.x;
+    let (ok, t1, t2) = solve_lagrange(a, h, c, xy * xy + yz * yz + neg(xz) * xz);
     pick_in_height(ok & !miss, (t1, t2), o, d, tmin, tmax, 0.0)
 }
 
@@ -290,7 +303,7 @@ fn cube(o: P3, d: P3, tmin: F, tmax: F) -> Lanes {
     for (oa, da) in [(o.x, d.x), (o.y, d.y), (o.z, d.z)] {
         let parallel = da.cmp_eq(F::ZERO);
         ok &= !(parallel & abs(oa).cmp_gt(one));
-        let t0 = (-one - oa) / da;
+        let t0 = (F::splat(-1.0) - oa) / da;
         let t1 = (one - oa) / da;
         let le = t0.cmp_le(t1);
         let (lo, hi) = (sel(le, t0, t1), sel(le, t1, t0));
@@ -378,8 +391,9 @@ impl Prepared<f32> {
         rows_for::<f32, PacketRows>(f)
     }
 
-    /// Row `j` with the primary rays' nearest hits found eight pixels at a time; the
-    /// rest of each ray ([`Prepared::trace`] from its hit) and the pixel's output as the
+    /// Row `j` with the primary rays' nearest hits found eight pixels at a time, the
+    /// lanes that hit a plain material shaded together ([`Self::shade_packet`]), the rest
+    /// of each other ray ([`Prepared::trace`] from its hit) and the pixel's output as the
     /// scalar row does them. A frame these lanes do not repeat (a non-default √ or
     /// quadratic) goes to the scalar row.
     fn row_packets<
@@ -403,6 +417,8 @@ impl Prepared<f32> {
         let vys = f.sample_row_offsets(j);
         let mut out = RowOut::new(f);
         let cw = P3::splat(f.cw);
+        // the object that blocked the lanes' last shadow rays
+        let mut occluder = 0;
         let mut i0 = 0;
         while i0 < f.width {
             let n = (f.width - i0).min(LANES as u32) as usize;
@@ -436,9 +452,18 @@ impl Prepared<f32> {
                 };
                 let d = u.add(P3::splat(vy)).sub(cw).normalize();
                 let hits = closest::<SO>(self, d, eye_objs);
+                let mut shaded =
+                    self.shade_packet::<SH, SO>(d, &hits, n, &mut out.cnt, &mut occluder);
                 let (dx, dy, dz) = (d.x.to_array(), d.y.to_array(), d.z.to_array());
                 let ds: [V3<f32>; LANES] = per_lane(|l| V3::new(dx[l], dy[l], dz[l]));
                 for l in 0..n {
+                    if let Some((c, hit)) = shaded[l].take() {
+                        acc[l] = acc[l] + c;
+                        if s == 0 {
+                            first[l] = Some(Some(hit));
+                        }
+                        continue;
+                    }
                     let dl = ds[l];
                     let primary = Primary {
                         objs: eye_objs,
