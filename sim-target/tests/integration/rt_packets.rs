@@ -140,8 +140,8 @@ fn packets_equal_the_scalar_kernel_on_random_scenes() {
 /// materials, half of them with an ambient term, one or two point lights (sometimes
 /// among the objects), shadows on and off, and random objects of every shape, turned,
 /// stretched and around the camera. A third of the scenes give one material a specular
-/// term, which leaves its lanes to `trace` inside the same packets; every sixth adds a
-/// spot light, which leaves the whole frame to it.
+/// term, which leaves its lanes to `trace` inside the same packets; a third add a spot
+/// light aimed near the objects (its cone's edge across the frame).
 #[test]
 fn packet_shading_equals_the_scalar_kernel_on_random_scenes() {
     let base = jobs::scene::parse(
@@ -186,14 +186,31 @@ fn packet_shading_equals_the_scalar_kernel_on_random_scenes() {
         if n % 2 == 0 {
             scene.lights.push(light.clone());
         }
-        if n % 6 == 5 {
-            let spot = reference
-                .lights
-                .iter()
-                .find(|l| l.spot.is_some())
-                .cloned()
-                .expect("the reference scene has a spot light");
-            scene.lights.push(spot);
+        if n % 3 == 2 {
+            let position = [
+                rng.range(-4.0, 4.0),
+                rng.range(1.0, 5.0),
+                rng.range(-4.0, 4.0),
+            ];
+            let cos_outer = rng.range(0.5, 0.95);
+            scene.lights.push(rt::Light {
+                position,
+                color: [40.0, 35.0, 30.0],
+                spot: Some(rt::Spot {
+                    direction: [
+                        rng.range(-1.0, 1.0) - position[0],
+                        -position[1],
+                        rng.range(-1.0, 1.0) - position[2],
+                    ],
+                    cos_outer,
+                    // a hard edge (inner = outer) now and then
+                    cos_inner: if n % 9 == 2 {
+                        cos_outer
+                    } else {
+                        rng.range(cos_outer, 1.0)
+                    },
+                }),
+            });
         }
         scene.shadows = n % 4 != 3;
         let r = if n % 4 == 0 { 1.5 } else { 9.0 };

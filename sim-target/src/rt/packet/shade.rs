@@ -10,10 +10,10 @@
 //! is the scalar kernel's bit for bit.
 //!
 //! Which lanes: those that hit an object whose material the lanes can shade (diffuse
-//! Lambert, an ambient term, no texture, specular or reflection the kernel would use)
-//! under point lights. Any other lane (a miss, Oren–Nayar, Blinn–Phong, a texture, a
-//! mirror, a spot light anywhere in the scene) goes through `trace` as before; lanes are
-//! independent, so a packet may mix the two.
+//! Lambert, an ambient term, no texture, specular or reflection the kernel would use),
+//! under point and spot lights. Any other lane (a miss, Oren–Nayar, Blinn–Phong, a
+//! texture, a mirror) goes through `trace` as before; lanes are independent, so a packet
+//! may mix the two.
 //!
 //! The shadow test in lanes tests every object (in object order, stopping once every
 //! live lane is blocked), where the scalar test tries only those its pretest keeps. The
@@ -22,7 +22,7 @@
 //! bit, `rt_cull`). The object that blocked the packet's previous shadow lanes goes
 //! first, as the scalar test's last occluder does.
 
-use super::{neg, per_lane, sel, sphere, sqrt, F, LANES, M, P3};
+use super::{max, min, neg, per_lane, sel, sphere, sqrt, F, LANES, M, P3};
 use crate::rt::kernel::{Counts, Hit};
 use crate::rt::prepare::Prepared;
 use crate::rt::pretest::Rays8;
@@ -118,7 +118,7 @@ impl Prepared<f32> {
         occluder: &mut usize,
     ) -> Shaded {
         let mut out: Shaded = Default::default();
-        if self.depth == 0 || self.lights.iter().any(|l| l.spot.is_some()) {
+        if self.depth == 0 {
             return out;
         }
         // the packet's lanes grouped by the object they hit, for the lanes that shade
@@ -185,13 +185,22 @@ impl Prepared<f32> {
             let wi = to_l.scale(inv_dist);
             let ndl = nrm.dot(wi);
             let mut lit = lanes & !dist2.cmp_le(F::ZERO) & !ndl.cmp_le(F::ZERO);
+            // `shade::spot_factor`: clamp((−(l_dir·wi) − cos_outer)·inv_width, 0, 1)
+            let scf = match &light.spot {
+                None => F::ONE,
+                Some((dir, cos_o, inv_w)) => {
+                    let c = neg(P3::splat(*dir).dot(wi));
+                    let x = (c - F::splat(*cos_o)) * F::splat(*inv_w);
+                    min(max(x, F::ZERO), F::ONE)
+                }
+            };
+            lit &= !scf.cmp_le(F::ZERO);
             if SH && self.shadows {
                 cnt.shadow += u64::from(bits(lit).count_ones());
                 let dist = dist2 * inv_dist;
                 lit &= !self.occluded_lanes::<SO>(p_off, wi, dist, lit, occluder);
             }
-            // scf = 1 without a spot
-            let g = ndl / dist2 * F::ONE;
+            let g = ndl / dist2 * scf;
             let c = P3::splat(light.color);
             let term = P3 {
                 x: brdf.x * c.x,
