@@ -31,7 +31,8 @@ pub(super) struct PObj<S> {
     pub(super) eye_c: S,
     pub(super) material: usize,
     /// Its material's shading when that is Lambert's term alone ([`Plain`]): what f32's
-    /// packet lanes shade without reading the material.
+    /// packet lanes shade without reading the material. None until
+    /// [`Prepared::find_plain`].
     pub(super) plain: Option<Plain<S>>,
 }
 
@@ -101,6 +102,20 @@ pub(super) struct PMat<S> {
     pub(super) tex: Option<(TexSlot<S>, V3<S>)>,
 }
 
+impl<S: Scalar> Prepared<S> {
+    /// Marks the objects whose material is [`Plain`], with its constants. Only for a
+    /// kernel that shades in lanes: the constants are products in the format, which a
+    /// counting wrapper would count and a fixed format could clip.
+    pub(super) fn find_plain(&mut self) {
+        for ob in &mut self.objs {
+            ob.plain = self
+                .mats
+                .get(ob.material)
+                .and_then(|m| m.plain(self.depth, self.ambient));
+        }
+    }
+}
+
 /// A scene compiled for format `S`: what the kernel reads, converted once per frame.
 pub(super) struct Prepared<S> {
     pub(super) objs: Vec<PObj<S>>,
@@ -134,7 +149,7 @@ pub(super) fn prepare<S: Scalar>(
     cull: bool,
 ) -> Prepared<S> {
     let eye = V3::<S>::from_f64(scene.camera.position);
-    let mut objs: Vec<PObj<S>> = scene
+    let objs: Vec<PObj<S>> = scene
         .objects
         .iter()
         .map(|o| {
@@ -240,9 +255,6 @@ pub(super) fn prepare<S: Scalar>(
         Kernel::General => scene.depth,
     };
     let ambient = V3::from_f64(scene.ambient);
-    for ob in &mut objs {
-        ob.plain = mats.get(ob.material).and_then(|m| m.plain(depth, ambient));
-    }
     // the flat objects' side test (`pretest::Flat`): only where culling is on (the planned
     // kernel with `RenderOptions::cull`; a count of every operation turns it off), for
     // formats that declare their rounding (all do; the instrumented wrappers declare their

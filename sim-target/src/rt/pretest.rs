@@ -548,18 +548,16 @@ mod tests {
         }
     }
 
-    /// The lanes answer exactly what the scalar test answers, for any mix of bounded and
-    /// unbounded objects, with and without gates (more than one block and more than one
-    /// mask word included), NaN and huge origins, degenerate directions.
-    #[test]
-    fn lanes_match_the_scalar_test() {
-        let coord = prop_oneof![
-            8 => -20.0f64..20.0,
-            1 => Just(f64::NAN),
-            1 => Just(1e30f64),
-            1 => Just(-3e38f64),
-        ];
-        let obj = (
+    /// A bound's test object: maybe a sphere (centre, radius, safe distance, maybe a
+    /// gate: form entries, threshold, safe distance), maybe a flat object's height.
+    type Obj = (
+        Option<([f64; 3], f64, f64, Option<([f64; 6], f64, f64)>)>,
+        Option<f32>,
+    );
+
+    /// Bounded and unbounded objects, gated and not, flat and not.
+    fn object() -> impl Strategy<Value = Obj> {
+        (
             prop::option::weighted(
                 0.8,
                 (
@@ -579,31 +577,59 @@ mod tests {
                 ),
             ),
             prop::option::weighted(0.3, prop_oneof![-3.0f32..3.0, Just(0.0f32)]),
-        );
+        )
+    }
+
+    /// Any direction, or a near-unit one (where the gates apply, and their window's
+    /// edges).
+    fn direction() -> impl Strategy<Value = [f64; 3]> {
+        prop_oneof![
+            prop::array::uniform3(-1.5f64..1.5),
+            (prop::array::uniform3(-1.0f64..1.0), 0.85f64..1.15).prop_map(|(v, l)| {
+                let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-9);
+                v.map(|x| x * l / n)
+            }),
+        ]
+    }
+
+    /// Origin coordinates: ordinary, NaN, huge.
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            8 => -20.0f64..20.0,
+            1 => Just(f64::NAN),
+            1 => Just(1e30f64),
+            1 => Just(-3e38f64),
+        ]
+    }
+
+    /// The objects' spheres as the pretest holds them.
+    fn spheres(objs: &[Obj]) -> (Vec<Option<Bound>>, Vec<Flat>, Spheres) {
+        let bounds: Vec<Option<Bound>> = objs
+            .iter()
+            .map(|(b, _)| {
+                b.map(|(c, r, s, g)| Bound {
+                    secondary: g.map(|(e, a, gs)| gate(e, a, gs)),
+                    ..bound(c, r, s)
+                })
+            })
+            .collect();
+        let flats: Vec<Flat> = objs.iter().map(|(_, f)| *f).collect();
+        let sph = Spheres::new(&bounds, &flats);
+        (bounds, flats, sph)
+    }
+
+    /// The lanes answer exactly what the scalar test answers, for any mix of bounded and
+    /// unbounded objects, with and without gates (more than one block and more than one
+    /// mask word included), NaN and huge origins, degenerate directions.
+    #[test]
+    fn lanes_match_the_scalar_test() {
         let cases = (
-            prop::collection::vec(obj, 1..140),
-            prop::array::uniform3(coord),
-            prop_oneof![
-                prop::array::uniform3(-1.5f64..1.5),
-                // near-unit directions, where the gates apply (and their window's edges)
-                (prop::array::uniform3(-1.0f64..1.0), 0.85f64..1.15).prop_map(|(v, l)| {
-                    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-9);
-                    v.map(|x| x * l / n)
-                }),
-            ],
+            prop::collection::vec(object(), 1..140),
+            prop::array::uniform3(coordinate()),
+            direction(),
         );
         proptest!(ProptestConfig::with_cases(600), |((objs, o, d) in cases)| {
-            let bounds: Vec<Option<Bound>> = objs
-                .iter()
-                .map(|(b, _)| {
-                    b.map(|(c, r, s, g)| Bound {
-                        secondary: g.map(|(e, a, gs)| gate(e, a, gs)),
-                        ..bound(c, r, s)
-                    })
-                })
-                .collect();
-            let flats: Vec<Flat> = objs.iter().map(|(_, f)| *f).collect();
-            let sph = Spheres::new(&bounds, &flats);
+            let (bounds, flats, sph) = spheres(&objs);
             let ray = RayF32::new(V3::new(o[0], o[1], o[2]), V3::new(d[0], d[1], d[2]));
             for (k, b) in bounds.iter().enumerate() {
                 let mask = sph.may_hit(k / CHUNK, &ray);
@@ -621,63 +647,26 @@ mod tests {
     /// it culls the pretest culls too, and for an ungated object it culls exactly those.
     #[test]
     fn rays_in_lanes_match_the_pretest() {
-        let coord = prop_oneof![
-            8 => -20.0f32..20.0,
-            1 => Just(f32::NAN),
-            1 => Just(1e30f32),
-        ];
-        let obj = (
-            prop::option::weighted(
-                0.8,
-                (
-                    prop::array::uniform3(-10.0f64..10.0),
-                    0.01f64..5.0,
-                    prop_oneof![4 => 0.5f64..50.0, 2 => Just(0.0)],
-                    prop::option::weighted(0.3, prop::array::uniform6(-2.0f64..2.0)),
-                ),
-            ),
-            prop::option::weighted(0.3, prop_oneof![-3.0f32..3.0, Just(0.0f32)]),
-        );
-        let ray = (
-            prop::array::uniform3(coord),
-            prop_oneof![
-                prop::array::uniform3(-1.5f32..1.5),
-                (prop::array::uniform3(-1.0f32..1.0), 0.85f32..1.15).prop_map(|(v, l)| {
-                    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-9);
-                    v.map(|x| x * l / n)
-                }),
-            ],
-        );
+        let ray = (prop::array::uniform3(coordinate()), direction());
         let cases = (
-            prop::collection::vec(obj, 1..70),
+            prop::collection::vec(object(), 1..70),
             prop::array::uniform8(ray),
         );
         proptest!(ProptestConfig::with_cases(400), |((objs, rays) in cases)| {
-            let bounds: Vec<Option<Bound>> = objs
-                .iter()
-                .map(|(b, _)| {
-                    b.map(|(c, r, s, g)| Bound {
-                        secondary: g.map(|e| gate(e, 0.5, 20.0)),
-                        ..bound(c, r, s)
-                    })
-                })
-                .collect();
-            let flats: Vec<Flat> = objs.iter().map(|(_, f)| *f).collect();
-            let sph = Spheres::new(&bounds, &flats);
-            let lane = |i: usize| f32x8::new(core::array::from_fn(|l| rays[l].0[i]));
-            let dir = |i: usize| f32x8::new(core::array::from_fn(|l| rays[l].1[i]));
-            let r8 = Rays8::new([lane(0), lane(1), lane(2)], [dir(0), dir(1), dir(2)]);
+            let (bounds, _, sph) = spheres(&objs);
+            let rays = rays.map(|(o, d)| {
+                RayF32::new(V3::new(o[0], o[1], o[2]), V3::new(d[0], d[1], d[2]))
+            });
+            let lane = |f: &dyn Fn(&RayF32) -> f32| f32x8::new(core::array::from_fn(|l| f(&rays[l])));
+            let r8 = Rays8::new(
+                [lane(&|r| r.o[0]), lane(&|r| r.o[1]), lane(&|r| r.o[2])],
+                [lane(&|r| r.d[0]), lane(&|r| r.d[1]), lane(&|r| r.d[2])],
+            );
             for (k, b) in bounds.iter().enumerate() {
                 let culled = sph.misses(k, &r8).move_mask();
                 let gated = b.is_some_and(|b| b.safe_distance <= 0.0 && b.secondary.is_some());
-                for (l, (o, d)) in rays.iter().enumerate() {
-                    let one = RayF32 {
-                        o: *o,
-                        d: *d,
-                        dd: d[0] * d[0] + d[1] * d[1] + d[2] * d[2],
-                        omag: o[0].abs() + o[1].abs() + o[2].abs(),
-                    };
-                    let pretest = sph.may_hit(k / CHUNK, &one) >> (k % CHUNK) & 1 == 0;
+                for (l, one) in rays.iter().enumerate() {
+                    let pretest = sph.may_hit(k / CHUNK, one) >> (k % CHUNK) & 1 == 0;
                     let lanes = culled >> l & 1 == 1;
                     prop_assert!(!lanes || pretest, "object {} ray {}: culled, pretest keeps it", k, l);
                     if !gated {

@@ -264,6 +264,10 @@ struct Build<S: Scalar> {
     /// Rows on rayon's pool; `false`: on the calling thread, so that a wrapper type's
     /// thread-local counters see every operation of the frame and nothing else.
     parallel: bool,
+    /// The kernel shades plain materials in packet lanes ([`Prepared::find_plain`]):
+    /// only f32's packets, so that no other format or wrapper counts the set-up's
+    /// products or clips.
+    lanes: bool,
 }
 
 impl<S: Scalar> Build<S> {
@@ -272,6 +276,7 @@ impl<S: Scalar> Build<S> {
         Self {
             kernel: Prepared::<S>::kernel,
             parallel: true,
+            lanes: false,
         }
     }
 
@@ -284,6 +289,7 @@ impl<S: Scalar> Build<S> {
         Self {
             kernel: Prepared::<S>::compact_kernel,
             parallel: true,
+            lanes: false,
         }
     }
 
@@ -292,6 +298,7 @@ impl<S: Scalar> Build<S> {
         Self {
             kernel: Prepared::<S>::compact_kernel,
             parallel: false,
+            lanes: false,
         }
     }
 }
@@ -306,6 +313,7 @@ impl Build<f32> {
                 Kernel::Scalar | Kernel::General => Prepared::<f32>::kernel,
             },
             parallel: true,
+            lanes: kernel == Kernel::Planned,
         }
     }
 }
@@ -349,7 +357,7 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
         vec![None; scene.objects.len()]
     };
     let cull = opts.cull && opts.kernel != Kernel::General;
-    let prep = prepare::<S>(
+    let mut prep = prepare::<S>(
         scene,
         plan,
         opts.math,
@@ -358,6 +366,9 @@ fn render_generic<S: Scalar>(job: Job<'_>, build: Build<S>) -> Rendered {
         &bounds,
         cull,
     );
+    if build.lanes {
+        prep.find_plain();
+    }
     let features = match opts.kernel {
         Kernel::Planned | Kernel::Scalar => plan.features(),
         Kernel::General => Features::ALL,

@@ -107,6 +107,20 @@ fn object(rng: &mut Rng, material: usize) -> rt::Object {
     }
 }
 
+/// A camera on a sphere about the origin, looking near it: every fourth (`n`) among the
+/// objects (inside some of them), the others outside.
+fn place_camera(scene: &mut Scene, rng: &mut Rng, n: usize) {
+    let r = if n.is_multiple_of(4) { 1.5 } else { 9.0 };
+    let (th, ph) = (rng.range(0.0, std::f64::consts::TAU), rng.range(-1.2, 1.2));
+    scene.camera.position = [
+        r * th.cos() * ph.cos(),
+        r * ph.sin(),
+        r * th.sin() * ph.cos(),
+    ];
+    scene.camera.look_at = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0];
+    scene.camera.up = [0.0, 1.0, 0.0];
+}
+
 #[test]
 fn packets_equal_the_scalar_kernel_on_random_scenes() {
     let base = jobs::scene::parse(
@@ -122,16 +136,7 @@ fn packets_equal_the_scalar_kernel_on_random_scenes() {
         scene.objects = (0..count)
             .map(|k| object(&mut rng, k % materials))
             .collect();
-        // every fourth camera sits among the objects (inside some of them)
-        let r = if n % 4 == 0 { 1.5 } else { 9.0 };
-        let (th, ph) = (rng.range(0.0, std::f64::consts::TAU), rng.range(-1.2, 1.2));
-        scene.camera.position = [
-            r * th.cos() * ph.cos(),
-            r * ph.sin(),
-            r * th.sin() * ph.cos(),
-        ];
-        scene.camera.look_at = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0];
-        scene.camera.up = [0.0, 1.0, 0.0];
+        place_camera(&mut scene, &mut rng, n);
         assert_packets_equal(&scene, (45, 26), 1, true, &format!("random scene {n}"));
     }
 }
@@ -141,7 +146,8 @@ fn packets_equal_the_scalar_kernel_on_random_scenes() {
 /// among the objects), shadows on and off, and random objects of every shape, turned,
 /// stretched and around the camera. A third of the scenes give one material a specular
 /// term, which leaves its lanes to `trace` inside the same packets; a third add a spot
-/// light aimed near the objects (its cone's edge across the frame).
+/// light aimed near the objects (its cone's edge across the frame). Some also at four
+/// samples per pixel and some unculled.
 #[test]
 fn packet_shading_equals_the_scalar_kernel_on_random_scenes() {
     let base = jobs::scene::parse(
@@ -213,15 +219,12 @@ fn packet_shading_equals_the_scalar_kernel_on_random_scenes() {
             });
         }
         scene.shadows = n % 4 != 3;
-        let r = if n % 4 == 0 { 1.5 } else { 9.0 };
-        let (th, ph) = (rng.range(0.0, std::f64::consts::TAU), rng.range(-1.2, 1.2));
-        scene.camera.position = [
-            r * th.cos() * ph.cos(),
-            r * ph.sin(),
-            r * th.sin() * ph.cos(),
-        ];
-        scene.camera.look_at = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0];
-        scene.camera.up = [0.0, 1.0, 0.0];
+        place_camera(&mut scene, &mut rng, n);
         assert_packets_equal(&scene, (45, 26), 1, true, &format!("plain scene {n}"));
+        match n % 6 {
+            0 => assert_packets_equal(&scene, (37, 20), 4, true, &format!("plain {n} spp 4")),
+            3 => assert_packets_equal(&scene, (40, 22), 1, false, &format!("plain {n} unculled")),
+            _ => {}
+        }
     }
 }

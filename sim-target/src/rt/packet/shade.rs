@@ -15,12 +15,15 @@
 //! texture, a mirror) goes through `trace` as before; lanes are independent, so a packet
 //! may mix the two.
 //!
-//! The shadow test in lanes tests every object (in object order, stopping once every
-//! live lane is blocked), where the scalar test tries only those its pretest keeps. The
-//! answer is the same: an occlusion test is an any(), and the pretest drops only objects
-//! the exact test would have missed (the planned kernel equals the general one bit for
-//! bit, `rt_cull`). The object that blocked the packet's previous shadow lanes goes
-//! first, as the scalar test's last occluder does.
+//! The shadow test in lanes tests the objects one at a time against the packet's open
+//! lanes, starting with the object that blocked the packet's previous shadow lanes and
+//! stopping once every lane is blocked. An object is skipped only where every open
+//! lane's ray fails its pretest (`pretest::Spheres::misses`, the same arithmetic as the
+//! scalar pretest with the rays in lanes); otherwise its intersector runs for all eight.
+//! So a lane may be tested against an object its own pretest dropped. The answer is the
+//! same: an occlusion test is an any(), and the pretest drops only objects the exact
+//! test would have missed (the planned kernel equals the general one bit for bit,
+//! `rt_cull`).
 
 use super::{max, min, neg, per_lane, sel, sphere, sqrt, F, LANES, M, P3};
 use crate::rt::kernel::{Counts, Hit};
