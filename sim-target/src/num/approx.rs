@@ -544,9 +544,17 @@ pub const MAX_POW_EXPONENT: u32 = 1023;
 /// shifted back) and the squaring after the top bit, whose result is unused.
 #[inline]
 pub fn powi<S: Scalar>(x: S, e: u32) -> S {
+    powi_with(x, e, S::one())
+}
+
+/// [`powi`]'s products for any type with a product, `one` being what e = 0 gives: the
+/// one loop behind the scalar formats and f32's packet lanes (`wide::f32x8`), so that
+/// both perform the same multiplications in the same order.
+#[inline(always)]
+pub fn powi_with<T: Copy + core::ops::Mul<Output = T>>(x: T, e: u32, one: T) -> T {
     let mut e = e.min(MAX_POW_EXPONENT);
     if e == 0 {
-        return S::one();
+        return one;
     }
     let mut base = x;
     while e & 1 == 0 {

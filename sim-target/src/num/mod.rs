@@ -148,8 +148,8 @@ pub mod instrumented;
 pub(crate) mod saturation;
 
 pub use approx::{
-    acos, acos_table, atan, atan2, div_lut_nr, div_nr, powi, pre_d, pre_d_lut, pre_s, pre_s_lut,
-    pre_s_seamless, rsqrt, rsqrt_nr, sqrt, AcosKind, AtanKind, SqrtKind, ACOS_BINADES,
+    acos, acos_table, atan, atan2, div_lut_nr, div_nr, powi, powi_with, pre_d, pre_d_lut, pre_s,
+    pre_s_lut, pre_s_seamless, rsqrt, rsqrt_nr, sqrt, AcosKind, AtanKind, SqrtKind, ACOS_BINADES,
     ACOS_SEGMENTS, MAX_POW_EXPONENT, RECIP_LUT_ENTRIES,
 };
 pub use formats::{Q16_16, Q24_8, Q32_32, Q8_24};

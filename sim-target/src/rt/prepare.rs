@@ -36,15 +36,17 @@ pub(super) struct PObj<S> {
     pub(super) plain: Option<Plain<S>>,
 }
 
-/// A material whose shading at one level is an ambient term plus Lambert's term per
-/// light (no texture, specular term or reflection that would be traced), with both
-/// constants formed as `Prepared::trace` forms them.
+/// A material whose shading at one level is an ambient term plus, per light, Lambert's
+/// term and maybe Blinn–Phong's (no texture, Oren–Nayar, Torrance–Sparrow or reflection
+/// that would be traced), with its constants formed as `Prepared::trace` forms them.
 #[derive(Clone, Copy)]
 pub(super) struct Plain<S> {
     /// k_a·(c_a ⊙ the scene's ambient), or zero.
     pub(super) ambient: V3<S>,
     /// (c_d·k_d)·(1/π): the BRDF times the diffuse colour.
     pub(super) brdf: V3<S>,
+    /// Blinn–Phong's k_s·c_s and constants, if the material has that highlight.
+    pub(super) spec: Option<(V3<S>, SpecParams<S>)>,
 }
 
 impl<S: Scalar> PMat<S> {
@@ -52,7 +54,8 @@ impl<S: Scalar> PMat<S> {
     fn plain(&self, depth: u32, ambient: V3<S>) -> Option<Plain<S>> {
         // one level: whatever the material reflects is never traced
         let reflects = depth > 1 && !matches!(self.refl, PRefl::None);
-        if self.oren_nayar || self.tex.is_some() || self.spec.is_some() || reflects {
+        let torrance_sparrow = matches!(self.spec, Some((_, true, _)));
+        if self.oren_nayar || self.tex.is_some() || torrance_sparrow || reflects {
             return None;
         }
         // `trace`'s n, wi, wo do not enter Lambert's term
@@ -66,6 +69,7 @@ impl<S: Scalar> PMat<S> {
                 .cd
                 .scale(self.kd)
                 .scale(super::shade::lambert(z, z, z, &self.dparams)),
+            spec: self.spec.map(|(kc, _, p)| (kc, p)),
         })
     }
 }

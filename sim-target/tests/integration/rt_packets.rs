@@ -144,10 +144,11 @@ fn packets_equal_the_scalar_kernel_on_random_scenes() {
 /// Scenes the packet lanes shade (`rt/packet/shade.rs`): the Lambert scene's
 /// materials, half of them with an ambient term, one or two point lights (sometimes
 /// among the objects), shadows on and off, and random objects of every shape, turned,
-/// stretched and around the camera. A third of the scenes give one material a specular
-/// term, which leaves its lanes to `trace` inside the same packets; a third add a spot
-/// light aimed near the objects (its cone's edge across the frame). Some also at four
-/// samples per pixel and some unculled.
+/// stretched and around the camera. Half the materials have a Blinn–Phong highlight of
+/// any exponent (0, 1, even, odd, the largest); a third of the scenes give one material
+/// a Torrance–Sparrow term instead, which leaves its lanes to `trace` inside the same
+/// packets; a third add a spot light aimed near the objects (its cone's edge across the
+/// frame). Some also at four samples per pixel and some unculled.
 #[test]
 fn packet_shading_equals_the_scalar_kernel_on_random_scenes() {
     let base = jobs::scene::parse(
@@ -160,11 +161,12 @@ fn packet_shading_equals_the_scalar_kernel_on_random_scenes() {
         "reference",
     )
     .expect("parses");
-    let specular = reference
+    let torrance_sparrow = reference
         .materials
         .iter()
-        .find_map(|m| m.specular.clone())
-        .expect("the reference scene has a specular material");
+        .filter_map(|m| m.specular.clone())
+        .find(|s| matches!(s.model, rt::SpecularModel::TorranceSparrow { .. }))
+        .expect("the reference scene has a Torrance–Sparrow material");
     let mut rng = Rng(0x5ade);
     for n in 0..48 {
         let mut scene = base.clone();
@@ -175,8 +177,19 @@ fn packet_shading_equals_the_scalar_kernel_on_random_scenes() {
                 color: [rng.next(), rng.next(), rng.next()],
             });
         }
+        // Blinn–Phong highlights (shaded in lanes) of every kind of exponent, and now
+        // and then a Torrance–Sparrow one (left to `trace`)
+        for m in scene.materials.iter_mut().skip(1).step_by(2) {
+            let exponent = [0, 1, 2, 7, 64, 255, 1023][(rng.next() * 7.0) as usize % 7];
+            m.specular = Some(rt::Specular {
+                k: rng.range(0.1, 1.0),
+                color: [rng.next(), rng.next(), rng.next()],
+                model: rt::SpecularModel::BlinnPhong,
+                exponent,
+            });
+        }
         if n % 3 == 1 {
-            scene.materials[1].specular = Some(specular.clone());
+            scene.materials[2].specular = Some(torrance_sparrow.clone());
         }
         let materials = scene.materials.len();
         let count = 1 + (rng.next() * 9.0) as usize;

@@ -453,7 +453,7 @@ impl Prepared<f32> {
                 let d = u.add(P3::splat(vy)).sub(cw).normalize();
                 let hits = closest::<SO>(self, d, eye_objs);
                 let mut shaded =
-                    self.shade_packet::<SH, SO>(d, &hits, n, &mut out.cnt, &mut occluder);
+                    self.shade_packet::<SH, SP, SO>(d, &hits, n, &mut out.cnt, &mut occluder);
                 let (dx, dy, dz) = (d.x.to_array(), d.y.to_array(), d.z.to_array());
                 let ds: [V3<f32>; LANES] = per_lane(|l| V3::new(dx[l], dy[l], dz[l]));
                 for l in 0..n {

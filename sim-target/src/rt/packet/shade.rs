@@ -10,10 +10,10 @@
 //! is the scalar kernel's bit for bit.
 //!
 //! Which lanes: those that hit an object whose material the lanes can shade (diffuse
-//! Lambert, an ambient term, no texture, specular or reflection the kernel would use),
-//! under point and spot lights. Any other lane (a miss, Oren–Nayar, Blinn–Phong, a
-//! texture, a mirror) goes through `trace` as before; lanes are independent, so a packet
-//! may mix the two.
+//! Lambert, maybe an ambient term and a Blinn–Phong highlight; no texture,
+//! Torrance–Sparrow term or reflection the kernel would use), under point and spot
+//! lights. Any other lane (a miss, Oren–Nayar, Torrance–Sparrow, a texture, a mirror)
+//! goes through `trace` as before; lanes are independent, so a packet may mix the two.
 //!
 //! The shadow test in lanes tests the objects one at a time against the packet's open
 //! lanes, starting with the object that blocked the packet's previous shadow lanes and
@@ -26,16 +26,21 @@
 //! `rt_cull`).
 
 use super::{max, min, neg, per_lane, sel, sphere, sqrt, F, LANES, M, P3};
+use crate::num::powi_with;
 use crate::rt::kernel::{Counts, Hit};
 use crate::rt::prepare::Prepared;
 use crate::rt::pretest::Rays8;
 use crate::rt::scene::Shape;
+use crate::rt::shade::SpecParams;
 use crate::rt::V3;
 use wide::{CmpGe, CmpGt, CmpLe, CmpLt};
 
 /// What the lanes made of one ray from the eye: its radiance and first hit (None: the
 /// lane is left to `trace`).
 pub(super) type Shaded = [Option<(V3<f32>, Hit<f32>)>; LANES];
+
+/// The packet's Blinn–Phong groups: lanes, k_s·c_s and the highlight's constants.
+type Highlights = [Option<(M, V3<f32>, SpecParams<f32>)>; LANES];
 
 /// A lane mask from bits (lane l true where bit l is set).
 #[inline(always)]
@@ -112,7 +117,7 @@ impl Prepared<f32> {
     /// search found them, the first `n` lanes inside the frame) where the lanes can, as
     /// `trace` would from those hits: radiance, first hit, and the ray counts in `cnt`.
     #[inline(always)]
-    pub(super) fn shade_packet<const SH: bool, const SO: bool>(
+    pub(super) fn shade_packet<const SH: bool, const SP: bool, const SO: bool>(
         &self,
         d: P3,
         hits: &[Option<(f32, usize)>; LANES],
@@ -151,11 +156,17 @@ impl Prepared<f32> {
         // per object: the shading normal (before the side flip), the ambient term and
         // the Lambert BRDF times k_d·c_d (both constant over the material)
         let (mut nrm, mut ambient, mut brdf) = (zero3, zero3, zero3);
-        for &(k, lanes) in &groups[..ngroups] {
+        // the groups with a Blinn–Phong highlight (only where the kernel has specular
+        // terms: without, `trace` ignores them)
+        let mut specs: Highlights = [None; LANES];
+        for (&(k, lanes), spec) in groups[..ngroups].iter().zip(&mut specs) {
             let m = mask(lanes);
             let Some((ob, plain)) = self.objs.get(k).and_then(|ob| Some((ob, ob.plain?))) else {
                 continue;
             };
+            if SP {
+                *spec = plain.spec.map(|(kc, p)| (m, kc, p));
+            }
             let ld = d.to_object(ob);
             let lp = P3::splat(ob.eye).add(ld.scale(t));
             let on = if SO { lp } else { normal(ob.shape, lp) };
@@ -204,11 +215,12 @@ impl Prepared<f32> {
                 lit &= !self.occluded_lanes::<SO>(p_off, wi, dist, lit, occluder);
             }
             let g = ndl / dist2 * scf;
+            let b = self.highlights(brdf, &specs, nrm, wi, d);
             let c = P3::splat(light.color);
             let term = P3 {
-                x: brdf.x * c.x,
-                y: brdf.y * c.y,
-                z: brdf.z * c.z,
+                x: b.x * c.x,
+                y: b.y * c.y,
+                z: b.z * c.z,
             }
             .scale(g);
             lk = blend(lit, lk.add(term), lk);
@@ -226,6 +238,37 @@ impl Prepared<f32> {
         }
         cnt.primary += u64::from(live.count_ones());
         out
+    }
+
+    /// The lanes' BRDF times colour for one light: Lambert's `brdf`, plus k_s·c_s times
+    /// `shade::blinn_phong` (h = (wi + wo)/|wi + wo|, wo = −d, (e + 2)/(2π)·max(n·h, 0)^e)
+    /// in the lanes of each group in `specs`, as `trace` adds it.
+    #[inline(always)]
+    fn highlights(
+        &self,
+        brdf: P3,
+        specs: &Highlights,
+        n: P3,
+        wi: P3,
+        d: P3,
+    ) -> P3 {
+        if specs.iter().all(Option::is_none) {
+            return brdf;
+        }
+        let wo = P3 {
+            x: neg(d.x),
+            y: neg(d.y),
+            z: neg(d.z),
+        };
+        let h = wi.add(wo).normalize();
+        let nh = max(n.dot(h), F::ZERO);
+        let mut b = brdf;
+        for (m, kc, p) in specs.iter().flatten() {
+            let fs = F::splat(p.norm) * powi_with(nh, p.e, F::ONE);
+            let with = brdf.add(P3::splat(*kc).scale(fs));
+            b = blend(*m, with, b);
+        }
+        b
     }
 
     /// Which of the `lanes` rays o + t·d, t ∈ [bias, tmax], hit some object: the scalar
