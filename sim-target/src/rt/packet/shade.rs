@@ -112,6 +112,30 @@ fn blend(m: M, t: P3, f: P3) -> P3 {
     }
 }
 
+/// The lanes' BRDF times colour for one light: Lambert's `brdf`, plus k_s·c_s times
+/// `shade::blinn_phong` (h = (wi + wo)/|wi + wo|, wo = −d, (e + 2)/(2π)·max(n·h, 0)^e)
+/// in the lanes of each group in `specs`, as `trace` adds it.
+#[inline(always)]
+fn highlights(brdf: P3, specs: &Highlights, n: P3, wi: P3, d: P3) -> P3 {
+    if specs.iter().all(Option::is_none) {
+        return brdf;
+    }
+    let wo = P3 {
+        x: neg(d.x),
+        y: neg(d.y),
+        z: neg(d.z),
+    };
+    let h = wi.add(wo).normalize();
+    let nh = max(n.dot(h), F::ZERO);
+    let mut b = brdf;
+    for (m, kc, p) in specs.iter().flatten() {
+        let fs = F::splat(p.norm) * powi_with(nh, p.e, F::ONE);
+        let with = brdf.add(P3::splat(*kc).scale(fs));
+        b = blend(*m, with, b);
+    }
+    b
+}
+
 impl Prepared<f32> {
     /// Shades the packet's rays from the eye (directions `d`, nearest hits `hits` as the
     /// search found them, the first `n` lanes inside the frame) where the lanes can, as
@@ -215,7 +239,7 @@ impl Prepared<f32> {
                 lit &= !self.occluded_lanes::<SO>(p_off, wi, dist, lit, occluder);
             }
             let g = ndl / dist2 * scf;
-            let b = self.highlights(brdf, &specs, nrm, wi, d);
+            let b = highlights(brdf, &specs, nrm, wi, d);
             let c = P3::splat(light.color);
             let term = P3 {
                 x: b.x * c.x,
@@ -238,37 +262,6 @@ impl Prepared<f32> {
         }
         cnt.primary += u64::from(live.count_ones());
         out
-    }
-
-    /// The lanes' BRDF times colour for one light: Lambert's `brdf`, plus k_s·c_s times
-    /// `shade::blinn_phong` (h = (wi + wo)/|wi + wo|, wo = −d, (e + 2)/(2π)·max(n·h, 0)^e)
-    /// in the lanes of each group in `specs`, as `trace` adds it.
-    #[inline(always)]
-    fn highlights(
-        &self,
-        brdf: P3,
-        specs: &Highlights,
-        n: P3,
-        wi: P3,
-        d: P3,
-    ) -> P3 {
-        if specs.iter().all(Option::is_none) {
-            return brdf;
-        }
-        let wo = P3 {
-            x: neg(d.x),
-            y: neg(d.y),
-            z: neg(d.z),
-        };
-        let h = wi.add(wo).normalize();
-        let nh = max(n.dot(h), F::ZERO);
-        let mut b = brdf;
-        for (m, kc, p) in specs.iter().flatten() {
-            let fs = F::splat(p.norm) * powi_with(nh, p.e, F::ONE);
-            let with = brdf.add(P3::splat(*kc).scale(fs));
-            b = blend(*m, with, b);
-        }
-        b
     }
 
     /// Which of the `lanes` rays o + t·d, t ∈ [bias, tmax], hit some object: the scalar
