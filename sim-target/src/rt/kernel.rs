@@ -647,21 +647,7 @@ impl<S: Scalar> RowOut<S> {
     /// (None: the pixel had no first sample): mean, tone map, ⌊255·c⌋, and the AOVs.
     #[inline(always)]
     pub(super) fn pixel(&mut self, f: &FrameCtx<S>, acc: V3<S>, first: Option<Option<Hit<S>>>) {
-        if let (true, Some(hit)) = (f.aovs, first) {
-            match hit {
-                Some(h) => {
-                    self.depth.push(h.t.to_f64() as f32);
-                    self.normal.extend(h.n.to_f64().map(|v| v as f32));
-                    self.object
-                        .push(u16::try_from(h.obj).unwrap_or(super::NO_OBJECT));
-                }
-                None => {
-                    self.depth.push(f32::INFINITY);
-                    self.normal.extend([0.0f32; 3]);
-                    self.object.push(super::NO_OBJECT);
-                }
-            }
-        }
+        self.aovs(f, first);
         let c = if f.spp == 1 {
             acc
         } else {
@@ -682,6 +668,33 @@ impl<S: Scalar> RowOut<S> {
         // floor; cheaper than the format's floor and the same bits
         let q = |v: S| (v.clamp(S::zero(), S::one()) * S::from_f64(255.0)).to_f64() as u8;
         self.rgb.extend([q(c.x), q(c.y), q(c.z)]);
+    }
+
+    /// The next pixel's colour bytes, quantised by the caller as [`Self::pixel`] does.
+    #[inline(always)]
+    pub(super) fn push_rgb(&mut self, bytes: &[u8]) {
+        self.rgb.extend_from_slice(bytes);
+    }
+
+    /// The next pixel's AOVs from its first sample's hit, when the frame has AOVs (None:
+    /// the pixel had no first sample, and has no AOV entry).
+    #[inline(always)]
+    pub(super) fn aovs(&mut self, f: &FrameCtx<S>, first: Option<Option<Hit<S>>>) {
+        if let (true, Some(hit)) = (f.aovs, first) {
+            match hit {
+                Some(h) => {
+                    self.depth.push(h.t.to_f64() as f32);
+                    self.normal.extend(h.n.to_f64().map(|v| v as f32));
+                    self.object
+                        .push(u16::try_from(h.obj).unwrap_or(super::NO_OBJECT));
+                }
+                None => {
+                    self.depth.push(f32::INFINITY);
+                    self.normal.extend([0.0f32; 3]);
+                    self.object.push(super::NO_OBJECT);
+                }
+            }
+        }
     }
 
     pub(super) fn finish(self) -> Rendered<Vec<f32>, Vec<u16>> {

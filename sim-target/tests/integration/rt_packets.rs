@@ -6,7 +6,7 @@
 //! from inside, where the lanes' selects meet every branch of the intersectors (parallel
 //! rays, Δ′ < 0, roots behind the eye, a = 0).
 
-use sim_target::rt::{self, Kernel, Numeric, RenderOptions, Scene, Shape, Subset};
+use sim_target::rt::{self, Kernel, Numeric, RenderOptions, Scene, Shape, Subset, ToneMap};
 
 use crate::common;
 use common::{assert_same_frame, Rng};
@@ -19,26 +19,30 @@ fn scenes() -> impl Iterator<Item = (&'static str, &'static str)> {
     )])
 }
 
-fn frame(scene: &Scene, kernel: Kernel, size: (u32, u32), spp: u32, cull: bool) -> rt::Frame {
-    rt::render(
-        scene,
-        &RenderOptions {
-            numeric: Numeric::F32,
-            aovs: true,
-            size: Some(size),
-            spp: Some(spp),
-            kernel,
-            cull,
-            ..Default::default()
-        },
-    )
-    .expect("renders")
+fn options(size: (u32, u32), spp: u32, cull: bool) -> RenderOptions {
+    RenderOptions {
+        numeric: Numeric::F32,
+        aovs: true,
+        size: Some(size),
+        spp: Some(spp),
+        cull,
+        ..Default::default()
+    }
 }
 
-/// Packets and scalar at one setting: the whole frame and the object AOV.
 fn assert_packets_equal(scene: &Scene, size: (u32, u32), spp: u32, cull: bool, what: &str) {
-    let p = frame(scene, Kernel::Planned, size, spp, cull);
-    let s = frame(scene, Kernel::Scalar, size, spp, cull);
+    assert_packets_equal_with(scene, &options(size, spp, cull), what);
+}
+
+/// The packet kernel's frame, AOVs (when `opts` asks for them) and ray counts are the
+/// scalar kernel's.
+fn assert_packets_equal_with(scene: &Scene, opts: &RenderOptions, what: &str) {
+    let frame = |kernel| {
+        let o = RenderOptions { kernel, ..*opts };
+        rt::render(scene, &o).expect("renders")
+    };
+    let p = frame(Kernel::Planned);
+    let s = frame(Kernel::Scalar);
     assert_same_frame(&p, &s, what);
     assert_eq!(p.object, s.object, "{what}: object AOV");
     assert_eq!(
@@ -237,6 +241,16 @@ fn packet_shading_equals_the_scalar_kernel_on_random_scenes() {
         match n % 6 {
             0 => assert_packets_equal(&scene, (37, 20), 4, true, &format!("plain {n} spp 4")),
             3 => assert_packets_equal(&scene, (40, 22), 1, false, &format!("plain {n} unculled")),
+            // the colour bytes quantised in lanes without AOVs (the row builds no hit),
+            // and through the other tone map, with one sample and with several
+            1 | 4 => {
+                let spp = if n % 6 == 1 { 1 } else { 4 };
+                let mut o = options((43, 21), spp, true);
+                o.aovs = false;
+                assert_packets_equal_with(&scene, &o, &format!("plain {n} no AOVs"));
+                o.tone_map = ToneMap::Reinhard;
+                assert_packets_equal_with(&scene, &o, &format!("plain {n} Reinhard"));
+            }
             _ => {}
         }
     }

@@ -26,7 +26,7 @@ use super::kernel::{rows_for, FrameCtx, Hit, Primary, Rendered, RowFn, RowOut, R
 use super::prepare::{PObj, Prepared};
 use super::scene::Shape;
 use super::shapes::Quadratic;
-use super::{cull, V3};
+use super::{cull, ToneMap, V3};
 use crate::num::SqrtKind;
 use wide::{f32x8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
@@ -375,6 +375,49 @@ fn closest<const SO: bool>(
 }
 
 /// [`Prepared::row_packets`]: primary rays in packets.
+/// The next `n` pixels of the row from their sums of radiance in lanes: `RowOut::pixel`'s
+/// mean, tone map and ⌊255·c⌋ eight at a time (the same f32 operations: `composed`'s
+/// max and min, then a truncation, exact for the product in [0, 255]), and each pixel's
+/// AOVs from its first hit.
+#[inline(always)]
+fn pixels(
+    out: &mut RowOut<f32>,
+    f: &FrameCtx<f32>,
+    acc: P3,
+    first: &mut [Option<Option<Hit<f32>>>; LANES],
+    n: usize,
+) {
+    if f.aovs {
+        for h in first.iter_mut().take(n) {
+            out.aovs(f, h.take());
+        }
+    }
+    let c = if f.spp == 1 {
+        acc
+    } else {
+        acc.scale(F::splat(f.inv_spp))
+    };
+    let tone = |v: F| match f.tone_map {
+        ToneMap::Clamp => v,
+        ToneMap::Reinhard => {
+            let v = max(v, F::ZERO);
+            v / (F::ONE + v)
+        }
+    };
+    let q = |v: F| {
+        (min(max(tone(v), F::ZERO), F::ONE) * F::splat(255.0))
+            .fast_trunc_int()
+            .to_array()
+    };
+    let (r, g, b) = (q(c.x), q(c.y), q(c.z));
+    let mut bytes = [0u8; 3 * LANES];
+    for (l, px) in bytes.chunks_exact_mut(3).enumerate() {
+        // in [0, 255]: the cast keeps the value
+        px.copy_from_slice(&[r[l] as u8, g[l] as u8, b[l] as u8]);
+    }
+    out.push_rgb(&bytes[..3 * n]);
+}
+
 pub(super) struct PacketRows;
 
 impl Rows<f32> for PacketRows {
@@ -423,69 +466,80 @@ impl Prepared<f32> {
         while i0 < f.width {
             let n = (f.width - i0).min(LANES as u32) as usize;
             let eye_objs = f.eye_objs(i0, j);
-            let mut acc = [V3::<f32>::zero(); LANES];
+            let mut acc = P3::splat(V3::zero());
             let mut first: [Option<Option<Hit<f32>>>; LANES] = Default::default();
             for s in 0..f.spp {
                 let Some(&vy) = vys.get((s / f.grid) as usize) else {
                     continue;
                 };
-                // u·x of each lane's sample column (the row's last packet repeats its
-                // last pixel in the lanes beyond the frame, whose results are dropped;
-                // every column inside the frame has its entry)
-                let ux: [V3<f32>; LANES] = per_lane(|l| {
-                    let i = i0 + (l.min(n - 1)) as u32;
-                    f.col(i, s).unwrap_or_else(V3::zero)
-                });
+                // this sample's radiance, lane by lane
+                let (mut cx, mut cy, mut cz) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
                 if eye_objs.is_empty() {
-                    for (a, h) in acc.iter_mut().zip(&mut first).take(n) {
-                        *a = *a + self.miss_from_eye(&mut out.cnt);
+                    for l in 0..n {
+                        let c = self.miss_from_eye(&mut out.cnt);
+                        (cx[l], cy[l], cz[l]) = (c.x, c.y, c.z);
                         if s == 0 {
-                            *h = Some(None);
+                            first[l] = Some(None);
                         }
                     }
-                    continue;
-                }
-                let u = P3 {
-                    x: F::new(per_lane(|l| ux[l].x)),
-                    y: F::new(per_lane(|l| ux[l].y)),
-                    z: F::new(per_lane(|l| ux[l].z)),
-                };
-                let d = u.add(P3::splat(vy)).sub(cw).normalize();
-                let hits = closest::<SO>(self, d, eye_objs);
-                let mut shaded =
-                    self.shade_packet::<SH, SP, SO>(d, &hits, n, &mut out.cnt, &mut occluder);
-                let (dx, dy, dz) = (d.x.to_array(), d.y.to_array(), d.z.to_array());
-                let ds: [V3<f32>; LANES] = per_lane(|l| V3::new(dx[l], dy[l], dz[l]));
-                for l in 0..n {
-                    if let Some((c, hit)) = shaded[l].take() {
-                        acc[l] = acc[l] + c;
-                        if s == 0 {
-                            first[l] = Some(Some(hit));
-                        }
-                        continue;
-                    }
-                    let dl = ds[l];
-                    let primary = Primary {
-                        objs: eye_objs,
-                        found: Some(hits[l]),
+                } else {
+                    // u·x of each lane's sample column (the row's last packet repeats its
+                    // last pixel in the lanes beyond the frame, whose results are dropped;
+                    // every column inside the frame has its entry)
+                    let ux: [V3<f32>; LANES] = per_lane(|l| {
+                        let i = i0 + (l.min(n - 1)) as u32;
+                        f.col(i, s).unwrap_or_else(V3::zero)
+                    });
+                    let u = P3 {
+                        x: F::new(per_lane(|l| ux[l].x)),
+                        y: F::new(per_lane(|l| ux[l].y)),
+                        z: F::new(per_lane(|l| ux[l].z)),
                     };
-                    let (c, hit) = self.trace::<SH, TX, SP, RF, SO>(
-                        f.eye,
-                        dl,
-                        0,
-                        false,
-                        primary,
-                        &mut out.cnt,
+                    let d = u.add(P3::splat(vy)).sub(cw).normalize();
+                    let hits = closest::<SO>(self, d, eye_objs);
+                    let shaded =
+                        self.shade_packet::<SH, SP, SO>(d, &hits, n, &mut out.cnt, &mut occluder);
+                    (cx, cy, cz) = (
+                        shaded.color.x.to_array(),
+                        shaded.color.y.to_array(),
+                        shaded.color.z.to_array(),
                     );
-                    acc[l] = acc[l] + c;
-                    if s == 0 {
-                        first[l] = Some(hit);
+                    let all = u8::MAX >> (LANES - n);
+                    if shaded.live != all || (s == 0 && f.aovs) {
+                        let (dx, dy, dz) = (d.x.to_array(), d.y.to_array(), d.z.to_array());
+                        for l in 0..n {
+                            if shaded.live >> l & 1 == 1 {
+                                if s == 0 && f.aovs {
+                                    first[l] = Some(Some(shaded.hit(l)));
+                                }
+                                continue;
+                            }
+                            let primary = Primary {
+                                objs: eye_objs,
+                                found: Some(hits[l]),
+                            };
+                            let (c, hit) = self.trace::<SH, TX, SP, RF, SO>(
+                                f.eye,
+                                V3::new(dx[l], dy[l], dz[l]),
+                                0,
+                                false,
+                                primary,
+                                &mut out.cnt,
+                            );
+                            (cx[l], cy[l], cz[l]) = (c.x, c.y, c.z);
+                            if s == 0 {
+                                first[l] = Some(hit);
+                            }
+                        }
                     }
                 }
+                acc = acc.add(P3 {
+                    x: F::new(cx),
+                    y: F::new(cy),
+                    z: F::new(cz),
+                });
             }
-            for l in 0..n {
-                out.pixel(f, acc[l], first[l].take());
-            }
+            pixels(&mut out, f, acc, &mut first, n);
             i0 += n as u32;
         }
         out.finish()

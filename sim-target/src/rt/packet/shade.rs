@@ -35,9 +35,48 @@ use crate::rt::shade::SpecParams;
 use crate::rt::V3;
 use wide::{CmpGe, CmpGt, CmpLe, CmpLt};
 
-/// What the lanes made of one ray from the eye: its radiance and first hit (None: the
-/// lane is left to `trace`).
-pub(super) type Shaded = [Option<(V3<f32>, Hit<f32>)>; LANES];
+/// What the lanes made of the packet's rays from the eye: in the lanes set in `live`, the
+/// radiance and the first hit; every other lane is left to `trace`. Kept in lanes: the
+/// row adds the radiance to its sums and quantises it eight pixels at a time, and builds
+/// a lane's [`Hit`] only for the AOVs.
+pub(super) struct Shaded {
+    /// The lanes shaded here, as bits.
+    pub(super) live: u8,
+    /// Their radiance.
+    pub(super) color: P3,
+    t: F,
+    n: P3,
+    obj: [usize; LANES],
+}
+
+impl Shaded {
+    /// No lane shaded.
+    fn none() -> Self {
+        let zero = F::ZERO;
+        let z3 = P3 {
+            x: zero,
+            y: zero,
+            z: zero,
+        };
+        Shaded {
+            live: 0,
+            color: z3,
+            t: zero,
+            n: z3,
+            obj: [0; LANES],
+        }
+    }
+
+    /// Lane `l`'s first hit (meaningful where `live` has `l`).
+    pub(super) fn hit(&self, l: usize) -> Hit<f32> {
+        let at = |v: F| v.to_array()[l % LANES];
+        Hit::new(
+            at(self.t),
+            V3::new(at(self.n.x), at(self.n.y), at(self.n.z)),
+            self.obj[l % LANES],
+        )
+    }
+}
 
 /// The packet's Blinn–Phong groups: lanes, k_s·c_s and the highlight's constants.
 type Highlights = [Option<(M, V3<f32>, SpecParams<f32>)>; LANES];
@@ -149,9 +188,8 @@ impl Prepared<f32> {
         cnt: &mut Counts,
         occluder: &mut usize,
     ) -> Shaded {
-        let mut out: Shaded = Default::default();
         if self.depth == 0 {
-            return out;
+            return Shaded::none();
         }
         // the packet's lanes grouped by the object they hit, for the lanes that shade
         let mut groups: [(usize, u8); LANES] = [(0, 0); LANES];
@@ -172,7 +210,7 @@ impl Prepared<f32> {
             }
         }
         if live == 0 {
-            return out;
+            return Shaded::none();
         }
         let ts = per_lane(|l| hits[l].map_or(0.0, |h| h.0));
         let t = F::new(ts);
@@ -251,17 +289,14 @@ impl Prepared<f32> {
         }
         // color = 0 + lk·weight, weight = 1
         let color = P3::splat(V3::zero()).add(lk.scale(F::ONE));
-        let (cx, cy, cz) = (color.x.to_array(), color.y.to_array(), color.z.to_array());
-        let (nx, ny, nz) = (nrm.x.to_array(), nrm.y.to_array(), nrm.z.to_array());
-        for (l, o) in out.iter_mut().enumerate() {
-            let Some((_, obj)) = hits[l].filter(|_| live >> l & 1 == 1) else {
-                continue;
-            };
-            let n = V3::new(nx[l], ny[l], nz[l]);
-            *o = Some((V3::new(cx[l], cy[l], cz[l]), Hit::new(ts[l], n, obj)));
-        }
         cnt.primary += u64::from(live.count_ones());
-        out
+        Shaded {
+            live,
+            color,
+            t,
+            n: nrm,
+            obj: per_lane(|l| hits[l].map_or(0, |h| h.1)),
+        }
     }
 
     /// Which of the `lanes` rays o + t·d, t ∈ [bias, tmax], hit some object: the scalar
