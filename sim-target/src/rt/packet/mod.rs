@@ -374,7 +374,6 @@ fn closest<const SO: bool>(
     per_lane(|l| (found[l] > 0.0).then(|| (best[l], found[l] as usize - 1)))
 }
 
-/// [`Prepared::row_packets`]: primary rays in packets.
 /// The next `n` pixels of the row from their sums of radiance in lanes: `RowOut::pixel`'s
 /// mean, tone map and ⌊255·c⌋ eight at a time (the same f32 operations: `composed`'s
 /// max and min, then a truncation, exact for the product in [0, 255]), and each pixel's
@@ -418,6 +417,7 @@ fn pixels(
     out.push_rgb(&bytes[..3 * n]);
 }
 
+/// [`Prepared::row_packets`]: primary rays in packets.
 pub(super) struct PacketRows;
 
 impl Rows<f32> for PacketRows {
