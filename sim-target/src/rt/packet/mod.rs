@@ -551,14 +551,20 @@ mod tests {
     use super::*;
     use crate::rt::{shapes, Math};
 
+    /// The next 31 bits of a 64-bit LCG (Knuth's MMIX constants): the packet tests'
+    /// repeatable source of special and ordinary values.
+    pub(super) fn draw(seed: &mut u64) -> u32 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 33) as u32
+    }
+
     /// Ray components that meet the intersectors' branches: exact zeros (rays parallel
     /// to a face, a plane or an axis), ±1 (on a slab's face or a cone's apex plane),
     /// tiny and huge values, and random ones.
     fn component(seed: &mut u64) -> f32 {
-        *seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        let r = (*seed >> 33) as u32;
+        let r = draw(seed);
         let u = (r & 0xffff) as f32 / 65536.0;
         match r >> 28 {
             0 | 1 => 0.0,

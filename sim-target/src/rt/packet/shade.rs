@@ -353,10 +353,7 @@ mod tests {
     /// Coordinates that meet `normal`'s branches: zeros of both signs, ties between
     /// axes (a cube's edges and corners), ±1, and ordinary values.
     fn coordinate(seed: &mut u64) -> f32 {
-        *seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        let r = (*seed >> 33) as u32;
+        let r = super::super::tests::draw(seed);
         let u = (r & 0xffff) as f32 / 65536.0;
         match r >> 28 {
             0 => 0.0,
