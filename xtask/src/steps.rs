@@ -2,15 +2,21 @@
 //! table is printed when the command ends (passed or not) and kept in
 //! `target/xtask-test-times.md`, so that a slow run says which step made it slow without
 //! a second run under a profiler.
+//!
+//! Beside the wall time, the CPU time each step's processes used (on Linux, from
+//! `/proc/self/stat`): wall time alone cannot tell a step that is slow because it does
+//! much work from one that leaves a core idle, and on a 2-core machine only the second
+//! can be made faster by running something beside it.
 
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-/// The steps run so far, in order, with their wall time.
+/// The steps run so far, in order, with their wall time and CPU seconds.
 pub struct Steps {
     started: Instant,
-    done: Vec<(&'static str, Duration)>,
+    cpu_at_start: Option<f64>,
+    done: Vec<(&'static str, Duration, Option<f64>)>,
 }
 
 impl Steps {
@@ -18,38 +24,58 @@ impl Steps {
     pub fn new() -> Self {
         Self {
             started: Instant::now(),
+            cpu_at_start: cpu_seconds(),
             done: Vec::new(),
         }
     }
 
-    /// Runs one step and records its wall time, whether it passes or fails.
-    /// A failure comes back with the step's name in front of its cause, so the command's
-    /// last line says which step stopped it.
+    /// Runs one step and records its wall time and CPU seconds, whether it passes or
+    /// fails. A failure comes back with the step's name in front of its cause, so the
+    /// command's last line says which step stopped it.
     pub fn run<T>(&mut self, name: &'static str, step: impl FnOnce() -> Result<T>) -> Result<T> {
         let t = Instant::now();
+        let cpu = cpu_seconds();
         let out = step();
-        self.done.push((name, t.elapsed()));
+        let cpu = cpu.zip(cpu_seconds()).map(|(a, b)| b - a);
+        self.done.push((name, t.elapsed(), cpu));
         out.with_context(|| format!("step \"{name}\" failed"))
     }
 
-    /// The table: one row per step, its seconds and share of the whole, then the total.
+    /// The table: one row per step, its seconds, CPU seconds, how many cores it kept
+    /// busy on average and its share of the whole, then the total.
     pub fn table(&self) -> String {
         let total = self.started.elapsed();
         let share = |d: Duration| 100.0 * d.as_secs_f64() / total.as_secs_f64().max(1e-9);
-        let mut s = String::from("| step | seconds | share |\n|---|---:|---:|\n");
-        for (name, d) in &self.done {
-            s += &format!("| {name} | {:.1} | {:.0} % |\n", d.as_secs_f64(), share(*d));
+        let cpu = |c: Option<f64>, d: Duration| match c {
+            Some(c) => format!("{c:.0} | {:.2}", c / d.as_secs_f64().max(1e-9)),
+            None => "— | —".into(),
+        };
+        let mut s = String::from(
+            "| step | seconds | CPU seconds | cores busy | share |\n|---|---:|---:|---:|---:|\n",
+        );
+        for (name, d, c) in &self.done {
+            s += &format!(
+                "| {name} | {:.1} | {} | {:.0} % |\n",
+                d.as_secs_f64(),
+                cpu(*c, *d),
+                share(*d)
+            );
         }
-        let steps: Duration = self.done.iter().map(|(_, d)| *d).sum();
+        let steps: Duration = self.done.iter().map(|(_, d, _)| *d).sum();
         let other = total.saturating_sub(steps);
         if other > Duration::from_millis(500) {
             s += &format!(
-                "| (between steps) | {:.1} | {:.0} % |\n",
+                "| (between steps) | {:.1} | | | {:.0} % |\n",
                 other.as_secs_f64(),
                 share(other)
             );
         }
-        s += &format!("| **total** | **{:.1}** | 100 % |\n", total.as_secs_f64());
+        let all = self.cpu_at_start.zip(cpu_seconds()).map(|(a, b)| b - a);
+        s += &format!(
+            "| **total** | **{:.1}** | {} | 100 % |\n",
+            total.as_secs_f64(),
+            cpu(all, total)
+        );
         s
     }
 
@@ -62,6 +88,42 @@ impl Steps {
             eprintln!("xtask test: could not write {}: {e}", path.display());
         }
     }
+}
+
+/// CPU seconds used so far by this process and by every child it has waited for (their
+/// children included, when they waited for them: cargo's rustc, Yosys under a thread),
+/// or `None` where `/proc` does not say.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    ticks(&stat).map(|t| t as f64 / clock_ticks_per_second())
+}
+
+/// utime + stime + cutime + cstime of a `/proc/<pid>/stat` line (fields 14 to 17; the
+/// command name, field 2, is in parentheses and may hold spaces, so fields are counted
+/// from its closing one).
+fn ticks(stat: &str) -> Option<u64> {
+    let after = &stat[stat.rfind(')')? + 1..];
+    // after the name: state is field 3, so utime (14) is the 12th field from here
+    let f: Vec<&str> = after.split_whitespace().collect();
+    f.get(11..15)?
+        .iter()
+        .map(|v| v.parse::<u64>().ok())
+        .sum::<Option<u64>>()
+}
+
+/// The kernel's clock ticks per second (`getconf CLK_TCK`; 100 on every Linux this runs
+/// on, the fallback).
+fn clock_ticks_per_second() -> f64 {
+    static TCK: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+    *TCK.get_or_init(|| {
+        std::process::Command::new("getconf")
+            .arg("CLK_TCK")
+            .output()
+            .ok()
+            .and_then(|o| String::from_utf8_lossy(&o.stdout).trim().parse().ok())
+            .filter(|t: &f64| *t > 0.0)
+            .unwrap_or(100.0)
+    })
 }
 
 #[cfg(test)]
@@ -92,5 +154,31 @@ mod tests {
             rows.last().is_some_and(|r| r.starts_with("| **total** |")),
             "{table}"
         );
+    }
+
+    #[test]
+    fn cpu_ticks_are_the_four_time_fields_after_the_name() {
+        // a name with spaces and a parenthesis, then state, ppid .. cstime
+        let stat = "1234 (a (b) c) S 1 2 3 4 5 6 7 8 9 10 100 20 3000 400 20 0 1 0";
+        assert_eq!(ticks(stat), Some(100 + 20 + 3000 + 400));
+        assert_eq!(ticks("1 (x) S 1 2"), None);
+    }
+
+    #[test]
+    fn a_step_that_spins_uses_cpu_time() {
+        let mut steps = Steps::new();
+        steps
+            .run("spin", || {
+                let t = Instant::now();
+                let mut x = 0u64;
+                while t.elapsed() < Duration::from_millis(300) {
+                    x = std::hint::black_box(x.wrapping_add(1));
+                }
+                Ok(())
+            })
+            .unwrap();
+        if let Some(cpu) = steps.done[0].2 {
+            assert!(cpu >= 0.1, "{cpu} CPU seconds for a 0.3 s spin");
+        }
     }
 }

@@ -686,16 +686,21 @@ fn verilog_in(dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(v)
 }
 
-/// [`tool_output`] in directory `cwd` (a yowasp tool, a WebAssembly program, sees only the
-/// directory it is started in: its files must be named relative to it).
+/// `program args` in directory `cwd` (a yowasp tool, a WebAssembly program, sees only the
+/// directory it is started in: its files must be named relative to it), on a core of its
+/// own; its output. The log says how long the run took under the name `what`, so a slow
+/// gate can be read run by run (a fresh clone's test command spends most of its RTL time
+/// here).
 fn tool_output_in(
     cwd: Option<&Path>,
     program: &str,
     args: &[String],
     priority: u32,
+    what: &str,
 ) -> Result<String> {
     let _core = crate::cores::take(priority);
     eprintln!("+ {program} {}", args.join(" "));
+    let started = std::time::Instant::now();
     let mut cmd = Command::new(program);
     if let Some(dir) = cwd {
         cmd.current_dir(dir);
@@ -703,6 +708,7 @@ fn tool_output_in(
     let out = cmd.args(args).output().with_context(|| {
         format!("could not start `{program}`: run `cargo xtask setup` (it installs {program})")
     })?;
+    eprintln!("synth: {what}: {:.1} s", started.elapsed().as_secs_f64());
     let text =
         String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
     if !out.status.success() {
@@ -1221,6 +1227,7 @@ pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
                     &yosys,
                     &["-q".into(), "-p".into(), flat_script],
                     priority,
+                    &format!("{out} Yosys, flattened"),
                 )
             })
         });
@@ -1229,6 +1236,7 @@ pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
             &yosys,
             &["-q".into(), "-p".into(), hier_script],
             priority,
+            &format!("{out} Yosys, by module"),
         );
         let flat = flat.map(|h| joined(h, "running Yosys"));
         (hier, flat)
@@ -1351,7 +1359,8 @@ pub fn place(root: &Path, d: &Design, route: bool) -> Result<(String, Record)> {
             "--timing-allow-fail".into(),
         ]);
         let log = out_dir.join(format!("nextpnr-seed{seed}.log"));
-        let text = tool_output_in(Some(&out_dir), &pnr, &args, priority)?;
+        let what = format!("{out} nextpnr seed {seed}");
+        let text = tool_output_in(Some(&out_dir), &pnr, &args, priority, &what)?;
         std::fs::write(&log, &text)?;
         let fmax = parse_fmax(&text)
             .with_context(|| format!("nextpnr reported no Fmax (see {})", log.display()))?;
