@@ -397,15 +397,6 @@ pub fn run(root: &Path, toolchain: &str, opts: &Options) -> Result<()> {
     Ok(())
 }
 
-/// The test command's step: `cargo xtask fuzz --smoke`.
-pub fn smoke(root: &Path, toolchain: &str) -> Result<()> {
-    let opts = Options {
-        smoke: true,
-        ..Options::default()
-    };
-    run(root, toolchain, &opts)
-}
-
 /// Copies `from/seed-*` into `to` (the files libFuzzer found in earlier runs stay).
 fn copy_seeds(from: &Path, to: &Path) -> Result<()> {
     let entries =

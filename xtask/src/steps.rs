@@ -41,6 +41,21 @@ impl Steps {
         out.with_context(|| format!("step \"{name}\" failed"))
     }
 
+    /// Records a step whose wall time `step` measures itself (a check that ran beside
+    /// others and is only collected here: its own start to its exit), with the CPU
+    /// seconds of the processes collected during the call.
+    pub fn run_measured<T>(
+        &mut self,
+        name: &'static str,
+        step: impl FnOnce() -> (Duration, Result<T>),
+    ) -> Result<T> {
+        let cpu = cpu_seconds();
+        let (wall, out) = step();
+        let cpu = cpu.zip(cpu_seconds()).map(|(a, b)| b - a);
+        self.done.push((name, wall, cpu));
+        out.with_context(|| format!("step \"{name}\" failed"))
+    }
+
     /// The table: one row per step, its seconds, CPU seconds, how many cores it kept
     /// busy on average and its share of the whole, then the total.
     pub fn table(&self) -> String {
