@@ -124,12 +124,9 @@ impl Drop for Beside {
 }
 
 /// Whether a `/proc/<pid>/stat` line is a process that has exited (a zombie, `Z`, or
-/// dead, `X`): the state is the first field after the command name's closing parenthesis.
+/// dead, `X`); a line that cannot be read counts as gone.
 fn exited(stat: &str) -> bool {
-    let Some(i) = stat.rfind(')') else {
-        return true;
-    };
-    matches!(stat[i + 1..].split_whitespace().next(), Some("Z" | "X"))
+    crate::steps::stat_fields(stat).is_none_or(|f| matches!(f.first().copied(), Some("Z" | "X")))
 }
 
 #[cfg(test)]

@@ -33,12 +33,11 @@ impl Steps {
     /// fails. A failure comes back with the step's name in front of its cause, so the
     /// command's last line says which step stopped it.
     pub fn run<T>(&mut self, name: &'static str, step: impl FnOnce() -> Result<T>) -> Result<T> {
-        let t = Instant::now();
-        let cpu = cpu_seconds();
-        let out = step();
-        let cpu = cpu.zip(cpu_seconds()).map(|(a, b)| b - a);
-        self.done.push((name, t.elapsed(), cpu));
-        out.with_context(|| format!("step \"{name}\" failed"))
+        self.run_measured(name, || {
+            let t = Instant::now();
+            let out = step();
+            (t.elapsed(), out)
+        })
     }
 
     /// Records a step whose wall time `step` measures itself (a check that ran beside
@@ -113,14 +112,18 @@ fn cpu_seconds() -> Option<f64> {
     ticks(&stat).map(|t| t as f64 / clock_ticks_per_second())
 }
 
-/// utime + stime + cutime + cstime of a `/proc/<pid>/stat` line (fields 14 to 17; the
-/// command name, field 2, is in parentheses and may hold spaces, so fields are counted
-/// from its closing one).
+/// The fields of a `/proc/<pid>/stat` line from the third (the state) on: the command
+/// name, field 2, is in parentheses and may hold spaces, so they are counted from its
+/// closing one. `None` for a line without it.
+pub fn stat_fields(stat: &str) -> Option<Vec<&str>> {
+    Some(stat[stat.rfind(')')? + 1..].split_whitespace().collect())
+}
+
+/// utime + stime + cutime + cstime of a `/proc/<pid>/stat` line (fields 14 to 17).
 fn ticks(stat: &str) -> Option<u64> {
-    let after = &stat[stat.rfind(')')? + 1..];
-    // after the name: state is field 3, so utime (14) is the 12th field from here
-    let f: Vec<&str> = after.split_whitespace().collect();
-    f.get(11..15)?
+    // the state is field 3, so utime (14) is the 12th of these
+    stat_fields(stat)?
+        .get(11..15)?
         .iter()
         .map(|v| v.parse::<u64>().ok())
         .sum::<Option<u64>>()
